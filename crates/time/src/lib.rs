@@ -1,0 +1,1 @@
+//! Explicit time integration for fdem.
