@@ -58,6 +58,13 @@ pub struct Elements {
     pub gather_offsets: Vec<u32>,
     /// Slots `3 t + a` (triangle t, corner a) of each node, in increasing order.
     pub gather_slots: Vec<u32>,
+    /// Nodes per block of the owner-computes kernel (the last block may be shorter).
+    pub block_nodes: usize,
+    /// CSR offsets of the block -> triangle lists (length `n_blocks + 1`).
+    pub block_offsets: Vec<u32>,
+    /// Triangles with at least one node in each block, in increasing order (a triangle whose
+    /// nodes lie in two or three blocks is listed, and evaluated, in each).
+    pub block_tris: Vec<u32>,
 }
 
 impl Elements {
@@ -151,6 +158,37 @@ impl Elements {
             }
         }
         let viscous = tris.iter().any(|t| t.eta > 0.0);
+        // Node blocks for the owner-computes kernel: a size that depends on the mesh only.
+        let block_nodes = (n_nodes / 32).max(1024);
+        let n_blocks = n_nodes.div_ceil(block_nodes);
+        let mut block_offsets = vec![0u32; n_blocks + 1];
+        let blocks_of = |td: &TriData| {
+            let mut b = td.nodes.map(|n| n as usize / block_nodes);
+            b.sort_unstable();
+            b
+        };
+        for td in &tris {
+            let b = blocks_of(td);
+            for k in 0..3 {
+                if k == 0 || b[k] != b[k - 1] {
+                    block_offsets[b[k] + 1] += 1;
+                }
+            }
+        }
+        for i in 0..n_blocks {
+            block_offsets[i + 1] += block_offsets[i];
+        }
+        let mut fill = block_offsets.clone();
+        let mut block_tris = vec![0u32; block_offsets[n_blocks] as usize];
+        for (t, td) in tris.iter().enumerate() {
+            let b = blocks_of(td);
+            for k in 0..3 {
+                if k == 0 || b[k] != b[k - 1] {
+                    block_tris[fill[b[k]] as usize] = t as u32;
+                    fill[b[k]] += 1;
+                }
+            }
+        }
         Ok(Elements {
             tris,
             materials: consts,
@@ -159,6 +197,9 @@ impl Elements {
             viscous,
             gather_offsets: offsets,
             gather_slots: slots,
+            block_nodes,
+            block_offsets,
+            block_tris,
         })
     }
 

@@ -1,11 +1,18 @@
 //! The internal-force kernel and its exact directional derivative.
 //!
-//! Two passes, both parallel with rayon and both independent of the number of threads:
-//! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
-//! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum to
-//!    the force array.
+//! [`Elements::internal_forces`] is "owner computes": the node array is cut into fixed blocks
+//! of consecutive nodes, and one rayon task per block evaluates every triangle that has a node
+//! in the block (in increasing triangle order) and adds the forces of the corners that lie in
+//! the block. Each node thus receives its triangles' forces in increasing triangle order, a
+//! fixed order whatever the number of threads, so the result is identical bit for bit. The
+//! triangles that straddle two blocks (a few per cent with a locality-preserving numbering)
+//! are evaluated twice; there is no per-triangle buffer and no second pass.
 //!
-//! No allocation per call: the buffer lives in a [`ForceScratch`] made once by the caller.
+//! [`Elements::internal_forces_buffered`] is the two-pass alternative kept for comparison:
+//! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
+//! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum.
+//!
+//! Neither allocates per call (the buffer lives in a [`ForceScratch`] made once).
 
 use crate::elements::{Elements, MaterialConsts, TriData};
 use crate::material::ElasticLaw;
@@ -82,10 +89,62 @@ impl Elements {
     /// Adds the internal nodal forces (elastic + viscous) at positions `x` and velocities `v`
     /// to `f`: `f_a += -(t/2) sigma rot(x_c - x_b)` for each triangle.
     ///
-    /// Parallel (rayon), bit-identical for any number of threads, no allocation. `v` is read
-    /// only if some triangle has damping. Panics if the slices are shorter than the node count
+    /// Parallel (rayon, owner computes), bit-identical for any number of threads, no
+    /// allocation. `v` is read only if some triangle has damping. `scratch` is not used by this
+    /// kernel (it is by [`Elements::internal_forces_buffered`]); it stays in the signature so
+    /// that the kernel can change without an API change. Panics if the slices are shorter than the node count
     /// or `scratch` was made for other elements (programming errors, not input errors).
     pub fn internal_forces(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+    ) {
+        let _ = scratch;
+        if self.viscous {
+            assert!(v.len() >= self.n_nodes);
+            self.owner_computes(f, |td| tri_force::<true>(td, &self.materials, x, v));
+        } else {
+            self.owner_computes(f, |td| tri_force::<false>(td, &self.materials, x, v));
+        }
+    }
+
+    /// Runs `force` on each block's triangles and adds the forces of the corners in the block.
+    #[inline(always)]
+    fn owner_computes<K>(&self, f: &mut [[f64; 2]], force: K)
+    where
+        K: Fn(&TriData) -> [[f64; 2]; 3] + Sync,
+    {
+        assert!(f.len() >= self.n_nodes);
+        let bn = self.block_nodes;
+        let off = &self.block_offsets;
+        let list = &self.block_tris;
+        let tris = &self.tris;
+        f[..self.n_nodes]
+            .par_chunks_mut(bn)
+            .enumerate()
+            .for_each(|(b, fb)| {
+                let base = (b * bn) as u32;
+                let len = fb.len() as u32;
+                for &t in &list[off[b] as usize..off[b + 1] as usize] {
+                    let td = &tris[t as usize];
+                    let ft = force(td);
+                    for a in 0..3 {
+                        let i = td.nodes[a].wrapping_sub(base);
+                        if i < len {
+                            let p = &mut fb[i as usize];
+                            p[0] += ft[a][0];
+                            p[1] += ft[a][1];
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The two-pass variant of [`Elements::internal_forces`] (per-triangle buffer, then a
+    /// per-node gather in fixed order); same result up to round-off, kept for comparison.
+    pub fn internal_forces_buffered(
         &self,
         x: &[[f64; 2]],
         v: &[[f64; 2]],
@@ -153,16 +212,10 @@ impl Elements {
         scratch: &mut ForceScratch,
     ) {
         assert!(x.len() >= self.n_nodes && dx.len() >= self.n_nodes && df.len() >= self.n_nodes);
-        assert_eq!(scratch.per_tri.len(), self.tris.len());
+        let _ = scratch;
         let mats = &self.materials[..];
         let viscous = self.viscous;
-        scratch
-            .per_tri
-            .par_iter_mut()
-            .zip(self.tris.par_iter())
-            .with_min_len(TRI_CHUNK)
-            .for_each(|(o, td)| *o = tri_force_derivative(td, mats, x, v, dx, viscous));
-        self.gather(&scratch.per_tri, df);
+        self.owner_computes(df, |td| tri_force_derivative(td, mats, x, v, dx, viscous));
     }
 }
 
