@@ -99,7 +99,7 @@ fn main() {
                 .unwrap();
             let kind = if xi > 0.0 { "viscous" } else { "elastic" };
             let (tb, tm) = best(runs, || {
-                pool.install(|| el.internal_forces(&x, &v, &mut f, &mut s))
+                pool.install(|| el.internal_forces_owner(&x, &v, &mut f))
             });
             println!(
                 "{kind} owner-computes {threads} thread(s): {:.1} M tri/s best, {:.1} median ({:.1} % triangles evaluated twice)",

@@ -1,6 +1,7 @@
 //! The internal-force kernel and its exact directional derivative.
 //!
-//! [`Elements::internal_forces`] is "owner computes": the node array is cut into fixed blocks
+//! Two kernels, both parallel and both independent of the number of threads.
+//! [`Elements::internal_forces_owner`] is "owner computes": the node array is cut into fixed blocks
 //! of consecutive nodes, and one rayon task per block evaluates every triangle that has a node
 //! in the block (in increasing triangle order) and adds the forces of the corners that lie in
 //! the block. Each node thus receives its triangles' forces in increasing triangle order, a
@@ -8,7 +9,8 @@
 //! triangles that straddle two blocks (a few per cent with a locality-preserving numbering)
 //! are evaluated twice; there is no per-triangle buffer and no second pass.
 //!
-//! [`Elements::internal_forces_buffered`] is the two-pass alternative kept for comparison:
+//! [`Elements::internal_forces_buffered`] (the one [`Elements::internal_forces`] uses, faster
+//! per core on the development machine) has two passes:
 //! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
 //! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum.
 //!
@@ -89,10 +91,9 @@ impl Elements {
     /// Adds the internal nodal forces (elastic + viscous) at positions `x` and velocities `v`
     /// to `f`: `f_a += -(t/2) sigma rot(x_c - x_b)` for each triangle.
     ///
-    /// Parallel (rayon, owner computes), bit-identical for any number of threads, no
-    /// allocation. `v` is read only if some triangle has damping. `scratch` is not used by this
-    /// kernel (it is by [`Elements::internal_forces_buffered`]); it stays in the signature so
-    /// that the kernel can change without an API change. Panics if the slices are shorter than the node count
+    /// Parallel (rayon), bit-identical for any number of threads, no allocation: each triangle
+    /// writes its three forces into `scratch`, then each node sums its slots in a fixed order
+    /// ([`Elements::internal_forces_buffered`]). `v` is read only if some triangle has damping. Panics if the slices are shorter than the node count
     /// or `scratch` was made for other elements (programming errors, not input errors).
     pub fn internal_forces(
         &self,
@@ -101,7 +102,14 @@ impl Elements {
         f: &mut [[f64; 2]],
         scratch: &mut ForceScratch,
     ) {
-        let _ = scratch;
+        self.internal_forces_buffered(x, v, f, scratch);
+    }
+
+    /// The owner-computes variant of [`Elements::internal_forces`] (node blocks, one pass, no
+    /// buffer, a few per cent of triangles evaluated twice); same result up to round-off and
+    /// also independent of the thread count. Kept for comparison: it moves fewer bytes but
+    /// measured slower per core on the development machine (docs/mesh.md).
+    pub fn internal_forces_owner(&self, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
         if self.viscous {
             assert!(v.len() >= self.n_nodes);
             self.owner_computes(f, |td| tri_force::<true>(td, &self.materials, x, v));
@@ -142,8 +150,9 @@ impl Elements {
             });
     }
 
-    /// The two-pass variant of [`Elements::internal_forces`] (per-triangle buffer, then a
-    /// per-node gather in fixed order); same result up to round-off, kept for comparison.
+    /// The two-pass kernel behind [`Elements::internal_forces`]: per-triangle forces into the
+    /// buffer of `scratch` (parallel over triangles), then a parallel per-node gather over the
+    /// fixed node -> slot list.
     pub fn internal_forces_buffered(
         &self,
         x: &[[f64; 2]],
@@ -212,10 +221,16 @@ impl Elements {
         scratch: &mut ForceScratch,
     ) {
         assert!(x.len() >= self.n_nodes && dx.len() >= self.n_nodes && df.len() >= self.n_nodes);
-        let _ = scratch;
+        assert_eq!(scratch.per_tri.len(), self.tris.len());
         let mats = &self.materials[..];
         let viscous = self.viscous;
-        self.owner_computes(df, |td| tri_force_derivative(td, mats, x, v, dx, viscous));
+        scratch
+            .per_tri
+            .par_iter_mut()
+            .zip(self.tris.par_iter())
+            .with_min_len(TRI_CHUNK)
+            .for_each(|(o, td)| *o = tri_force_derivative(td, mats, x, v, dx, viscous));
+        self.gather(&scratch.per_tri, df);
     }
 }
 
