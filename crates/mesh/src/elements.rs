@@ -105,6 +105,17 @@ impl Elements {
             })
             .collect();
         let n_nodes = x0.len();
+        if tri_material.len() != triangles.len() {
+            return Err(MeshError::Parse {
+                path: "<elements>".into(),
+                line: 0,
+                message: format!(
+                    "{} material indices for {} triangles",
+                    tri_material.len(),
+                    triangles.len()
+                ),
+            });
+        }
         let mut tris = Vec::with_capacity(triangles.len());
         let mut size = Vec::with_capacity(triangles.len());
         for (t, (&tri, &mi)) in triangles.iter().zip(tri_material).enumerate() {
