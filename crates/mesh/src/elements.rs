@@ -17,9 +17,9 @@ pub struct TriData {
     pub material: u32,
     /// Reference inverse edge matrix `G0^-1`, row-major.
     pub ginv: Mat2,
-    /// Reference area `A0` [m^2].
+    /// Reference area `A0` (m^2).
     pub area0: f64,
-    /// Viscosity `eta = 2 xi h sqrt(E rho)` [Pa s].
+    /// Viscosity `eta = 2 xi h sqrt(E rho)` (Pa s).
     pub eta: f64,
 }
 
@@ -28,13 +28,13 @@ pub struct TriData {
 pub struct MaterialConsts {
     /// Elastic law.
     pub law: ElasticLaw,
-    /// Shear modulus [Pa].
+    /// Shear modulus (Pa).
     pub mu: f64,
-    /// 2D Lame modulus lam* [Pa].
+    /// 2D Lame modulus lam* (Pa).
     pub lam: f64,
-    /// Half the thickness, `t/2` [m].
+    /// Half the thickness, `t/2` (m).
     pub half_t: f64,
-    /// Density [kg/m^3].
+    /// Density (kg/m^3).
     pub rho: f64,
     /// The material as given.
     pub material: Material,
@@ -48,7 +48,7 @@ pub struct Elements {
     pub tris: Vec<TriData>,
     /// Material constants by material index.
     pub materials: Vec<MaterialConsts>,
-    /// Element size `h = 2 A0 / longest reference edge` [m].
+    /// Element size `h = 2 A0 / longest reference edge` (m).
     pub size: Vec<f64>,
     /// Number of nodes.
     pub n_nodes: usize,
@@ -224,7 +224,7 @@ impl Elements {
         self.tris.is_empty()
     }
 
-    /// Lumped nodal masses `m_a = sum over triangles of rho A0 t / 3` [kg].
+    /// Lumped nodal masses `m_a = sum over triangles of rho A0 t / 3` (kg).
     pub fn lumped_masses(&self) -> Vec<f64> {
         let mut m = vec![0.0; self.n_nodes];
         for td in &self.tris {

@@ -15,7 +15,7 @@ fn mesh(name: &str) -> Mesh {
     .unwrap()
 }
 
-/// Adds the nodal forces of a traction `t(x)` [Pa] on the edges of a group (each edge's
+/// Adds the nodal forces of a traction `t(x)` (Pa) on the edges of a group (each edge's
 /// traction at its midpoint, half to each end; thickness `th`).
 fn traction(
     m: &Mesh,
