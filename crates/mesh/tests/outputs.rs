@@ -158,3 +158,16 @@ fn viscous_stress_is_eta_times_rate_of_deformation() {
     let s0 = el.stress(TriId(0), &mesh.nodes, &zero);
     assert_eq!(s0.von_mises(), 0.0);
 }
+
+/// NodeArrays: reference positions, zero velocity and force, masses summing to rho A t (1e-12).
+#[test]
+fn node_arrays_start_at_reference() {
+    let mesh = common::grid(3, 2, 1.5, 1.0, 0.4, 6);
+    let el = common::elements(&mesh, Material::new(1e9, 0.3, 1000.0));
+    let n = fdem_mesh::NodeArrays::new(&mesh, &el);
+    assert_eq!(n.len(), mesh.n_nodes());
+    assert_eq!(n.x, mesh.nodes);
+    assert!(n.v.iter().chain(&n.f).all(|p| *p == [0.0, 0.0]));
+    let total: f64 = n.m.iter().sum();
+    assert!((total - 1000.0 * 1.5).abs() < 1e-12 * total);
+}
