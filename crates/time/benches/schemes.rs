@@ -1,49 +1,22 @@
-//! Each scheme's own cost per DOF-step on a 10^6-DOF linear chain.
+//! Each scheme's cost per DOF-step on 10^6 DOFs.
 //!
-//! - `overhead/<scheme>/<threads>`: the force evaluation is a no-op (and the gradient an
-//!   exact no-op), so only the scheme's update loops run. Throughput is in the bytes those
-//!   loops move per step by the model in each scheme's docs (8 B per array read or written
-//!   per DOF), to compare with the triad bandwidth of `benches/bandwidth.rs`.
-//! - `chain/<scheme>/<threads>`: the same with the chain's real stencil force
-//!   `a_i = k/m (x_{i-1} - 2 x_i + x_{i+1})` and its exact gradient: throughput in
-//!   DOF-steps per second.
+//! - `overhead/<scheme>/<threads>`: 10^6 uncoupled unit oscillators, `a = -x` and the exact
+//!   `G = -2 a`: the cheapest possible force (one streaming pass, 16 B per DOF), so the
+//!   scheme's own update loops dominate. Throughput is in the bytes the whole step moves by
+//!   the model in each scheme's docs (8 B per array read or written per DOF in the update
+//!   loops) plus 16 B per DOF per force or gradient evaluation, to compare with the triad
+//!   bandwidth of `benches/bandwidth.rs` at the same working-set size.
+//! - `chain/<scheme>/<threads>`: a 10^6-DOF linear chain with its stencil force
+//!   `a_i = k/m (x_{i-1} - 2 x_i + x_{i+1})` and exact gradient: DOF-steps per second.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use fdem_time::systems::LinearChain;
-use fdem_time::{GradientWork, SchemeKind, SecondOrderSystem, State};
+use fdem_time::systems::{LinearChain, Oscillator};
+use fdem_time::{SchemeKind, State};
 
 const N: usize = 1_000_000;
 
-/// A chain whose forces cost nothing: isolates the schemes' loops.
-struct FreeChain {
-    inv_mass: Vec<f64>,
-}
-
-impl SecondOrderSystem for FreeChain {
-    fn n_dofs(&self) -> usize {
-        self.inv_mass.len()
-    }
-    fn inv_mass(&self) -> &[f64] {
-        &self.inv_mass
-    }
-    fn acceleration(&mut self, _t: f64, _x: &[f64], _v: &[f64], _a: &mut [f64]) {}
-    fn has_exact_gradient(&self) -> bool {
-        true
-    }
-    fn force_gradient(
-        &mut self,
-        _: f64,
-        _: &[f64],
-        _: &[f64],
-        _: &[f64],
-        _: &mut [f64],
-        _: &mut GradientWork,
-    ) {
-    }
-}
-
 /// Bytes moved per DOF-step by the scheme's update loops (the model of each scheme's docs).
-pub fn bytes_per_dof_step(kind: SchemeKind) -> u64 {
+pub fn loop_bytes(kind: SchemeKind) -> u64 {
     8 * match kind {
         SchemeKind::CentralDifference => 8,
         SchemeKind::Omf30 => 13,
@@ -56,8 +29,16 @@ pub fn bytes_per_dof_step(kind: SchemeKind) -> u64 {
     }
 }
 
+/// Bytes moved per DOF-step by a whole step with the oscillator force (16 B per force or
+/// gradient evaluation: read one array, write one).
+pub fn step_bytes(kind: SchemeKind) -> u64 {
+    let c = kind.cost();
+    loop_bytes(kind) + 16 * u64::from(c.forces + c.gradients)
+}
+
 fn bench(cr: &mut Criterion) {
-    let x0: Vec<f64> = (0..N).map(|i| 1e-3 * (i as f64 * 1e-3).sin()).collect();
+    let x0: Vec<f64> = (0..N).map(|i| (i as f64 * 1e-3).sin()).collect();
+    let v0: Vec<f64> = (0..N).map(|i| (i as f64 * 1e-3).cos()).collect();
     for threads in [1usize, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -66,20 +47,20 @@ fn bench(cr: &mut Criterion) {
         for kind in SchemeKind::ALL {
             let mut g = cr.benchmark_group(format!("overhead/{kind}"));
             g.sample_size(10)
+                .warm_up_time(std::time::Duration::from_secs(1))
                 .measurement_time(std::time::Duration::from_secs(2));
-            g.throughput(Throughput::Bytes(bytes_per_dof_step(kind) * N as u64));
-            let mut sys = FreeChain {
-                inv_mass: vec![1.0; N],
-            };
-            let mut st = State::new(0.0, x0.clone(), vec![0.0; N]);
+            g.throughput(Throughput::Bytes(step_bytes(kind) * N as u64));
+            let mut sys = Oscillator::new(N, 1.0);
+            let mut st = State::new(0.0, x0.clone(), v0.clone());
             let mut s = kind.build(N);
             g.bench_function(format!("{threads}-thread"), |b| {
-                b.iter(|| pool.install(|| s.step(&mut sys, &mut st, 1e-3)))
+                b.iter(|| pool.install(|| s.step(&mut sys, &mut st, 0.1)))
             });
             g.finish();
 
             let mut g = cr.benchmark_group(format!("chain/{kind}"));
             g.sample_size(10)
+                .warm_up_time(std::time::Duration::from_secs(1))
                 .measurement_time(std::time::Duration::from_secs(2));
             g.throughput(Throughput::Elements(N as u64));
             let mut sys = LinearChain::new(N, 1.0);

@@ -56,8 +56,17 @@ impl SecondOrderSystem for Oscillator {
 
     fn acceleration(&mut self, _t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
         let (w2, c) = (self.omega * self.omega, self.damping);
-        for ((a, x), v) in a.iter_mut().zip(x).zip(v) {
-            *a = -w2 * x - c * v;
+        if c == 0.0 {
+            // One streaming pass (read x, write a): the cheapest possible force.
+            crate::kernels::zip_mr(a, x, |a, x| {
+                for (a, x) in a.iter_mut().zip(x) {
+                    *a = -w2 * x;
+                }
+            });
+        } else {
+            for ((a, x), v) in a.iter_mut().zip(x).zip(v) {
+                *a = -w2 * x - c * v;
+            }
         }
     }
 
@@ -76,9 +85,11 @@ impl SecondOrderSystem for Oscillator {
     ) {
         if self.exact_gradient {
             let w2 = self.omega * self.omega;
-            for (g, a) in g.iter_mut().zip(a) {
-                *g = -2.0 * w2 * a;
-            }
+            crate::kernels::zip_mr(g, a, |g, a| {
+                for (g, a) in g.iter_mut().zip(a) {
+                    *g = -2.0 * w2 * a;
+                }
+            });
         } else {
             crate::finite_difference_gradient(self, t, x, v, a, g, work);
         }
