@@ -70,6 +70,10 @@ impl SecondOrderSystem for Oscillator {
         }
     }
 
+    fn velocity_dependent(&self) -> bool {
+        self.damping != 0.0
+    }
+
     fn has_exact_gradient(&self) -> bool {
         self.exact_gradient
     }
@@ -182,6 +186,10 @@ impl SecondOrderSystem for LinearChain {
 
     fn acceleration(&mut self, _t: f64, x: &[f64], _v: &[f64], a: &mut [f64]) {
         self.stencil(x, a);
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        false
     }
 
     fn has_exact_gradient(&self) -> bool {
