@@ -1,0 +1,2 @@
+//! Contact benchmarks (written below).
+fn main() {}
