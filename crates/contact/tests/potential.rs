@@ -9,7 +9,9 @@ use fdem_contact::potential_tri_tri::{
 };
 
 /// Random overlapping pairs of random sizes and orientations.
-fn random_pairs(seed: u64, n: usize) -> Vec<([[f64; 2]; 3], [[f64; 2]; 3])> {
+type Tri = [[f64; 2]; 3];
+
+fn random_pairs(seed: u64, n: usize) -> Vec<(Tri, Tri)> {
     let mut rng = Rng(seed);
     let mut out = Vec::new();
     while out.len() < n {
