@@ -75,8 +75,10 @@ pub fn couple_force(
                 lump_edge_force(&mut out.friction, e, ld, scale(s, up.ft));
             }
             if law.damping > 0.0 {
-                // Positive v_n: E's edge moves deeper into T. Never tensile in total.
-                let fd = (law.damping * ld.len_in * dot(vr, n)).max(-fn_);
+                // Positive v_n: E's edge moves deeper into T. Bounded by the edge's normal
+                // force both ways: never tensile in total, and no ploughing by edges that
+                // slide along a surface they barely touch.
+                let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
                 lump_edge_force(&mut out.damping, e, ld, scale(n, -fd));
             }
         }
@@ -144,7 +146,7 @@ pub fn wall_force(
             apply(&mut out.friction, scale(s, up.ft));
         }
         if law.damping > 0.0 {
-            let fd = (law.damping * ld.len_in * dot(vr, n)).max(-fn_);
+            let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
             apply(&mut out.damping, scale(n, -fd));
         }
     }

@@ -11,7 +11,8 @@ pub struct ContactLaw {
     /// Tangential penalty `k_t` [Pa] (N/m per unit thickness per m of slip). Default `p`.
     pub kt: f64,
     /// Normal contact damping `c` [Pa s/m]: a dashpot per unit length of edge inside the other
-    /// triangle, acting on the normal relative velocity, never making the normal force tensile.
+    /// triangle, acting on the normal relative velocity, bounded by the edge's normal force
+    /// (`|f_d| <= p Q`: never tensile in total, no ploughing by a barely touching edge).
     /// 0 = none. [`ContactLaw::damping_for_ratio`] gives a value from a damping ratio.
     pub damping: f64,
     /// Contact switched on for this pair of materials.
