@@ -10,17 +10,13 @@ use fdem_contact::{
 };
 use proptest::prelude::*;
 
+/// Positions, triangles and bonded pairs.
+type Cloud = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 2]>);
+
 /// A random cloud: triangles of random size (ratio up to `spread`), orientation and place in a
 /// box of side `box_side`; with probability `p_share` a triangle reuses a node of the previous
 /// one (a connected pair); `n_bond` random bonded pairs.
-fn cloud(
-    seed: u64,
-    n: usize,
-    box_side: f64,
-    spread: f64,
-    p_share: f64,
-    n_bond: usize,
-) -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 2]>) {
+fn cloud(seed: u64, n: usize, box_side: f64, spread: f64, p_share: f64, n_bond: usize) -> Cloud {
     let mut rng = Rng(seed);
     let mut x = Vec::new();
     let mut tris: Vec<[u32; 3]> = Vec::new();
