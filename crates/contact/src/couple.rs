@@ -12,6 +12,9 @@ use crate::walls::RigidPlane;
 /// triangle), by family, and the trial friction state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CoupleForce {
+    /// False when the couple carries no force; the other fields are then stale (not rewritten,
+    /// to save memory traffic) and must be ignored.
+    pub active: bool,
     /// Normal (potential) forces [N/m].
     pub normal: [V2; 6],
     /// Friction forces [N/m].
@@ -43,11 +46,29 @@ pub fn couple_force(
     law: &ContactLaw,
 ) -> CoupleForce {
     let mut out = CoupleForce::default();
+    couple_force_into(&mut out, x, v, ft_old, dt, law);
+    out
+}
+
+/// [`couple_force`] writing into `out` in place (no copy of the result).
+#[inline]
+pub fn couple_force_into(
+    out: &mut CoupleForce,
+    x: &[V2; 6],
+    v: &[V2; 6],
+    ft_old: &[f64; 6],
+    dt: f64,
+    law: &ContactLaw,
+) {
+    *out = CoupleForce {
+        active: true,
+        ..Default::default()
+    };
     let xc = [x[0], x[1], x[2]];
     let xt = [x[3], x[4], x[5]];
     let Some(loads) = pair_loads(&xc, &xt) else {
         out.invalid = true;
-        return out;
+        return;
     };
     let p = law.penalty;
     for e in 0..6 {
@@ -83,7 +104,6 @@ pub fn couple_force(
             }
         }
     }
-    out
 }
 
 /// Forces of one plane-triangle couple on the triangle's 3 nodes, by family.

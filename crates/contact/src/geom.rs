@@ -35,9 +35,11 @@ pub(crate) fn rot(a: V2) -> V2 {
     [-a[1], a[0]]
 }
 
+/// Euclidean length (plain square root: `hypot` is several times slower and its overflow
+/// protection is irrelevant at physical scales).
 #[inline(always)]
 pub(crate) fn norm(a: V2) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
 #[inline(always)]

@@ -37,7 +37,7 @@ pub mod potential_tri_tri;
 pub mod walls;
 
 pub use bounding::{BoundingCircles, brute_force_couples};
-pub use couple::{CoupleForce, WallForce, couple_force, wall_force};
+pub use couple::{CoupleForce, WallForce, couple_force, couple_force_into, wall_force};
 pub use exclusions::Exclusions;
 pub use geom::V2;
 pub use laws::{BroadPhase, ContactLaw, ContactLaws, ContactSettings};

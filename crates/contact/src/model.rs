@@ -17,7 +17,7 @@ use rayon::prelude::*;
 
 use crate::bounding::BoundingCircles;
 use crate::broad_parry::ParryBroadPhase;
-use crate::couple::{CoupleForce, WallForce, couple_force, wall_force};
+use crate::couple::{CoupleForce, WallForce, couple_force_into, wall_force};
 use crate::exclusions::Exclusions;
 use crate::friction::stored_energy;
 use crate::geom::{V2, add, dot, norm, sub};
@@ -223,7 +223,8 @@ impl Contact {
         &self.couples
     }
 
-    /// Per-couple results of the last force pass, aligned with [`Self::couples`].
+    /// Per-couple results of the last force pass, aligned with [`Self::couples`]; entries with
+    /// `active == false` carry no force and their other fields are stale.
     pub fn couple_results(&self) -> &[CoupleForce] {
         &self.results
     }
@@ -377,12 +378,12 @@ impl Contact {
                 let law = laws.get(mat(c[0]), mat(c[1]));
                 let xs = nodes.map(|n| x[n as usize]);
                 if !law.enabled || law.penalty <= 0.0 || boxes_apart(&xs) {
-                    *res = CoupleForce::default();
+                    res.active = false;
                     *ftt = [0.0; 6];
                     return;
                 }
                 let vs = nodes.map(vel);
-                *res = couple_force(&xs, &vs, ft_old, dt, law);
+                couple_force_into(res, &xs, &vs, ft_old, dt, law);
                 *ftt = res.ft;
             });
         let walls = &self.walls;
@@ -412,6 +413,9 @@ impl Contact {
             ..Default::default()
         };
         for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active {
+                continue;
+            }
             if r.invalid {
                 if s.n_invalid == 0 {
                     s.first_invalid = *c;
@@ -443,6 +447,9 @@ impl Contact {
     /// couple order (deterministic).
     pub fn add_forces(&self, tris: &[[u32; 3]], f: &mut [V2]) {
         for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active || r.fn_total == 0.0 {
+                continue;
+            }
             let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
             let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
             for k in 0..6 {
@@ -474,6 +481,9 @@ impl Contact {
             Family::Damping => r.damping,
         };
         for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active || r.fn_total == 0.0 {
+                continue;
+            }
             let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
             let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
             let g = pick6(r);

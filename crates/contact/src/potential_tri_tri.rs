@@ -106,13 +106,17 @@ pub struct EdgeLoad {
 /// Returns a zero load (`q = 0`) when the edge misses T or has zero length.
 #[inline]
 pub fn edge_load(a: V2, b: V2, t: &TriPotential) -> EdgeLoad {
+    edge_load_bary(norm(sub(b, a)), t.barycentric(a), t.barycentric(b))
+}
+
+/// [`edge_load`] from the edge length `l` and the barycentric coordinates in T of its ends
+/// (shared by the two edges meeting at a vertex).
+#[inline]
+pub fn edge_load_bary(l: f64, la: [f64; 3], lb: [f64; 3]) -> EdgeLoad {
     let mut out = EdgeLoad::default();
-    let l = norm(sub(b, a));
     if l.is_nan() || l <= 0.0 {
         return out;
     }
-    let la = t.barycentric(a);
-    let lb = t.barycentric(b);
     let dl = [lb[0] - la[0], lb[1] - la[1], lb[2] - la[2]];
     // 1. Clip to T.
     let (mut s0, mut s1) = (0.0f64, 1.0f64);
@@ -219,9 +223,21 @@ pub fn pair_loads(xc: &[V2; 3], xt: &[V2; 3]) -> Option<PairLoads> {
     let pc = TriPotential::new(*xc)?;
     let pt = TriPotential::new(*xt)?;
     let mut out = PairLoads::default();
+    // Barycentric coordinates of each vertex in the other triangle, computed once.
+    let lt = xc.map(|p| pt.barycentric(p));
+    let lc = xt.map(|p| pc.barycentric(p));
+    // Separating axis: all vertices of one triangle outside one edge of the other -> no overlap.
+    for k in 0..3 {
+        if (lt[0][k] < 0.0 && lt[1][k] < 0.0 && lt[2][k] < 0.0)
+            || (lc[0][k] < 0.0 && lc[1][k] < 0.0 && lc[2][k] < 0.0)
+        {
+            return Some(out);
+        }
+    }
     for e in 0..3 {
-        out.edges[e] = edge_load(xc[e], xc[(e + 1) % 3], &pt);
-        out.edges[3 + e] = edge_load(xt[e], xt[(e + 1) % 3], &pc);
+        let f = (e + 1) % 3;
+        out.edges[e] = edge_load_bary(norm(sub(xc[f], xc[e])), lt[e], lt[f]);
+        out.edges[3 + e] = edge_load_bary(norm(sub(xt[f], xt[e])), lc[e], lc[f]);
     }
     Some(out)
 }
