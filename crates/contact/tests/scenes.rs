@@ -355,3 +355,74 @@ fn deformable_block_sticks_on_incline_when_mu_exceeds_tan_theta() {
     assert!(creep.abs() < 1e-6, "creep {creep}");
     assert!(slide > 1e-4, "slide {slide}");
 }
+
+#[test]
+fn stack_of_blocks_comes_to_rest_and_stays_at_rest() {
+    // Three deformable blocks 0.1 x 0.05 m (100 triangles each), offset sideways by 1 cm,
+    // dropped from 10 µm gaps onto a rigid floor under gravity with mass-proportional damping
+    // alpha = 2000/s and friction mu = 0.5. After 0.1 s: every node slower than 1e-6 m/s,
+    // the floor carries the total weight to 1e-6, and no node moves more than 1e-9 m
+    // during the next 0.05 s.
+    let (w, hgt, nx, ny) = (0.1, 0.05, 10, 5);
+    let gap = 1e-5;
+    let (mut x, mut t) = (Vec::new(), Vec::new());
+    for b in 0..3 {
+        let (xb, tb) = rectangle(w, hgt, nx, ny);
+        let base = x.len() as u32;
+        let y0 = gap + b as f64 * (hgt + gap);
+        x.extend(xb.iter().map(|p| [p[0] + 0.01 * b as f64, p[1] + y0]));
+        t.extend(tb.iter().map(|tr| tr.map(|k| k + base)));
+    }
+    let mat = Material {
+        damping_ratio: 0.05,
+        ..Material::new(1e8, 0.25, 1000.0)
+    };
+    let law = ContactLaw {
+        mu: 0.5,
+        ..ContactLaw::from_young(mat.youngs_modulus, 0.5)
+    };
+    let mut contact = Contact::new(ContactSettings::default(), ContactLaws::uniform(1, law));
+    contact
+        .walls
+        .push(RigidPlane::new([0.0, 0.0], [0.0, 1.0], law));
+    let dt = stable_dt(0.5 * hgt / ny as f64, law.penalty, &mat);
+    let g = 9.81;
+    let mut scene = Scene::new(x.clone(), t, mat, contact, dt);
+    scene.gravity = [0.0, -g];
+    scene.alpha = 2000.0;
+    let mut state = State::new(0.0, x.as_flattened().to_vec(), vec![0.0; 2 * x.len()]);
+    let mut cd = CentralDifference::new(state.n_dofs());
+    let n0 = (0.1 / dt) as usize;
+    for _ in 0..n0 {
+        cd.step(&mut scene, &mut state, dt);
+    }
+    let vmax = state.v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut r = [[0.0; 2]];
+    scene.contact.wall_reactions(&mut r);
+    let weight = scene.mass.iter().sum::<f64>() * g;
+    let x_rest = state.x.clone();
+    for _ in 0..n0 / 2 {
+        cd.step(&mut scene, &mut state, dt);
+    }
+    let drift = state
+        .x
+        .iter()
+        .zip(&x_rest)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    eprintln!(
+        "stack: max |v| = {vmax:.3e} m/s, floor reaction / weight - 1 = {:.3e}, drift over 0.05 s = {drift:.3e} m, couples {}",
+        -r[0][1] / weight - 1.0,
+        scene.contact.stats().n_active
+    );
+    assert!(vmax < 1e-6, "max |v| {vmax}");
+    assert!(
+        (-r[0][1] / weight - 1.0).abs() < 1e-6,
+        "reaction {:?} weight {weight}",
+        r[0]
+    );
+    assert!(drift < 1e-9, "drift {drift}");
+    assert!(
+        scene.contact.stats().n_active > 10,
+        "blocks are not in contact with each other"
+    );
+}
