@@ -395,7 +395,12 @@ impl Contact {
             .zip(self.wall_pairs.par_iter().zip(self.wall_ft.par_iter()))
             .with_min_len(512)
             .for_each(|((res, ftt), (c, ft_old))| {
-                let plane = &walls[c[0] as usize];
+                // A plane removed since the last detection acts no more.
+                let Some(plane) = walls.get(c[0] as usize) else {
+                    *res = WallForce::default();
+                    *ftt = 0.0;
+                    return;
+                };
                 let t = &tris[c[1] as usize];
                 if !plane.law.enabled || plane.law.penalty <= 0.0 {
                     *res = WallForce::default();
@@ -545,7 +550,9 @@ impl Contact {
             .collect();
         let mut potential: f64 = per.iter().sum();
         for c in &self.wall_pairs {
-            let plane = &self.walls[c[0] as usize];
+            let Some(plane) = self.walls.get(c[0] as usize) else {
+                continue;
+            };
             if plane.law.enabled {
                 potential += plane.energy(&tris[c[1] as usize].map(|n| x[n as usize]));
             }
@@ -556,7 +563,9 @@ impl Contact {
             friction_stored += ft.iter().map(|f| stored_energy(*f, kt)).sum::<f64>();
         }
         for (c, ft) in self.wall_pairs.iter().zip(&self.wall_ft) {
-            friction_stored += stored_energy(*ft, self.walls[c[0] as usize].law.kt);
+            if let Some(w) = self.walls.get(c[0] as usize) {
+                friction_stored += stored_energy(*ft, w.law.kt);
+            }
         }
         ContactEnergy {
             potential,
