@@ -352,8 +352,10 @@ impl Contact {
     }
 
     /// Evaluates all contact forces (trial: the committed friction history is only read).
-    /// `material[i]` is triangle i's material (empty slice: all 0); `dt` is the step used for
-    /// the friction increment. Call [`Self::update_detection`] first.
+    /// `material[i]` is triangle i's material (empty slice: all 0); `v` may be empty (zero
+    /// velocities) when no law has friction or damping; `dt` is the step used for the friction
+    /// increment. Call [`Self::update_detection`] first (it redetects when the node or
+    /// triangle count changed).
     pub fn compute_forces(
         &mut self,
         x: &[V2],
