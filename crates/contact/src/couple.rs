@@ -15,17 +15,17 @@ pub struct CoupleForce {
     /// False when the couple carries no force; the other fields are then stale (not rewritten,
     /// to save memory traffic) and must be ignored.
     pub active: bool,
-    /// Normal (potential) forces [N/m].
+    /// Normal (potential) forces \[N/m\].
     pub normal: [V2; 6],
-    /// Friction forces [N/m].
+    /// Friction forces \[N/m\].
     pub friction: [V2; 6],
-    /// Damping forces [N/m].
+    /// Damping forces \[N/m\].
     pub damping: [V2; 6],
     /// Trial tangential force per couple edge (0..3 edges of the first, 3..6 of the second).
     pub ft: [f64; 6],
-    /// Trial slip dissipation of this step [J/m].
+    /// Trial slip dissipation of this step \[J/m\].
     pub dissipation: f64,
-    /// Total normal load `sum p Q` over the 6 edges [N/m].
+    /// Total normal load `sum p Q` over the 6 edges \[N/m\].
     pub fn_total: f64,
     /// Largest `phi` on a contacting edge (0..1).
     pub phi_max: f64,
@@ -109,17 +109,17 @@ pub fn couple_force_into(
 /// Forces of one plane-triangle couple on the triangle's 3 nodes, by family.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct WallForce {
-    /// Normal forces [N/m].
+    /// Normal forces \[N/m\].
     pub normal: [V2; 3],
-    /// Friction forces [N/m].
+    /// Friction forces \[N/m\].
     pub friction: [V2; 3],
-    /// Damping forces [N/m].
+    /// Damping forces \[N/m\].
     pub damping: [V2; 3],
     /// Trial tangential force (along `rot(normal)`, acting on the plane).
     pub ft: f64,
-    /// Trial slip dissipation [J/m].
+    /// Trial slip dissipation \[J/m\].
     pub dissipation: f64,
-    /// Normal load `p Q` [N/m].
+    /// Normal load `p Q` \[N/m\].
     pub fn_total: f64,
     /// Largest `phi` on the plane's segment inside the triangle.
     pub phi_max: f64,

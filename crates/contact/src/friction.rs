@@ -22,9 +22,9 @@ use crate::potential_tri_tri::{EdgeLoad, edge_nodes};
 /// The outcome of one return-mapping update.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrictionUpdate {
-    /// The new tangential force [N/m], along the edge's unit tangent.
+    /// The new tangential force \[N/m\], along the edge's unit tangent.
     pub ft: f64,
-    /// Energy dissipated by slip in this update, `Ft (Ft* - Ft)/k_t` [J/m].
+    /// Energy dissipated by slip in this update, `Ft (Ft* - Ft)/k_t` \[J/m\].
     pub dissipation: f64,
     /// True when the edge slips (`|Ft*| > mu Fn`).
     pub slipping: bool,
@@ -75,7 +75,7 @@ pub fn edge_relative_velocity(v: &[V2; 6], e: usize, load: &EdgeLoad) -> V2 {
     r
 }
 
-/// Stored energy of the tangential springs, `sum Ft^2/(2 k_t)` [J/m].
+/// Stored energy of the tangential springs, `sum Ft^2/(2 k_t)` \[J/m\].
 #[inline]
 pub fn stored_energy(ft: f64, kt: f64) -> f64 {
     if kt > 0.0 { ft * ft / (2.0 * kt) } else { 0.0 }

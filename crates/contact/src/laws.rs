@@ -3,14 +3,14 @@
 /// The contact law of one pair of materials (per unit thickness forces).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactLaw {
-    /// Normal penalty `p` [Pa]. Default when built from a Young's modulus: `10 E`
+    /// Normal penalty `p` \[Pa\]. Default when built from a Young's modulus: `10 E`
     /// (see [`ContactLaw::from_young`]); typical range 10..100 E.
     pub penalty: f64,
-    /// Coulomb friction coefficient `mu` [-] (0 = frictionless).
+    /// Coulomb friction coefficient `mu` \[-\] (0 = frictionless).
     pub mu: f64,
-    /// Tangential penalty `k_t` [Pa] (N/m per unit thickness per m of slip). Default `p`.
+    /// Tangential penalty `k_t` \[Pa\] (N/m per unit thickness per m of slip). Default `p`.
     pub kt: f64,
-    /// Normal contact damping `c` [Pa s/m]: a dashpot per unit length of edge inside the other
+    /// Normal contact damping `c` \[Pa s/m\]: a dashpot per unit length of edge inside the other
     /// triangle, acting on the normal relative velocity, bounded by the edge's normal force
     /// (`|f_d| <= p Q`: never tensile in total, no ploughing by a barely touching edge).
     /// 0 = none. [`ContactLaw::damping_for_ratio`] gives a value from a damping ratio.
@@ -23,7 +23,7 @@ impl ContactLaw {
     /// Default penalty factor: `p = 10 E`.
     pub const DEFAULT_PENALTY_FACTOR: f64 = 10.0;
 
-    /// A frictionless law with penalty `p` [Pa], `k_t = p`, no damping.
+    /// A frictionless law with penalty `p` \[Pa\], `k_t = p`, no damping.
     pub fn with_penalty(p: f64) -> Self {
         ContactLaw {
             penalty: p,
@@ -34,7 +34,7 @@ impl ContactLaw {
         }
     }
 
-    /// The documented default for a material of Young's modulus `e` [Pa]: `p = 10 E`,
+    /// The documented default for a material of Young's modulus `e` \[Pa\]: `p = 10 E`,
     /// friction `mu`, `k_t = p`, no damping.
     pub fn from_young(e: f64, mu: f64) -> Self {
         ContactLaw {
@@ -43,8 +43,8 @@ impl ContactLaw {
         }
     }
 
-    /// Dashpot coefficient [Pa s/m] giving damping ratio `xi` to a boundary layer of density
-    /// `rho` [kg/m^3] on this penalty, estimated for equal altitudes H on both sides
+    /// Dashpot coefficient \[Pa s/m\] giving damping ratio `xi` to a boundary layer of density
+    /// `rho` \[kg/m^3\] on this penalty, estimated for equal altitudes H on both sides
     /// (contact stiffness `6 p L/H`, mass `rho H L`): `c = 2 xi sqrt(6 p rho)`.
     pub fn damping_for_ratio(&self, xi: f64, rho: f64) -> f64 {
         2.0 * xi * (6.0 * self.penalty * rho).sqrt()
@@ -111,7 +111,7 @@ pub enum BroadPhase {
 /// Settings of contact detection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactSettings {
-    /// Detection buffer `b` [m]: couples whose bounding circles are closer than `b` are kept;
+    /// Detection buffer `b` \[m\]: couples whose bounding circles are closer than `b` are kept;
     /// detection is redone when a node (or a wall) has moved `b/2` since the last one.
     /// Default: 0 means "choose `0.2 *` the mean triangle radius at the first detection".
     pub buffer: f64,

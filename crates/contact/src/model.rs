@@ -77,7 +77,7 @@ pub struct ContactStats {
     pub n_invalid: usize,
     /// First such couple.
     pub first_invalid: [u32; 2],
-    /// Slip dissipation of this (trial) step [J/m]; booked by [`Contact::commit`].
+    /// Slip dissipation of this (trial) step \[J/m\]; booked by [`Contact::commit`].
     pub trial_dissipation: f64,
 }
 
@@ -111,11 +111,11 @@ impl ContactStats {
 /// Energies of the contact state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ContactEnergy {
-    /// Potential `sum p int (phi_c + phi_t) dA` over couples and planes [J/m].
+    /// Potential `sum p int (phi_c + phi_t) dA` over couples and planes \[J/m\].
     pub potential: f64,
-    /// Stored tangential spring energy `sum Ft^2/(2 k_t)` (committed) [J/m].
+    /// Stored tangential spring energy `sum Ft^2/(2 k_t)` (committed) \[J/m\].
     pub friction_stored: f64,
-    /// Slip dissipation committed since the start [J/m].
+    /// Slip dissipation committed since the start \[J/m\].
     pub friction_dissipated: f64,
 }
 
@@ -208,7 +208,7 @@ impl Contact {
         self.stale = true;
     }
 
-    /// The buffer in use [m] (fixed at the first detection when the setting is 0).
+    /// The buffer in use \[m\] (fixed at the first detection when the setting is 0).
     pub fn buffer(&self) -> f64 {
         self.buffer
     }
@@ -509,7 +509,7 @@ impl Contact {
         }
     }
 
-    /// Total force of the last pass on each plane (all families) [N/m], into `out`
+    /// Total force of the last pass on each plane (all families) \[N/m\], into `out`
     /// (length = number of planes): the reaction to what the plane does to the triangles.
     pub fn wall_reactions(&self, out: &mut [V2]) {
         out.iter_mut().for_each(|o| *o = [0.0; 2]);
@@ -576,7 +576,7 @@ impl Contact {
         }
     }
 
-    /// Largest node displacement since the last detection [m] (for diagnostics).
+    /// Largest node displacement since the last detection \[m\] (for diagnostics).
     pub fn max_displacement_since_detection(&self, x: &[V2]) -> f64 {
         x.iter()
             .zip(&self.x_det)

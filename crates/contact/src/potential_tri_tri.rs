@@ -90,13 +90,13 @@ impl TriPotential {
 /// The load of one edge `A -> B` of body E inside triangle T, without the penalty.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EdgeLoad {
-    /// `Q = int phi_T ds` over the part of the edge inside T [m]; the normal force is `p Q`.
+    /// `Q = int phi_T ds` over the part of the edge inside T \[m\]; the normal force is `p Q`.
     pub q: f64,
     /// Parameter of the resultant point `x(sbar) = A + sbar (B - A)`.
     pub sbar: f64,
     /// Barycentric coordinates of the resultant point in T.
     pub lam: [f64; 3],
-    /// Length of the edge inside T [m].
+    /// Length of the edge inside T \[m\].
     pub len_in: f64,
     /// Largest `phi_T` on the edge (0..1; 1 means the edge reached T's centroid).
     pub phi_max: f64,
@@ -264,7 +264,7 @@ pub fn lump_edge_force(f: &mut [V2; 6], e: usize, load: &EdgeLoad, g: V2) {
 }
 
 /// Normal (potential) contact forces of a couple on its 6 nodes (0..3 = c, 3..6 = t) for
-/// penalty `p` [Pa], per unit thickness [N/m]. Zero for degenerate triangles.
+/// penalty `p` \[Pa\], per unit thickness \[N/m\]. Zero for degenerate triangles.
 pub fn pair_normal_force(xc: &[V2; 3], xt: &[V2; 3], p: f64) -> [V2; 6] {
     let mut f = [[0.0; 2]; 6];
     if let Some(loads) = pair_loads(xc, xt) {
@@ -318,7 +318,7 @@ fn for_each_overlap_piece(xc: &[V2; 3], xt: &[V2; 3], mut f: impl FnMut(f64, V2,
     }
 }
 
-/// Pair energy `W = p * int_{c ∩ t} (phi_c + phi_t) dA` [J/m], exact (piecewise-linear
+/// Pair energy `W = p * int_{c ∩ t} (phi_c + phi_t) dA` \[J/m\], exact (piecewise-linear
 /// integrand on 3 x 3 clipped convex pieces). Zero for degenerate triangles.
 pub fn pair_energy(xc: &[V2; 3], xt: &[V2; 3], p: f64) -> f64 {
     let (Some(pc), Some(pt)) = (TriPotential::new(*xc), TriPotential::new(*xt)) else {

@@ -31,11 +31,11 @@ use crate::potential_tri_tri::{EdgeLoad, TriPotential, edge_load};
 /// A rigid plane (wall, floor) or platen.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigidPlane {
-    /// A point of the plane [m]; move it to prescribe a platen's motion.
+    /// A point of the plane \[m\]; move it to prescribe a platen's motion.
     pub point: V2,
     /// Outward unit normal, pointing from the solid into the free side.
     pub normal: V2,
-    /// Velocity of the plane [m/s] (used by friction and damping).
+    /// Velocity of the plane \[m/s\] (used by friction and damping).
     pub velocity: V2,
     /// Contact law between the plane and every triangle.
     pub law: ContactLaw,
@@ -86,7 +86,7 @@ impl RigidPlane {
         if ld.q > 0.0 { Some((ld, a, b)) } else { None }
     }
 
-    /// Normal force of the plane on the 3 nodes of `xt` [N/m].
+    /// Normal force of the plane on the 3 nodes of `xt` \[N/m\].
     pub fn normal_force(&self, xt: &[V2; 3]) -> [V2; 3] {
         let mut f = [[0.0; 2]; 3];
         if let Some((ld, _, _)) = self.load(xt) {
@@ -98,7 +98,7 @@ impl RigidPlane {
         f
     }
 
-    /// Energy `p * int_{T behind plane} phi_T dA` [J/m] (exact: linear pieces).
+    /// Energy `p * int_{T behind plane} phi_T dA` \[J/m\] (exact: linear pieces).
     pub fn energy(&self, xt: &[V2; 3]) -> f64 {
         let Some(t) = TriPotential::new(*xt) else {
             return 0.0;
