@@ -38,8 +38,8 @@
 //! and `s` are invariant under rigid motions. The nodal power then equals
 //! `sum_k A (sigma_k do_k/dt + tau_k ds_k/dt)`, which the energy accounting integrates.
 
-use crate::material::JointMaterial;
-use crate::softening::{pre_peak, pre_peak_energy, z};
+use crate::material::{JointConsts, JointMaterial};
+use crate::softening::{Z_INTEGRAL, pre_peak, pre_peak_energy, z};
 
 /// Geometry of a joint in its current position.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,26 +110,25 @@ pub struct PointTraction {
     pub stored: f64,
 }
 
-/// The traction law at one point: opening `o`, sliding `s`, reference length `h`, peak
-/// opening `o_p`, softening width `o_soft = o_c - o_p`, committed damage and mode indicator.
+/// The traction law at one point: opening `o`, sliding `s`, the joint's constants `k`
+/// (reference length, stiffness, peak opening, softening width), committed damage and mode
+/// indicator.
 #[inline]
 pub fn point_traction(
     mat: &JointMaterial,
-    h: f64,
-    o_p: f64,
-    o_soft: f64,
+    k: &JointConsts,
     o: f64,
     s: f64,
     damage_old: f64,
     mix_old: f64,
 ) -> PointTraction {
-    let kn = mat.p / h;
-    let sigma_compr = if o < 0.0 { kn * o } else { 0.0 };
+    let sigma_compr = if o < 0.0 { k.kn * o } else { 0.0 };
     let fs = mat.shear_strength(sigma_compr);
-    let s_p = mat.peak_slip(h, fs);
-    let s_soft = mat.slip_softening_width(h, fs);
+    let s_p = k.slip_per_fs * fs;
+    // s_c - s_p = <G_II - (2/3) fs s_p>/(I_z fs)
+    let s_soft = (mat.g_ii - 2.0 / 3.0 * fs * s_p).max(0.0) / (Z_INTEGRAL * fs);
     let abs_s = s.abs();
-    let d_i = (o - o_p).max(0.0) / o_soft;
+    let d_i = (o - k.o_p).max(0.0) * k.inv_o_soft;
     let d_ii = if s_soft > 0.0 {
         (abs_s - s_p).max(0.0) / s_soft
     } else if abs_s > s_p {
@@ -137,7 +136,7 @@ pub fn point_traction(
     } else {
         0.0
     };
-    let d_kin = d_i.hypot(d_ii);
+    let d_kin = if d_ii == 0.0 { d_i } else { d_i.hypot(d_ii) };
     let damage = d_kin.max(damage_old).min(1.0);
     let mode_mix = if d_kin > damage_old {
         std::f64::consts::FRAC_2_PI * d_ii.atan2(d_i)
@@ -146,10 +145,10 @@ pub fn point_traction(
     };
     if damage == 0.0 {
         let (sigma, psi_n) = if o < 0.0 {
-            (sigma_compr, 0.5 * kn * o * o)
+            (sigma_compr, 0.5 * sigma_compr * o)
         } else {
-            let x = o / o_p;
-            (mat.ft * pre_peak(x), mat.ft * o_p * pre_peak_energy(x))
+            let x = o * k.inv_o_p;
+            (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
         };
         let y = abs_s / s_p;
         let tau = (fs * pre_peak(y)).copysign(s);
@@ -166,7 +165,7 @@ pub fn point_traction(
         let sigma = if o < 0.0 {
             sigma_compr
         } else {
-            mat.ft * zd * o / (o_p + damage * o_soft)
+            mat.ft * zd * o / (k.o_p + damage * k.o_soft)
         };
         let tau = fs * zd * s / (s_p + damage * s_soft);
         PointTraction {
@@ -200,30 +199,20 @@ pub struct JointEval {
 #[inline]
 pub fn evaluate(
     mat: &JointMaterial,
-    h: f64,
-    o_p: f64,
-    o_soft: f64,
+    consts: &JointConsts,
     x: &JointNodes,
     damage_old: [f64; 2],
     mix_old: [f64; 2],
     t: f64,
 ) -> JointEval {
+    let h = consts.h;
     let k = kinematics(x, h);
     let area = 0.5 * k.l * t;
     let mut out = JointEval::default();
     let mut frame = 0.0;
     let mut q = [[0.0; 2]; 2];
     for i in 0..2 {
-        let pt = point_traction(
-            mat,
-            h,
-            o_p,
-            o_soft,
-            k.o[i],
-            k.s[i],
-            damage_old[i],
-            mix_old[i],
-        );
+        let pt = point_traction(mat, consts, k.o[i], k.s[i], damage_old[i], mix_old[i]);
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
         out.stored += area * pt.stored;
@@ -283,16 +272,7 @@ mod tests {
         let m = mat();
         let h = 0.02;
         let x = config(3.0);
-        let e = evaluate(
-            &m,
-            h,
-            m.peak_opening(h),
-            1e-5,
-            &x,
-            [0.2, 0.3],
-            [0.0; 2],
-            1.0,
-        );
+        let e = evaluate(&m, &m.consts(h), &x, [0.2, 0.3], [0.0; 2], 1.0);
         let kin = kinematics(&x, h);
         let area = 0.5 * kin.l;
         let fmax = e
@@ -329,16 +309,7 @@ mod tests {
     fn rigid_motion_of_the_reference_joint_gives_no_force() {
         let m = mat();
         let x = config(0.0);
-        let e = evaluate(
-            &m,
-            0.02,
-            m.peak_opening(0.02),
-            1e-5,
-            &x,
-            [0.0; 2],
-            [0.0; 2],
-            1.0,
-        );
+        let e = evaluate(&m, &m.consts(0.02), &x, [0.0; 2], [0.0; 2], 1.0);
         let fmax = e
             .forces
             .iter()
@@ -352,16 +323,7 @@ mod tests {
     fn degenerate_joint_stays_finite() {
         let m = mat();
         let x = [[0.0, 0.0]; 4];
-        let e = evaluate(
-            &m,
-            0.02,
-            m.peak_opening(0.02),
-            1e-5,
-            &x,
-            [0.0; 2],
-            [0.0; 2],
-            1.0,
-        );
+        let e = evaluate(&m, &m.consts(0.02), &x, [0.0; 2], [0.0; 2], 1.0);
         assert!(e.forces.iter().flatten().all(|v| v.is_finite()));
         assert!(e.stored.is_finite());
     }

@@ -43,6 +43,25 @@ pub struct JointMaterialInput {
     pub penalty_tangential: f64,
 }
 
+/// Constants of one joint derived from its material and reference length `h`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointConsts {
+    /// Reference edge length `h` (m).
+    pub h: f64,
+    /// Normal stiffness `p/h` (Pa/m).
+    pub kn: f64,
+    /// Peak opening `o_p = 2 h ft/p` (m).
+    pub o_p: f64,
+    /// `1/o_p`.
+    pub inv_o_p: f64,
+    /// Softening width `o_c - o_p` (m).
+    pub o_soft: f64,
+    /// `1/(o_c - o_p)`.
+    pub inv_o_soft: f64,
+    /// `2 h/p_t`: the peak slip per unit shear strength (m/Pa).
+    pub slip_per_fs: f64,
+}
+
 /// A validated joint material with its derived constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointMaterial {
@@ -181,6 +200,21 @@ impl JointMaterial {
     #[inline]
     pub fn slip_softening_width(&self, h: f64, fs: f64) -> f64 {
         softening_width(self.g_ii, fs, self.peak_slip(h, fs)).max(0.0)
+    }
+
+    /// The per-joint constants of an edge of reference length `h` (divisions done once).
+    pub fn consts(&self, h: f64) -> JointConsts {
+        let o_p = self.peak_opening(h);
+        let o_soft = self.critical_opening(h) - o_p;
+        JointConsts {
+            h,
+            kn: self.p / h,
+            o_p,
+            inv_o_p: 1.0 / o_p,
+            o_soft,
+            inv_o_soft: 1.0 / o_soft,
+            slip_per_fs: 2.0 * h / self.p_t,
+        }
     }
 
     /// Checks that both pure modes can dissipate their fracture energy on an edge of length `h`

@@ -19,6 +19,7 @@ const MIN_CHUNK: usize = 512;
 /// Per-joint scratch of the pass, owned by the stepping code.
 #[derive(Debug, Clone, Default)]
 pub struct JointScratch {
+    forces: Vec<[[f64; 2]; 4]>,
     evals: Vec<JointEval>,
 }
 
@@ -26,17 +27,39 @@ impl JointScratch {
     /// Scratch for `n_joints` joints.
     pub fn new(n_joints: usize) -> Self {
         JointScratch {
+            forces: vec![[[0.0; 2]; 4]; n_joints],
             evals: vec![JointEval::default(); n_joints],
         }
     }
 
-    /// The evaluations of the last pass (zero for broken joints).
+    /// The full evaluations of the last commit (zero for broken joints).
     pub fn evals(&self) -> &[JointEval] {
         &self.evals
     }
+
+    /// The nodal forces (P, Q, R, S) of the last force pass (zero for broken joints).
+    pub fn forces(&self) -> &[[[f64; 2]; 4]] {
+        &self.forces
+    }
 }
 
-fn evaluate_all(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
+#[inline]
+fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> JointEval {
+    let hist = &state.history[j];
+    if hist.broken_at.is_some() {
+        return JointEval::default();
+    }
+    evaluate(
+        &set.materials[set.material[j] as usize],
+        &set.consts[j],
+        &set.gather(j, x),
+        hist.damage,
+        hist.mode_mix,
+        set.thickness,
+    )
+}
+
+fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
     assert_eq!(
         x.len(),
         set.n_nodes,
@@ -47,29 +70,6 @@ fn evaluate_all(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mu
         set.len(),
         "state belongs to another joint set"
     );
-    scratch.evals.resize(set.len(), JointEval::default());
-    scratch
-        .evals
-        .par_iter_mut()
-        .with_min_len(MIN_CHUNK)
-        .enumerate()
-        .for_each(|(j, out)| {
-            let hist = &state.history[j];
-            *out = if hist.broken_at.is_some() {
-                JointEval::default()
-            } else {
-                evaluate(
-                    &set.materials[set.material[j] as usize],
-                    set.ref_length[j],
-                    set.peak_opening[j],
-                    set.opening_softening[j],
-                    &set.gather(j, x),
-                    hist.damage,
-                    hist.mode_mix,
-                    set.thickness,
-                )
-            };
-        });
 }
 
 /// Adds the forces of every intact joint at positions `x` to `f` (one entry per node). Reads
@@ -82,9 +82,16 @@ pub fn accumulate_joint_forces(
     f: &mut [[f64; 2]],
 ) {
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
-    evaluate_all(set, state, x, scratch);
-    for (nodes, e) in set.nodes.iter().zip(&scratch.evals) {
-        for (n, fe) in nodes.iter().zip(&e.forces) {
+    check_sizes(set, state, x);
+    scratch.forces.resize(set.len(), [[0.0; 2]; 4]);
+    scratch
+        .forces
+        .par_iter_mut()
+        .with_min_len(MIN_CHUNK)
+        .enumerate()
+        .for_each(|(j, out)| *out = eval_joint(set, state, x, j).forces);
+    for (nodes, fj) in set.nodes.iter().zip(&scratch.forces) {
+        for (n, fe) in nodes.iter().zip(fj) {
             let fi = &mut f[*n as usize];
             fi[0] += fe[0];
             fi[1] += fe[1];
@@ -105,7 +112,15 @@ pub fn commit_joints(
     scratch: &mut JointScratch,
     events: &mut Vec<FractureEvent>,
 ) -> usize {
-    evaluate_all(set, state, x, scratch);
+    check_sizes(set, state, x);
+    scratch.evals.resize(set.len(), JointEval::default());
+    let st: &JointState = state;
+    scratch
+        .evals
+        .par_iter_mut()
+        .with_min_len(MIN_CHUNK)
+        .enumerate()
+        .for_each(|(j, out)| *out = eval_joint(set, st, x, j));
     state
         .history
         .par_iter_mut()

@@ -2,7 +2,7 @@
 //! length, material) with the per-joint constants derived once.
 
 use crate::error::FractureError;
-use crate::material::{JointMaterial, JointMaterialInput};
+use crate::material::{JointConsts, JointMaterial, JointMaterialInput};
 
 /// Index of a joint in its [`JointSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -33,10 +33,8 @@ pub struct JointSet {
     pub ref_length: Vec<f64>,
     /// Material index per joint.
     pub material: Vec<u32>,
-    /// Peak opening `o_p = 2 h ft/p` per joint (m).
-    pub peak_opening: Vec<f64>,
-    /// Softening width `o_c - o_p` per joint (m).
-    pub opening_softening: Vec<f64>,
+    /// Derived constants per joint (stiffness, peak opening, softening width, ...).
+    pub consts: Vec<JointConsts>,
     /// The validated materials.
     pub materials: Vec<JointMaterial>,
     /// Out-of-plane thickness `t` (m); 1 for plane strain.
@@ -69,8 +67,7 @@ impl JointSet {
             triangles: Vec::with_capacity(n),
             ref_length: Vec::with_capacity(n),
             material: Vec::with_capacity(n),
-            peak_opening: Vec::with_capacity(n),
-            opening_softening: Vec::with_capacity(n),
+            consts: Vec::with_capacity(n),
             materials,
             thickness,
             n_nodes,
@@ -98,13 +95,11 @@ impl JointSet {
                 return Err(FractureError::BadLength { joint, h });
             }
             mat.check_edge(joint, jt.material, h)?;
-            let o_p = mat.peak_opening(h);
             set.nodes.push(jt.nodes);
             set.triangles.push(jt.triangles);
             set.ref_length.push(h);
             set.material.push(jt.material);
-            set.peak_opening.push(o_p);
-            set.opening_softening.push(mat.critical_opening(h) - o_p);
+            set.consts.push(mat.consts(h));
         }
         Ok(set)
     }

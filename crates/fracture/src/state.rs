@@ -83,9 +83,7 @@ impl JointState {
                 let m = &set.materials[set.material[j] as usize];
                 let e = evaluate(
                     m,
-                    set.ref_length[j],
-                    set.peak_opening[j],
-                    set.opening_softening[j],
+                    &set.consts[j],
                     &set.gather(j, x),
                     [0.0; 2],
                     [0.0; 2],

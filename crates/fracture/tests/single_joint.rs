@@ -54,7 +54,7 @@ impl Rig {
         let x = positions(o, s);
         let mut f = [[0.0; 2]; 4];
         accumulate_joint_forces(&self.set, &self.state, &x, &mut self.scratch, &mut f);
-        let e = self.scratch.evals()[0];
+        let trial_forces = self.scratch.forces()[0];
         let area = 0.5 * H * T;
         self.time += 1.0;
         commit_joints(
@@ -64,6 +64,13 @@ impl Rig {
             self.time,
             &mut self.scratch,
             &mut self.events,
+        );
+        // the commit sees the same positions and history as the force pass: same forces
+        let e = self.scratch.evals()[0];
+        assert_eq!(e.forces, trial_forces);
+        assert_eq!(
+            f, trial_forces,
+            "one joint: the scattered forces are the joint's"
         );
         [
             (e.local[0] / area, e.local[1] / area),
