@@ -71,7 +71,7 @@ pub fn kinematics(x: &JointNodes, h: f64) -> JointKinematics {
         0.5 * (xq[0] + xr[0] - xp[0] - xs[0]),
         0.5 * (xq[1] + xr[1] - xp[1] - xs[1]),
     ];
-    let l = d[0].hypot(d[1]);
+    let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
     let tt = if l > DEGENERATE * h {
         [d[0] / l, d[1] / l]
     } else {
@@ -122,23 +122,47 @@ pub fn point_traction(
     damage_old: f64,
     mix_old: f64,
 ) -> PointTraction {
-    let sigma_compr = if o < 0.0 { k.kn * o } else { 0.0 };
-    let fs = mat.shear_strength(sigma_compr);
-    let s_p = k.slip_per_fs * fs;
-    // s_c - s_p = <G_II - (2/3) fs s_p>/(I_z fs)
-    let s_soft = (mat.g_ii - 2.0 / 3.0 * fs * s_p).max(0.0) / (Z_INTEGRAL * fs);
+    law::<true>(mat, k, o, s, damage_old, mix_old)
+}
+
+/// The law; with `FULL = false` (force passes) the mode indicator is not computed.
+#[inline(always)]
+fn law<const FULL: bool>(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    damage_old: f64,
+    mix_old: f64,
+) -> PointTraction {
     let abs_s = s.abs();
-    let d_i = (o - k.o_p).max(0.0) * k.inv_o_soft;
-    let d_ii = if s_soft > 0.0 {
-        (abs_s - s_p).max(0.0) / s_soft
-    } else if abs_s > s_p {
-        1.0
+    let (sigma_compr, fs, s_p, inv_s_p, s_soft, d_ii) = if o < 0.0 {
+        let sigma_compr = k.kn * o;
+        let fs = mat.shear_strength(sigma_compr);
+        let s_p = k.slip_per_fs * fs;
+        // s_c - s_p = <G_II - (2/3) fs s_p>/(I_z fs)
+        let s_soft = (mat.g_ii - 2.0 / 3.0 * fs * s_p).max(0.0) / (Z_INTEGRAL * fs);
+        let d_ii = if s_soft > 0.0 {
+            (abs_s - s_p).max(0.0) / s_soft
+        } else if abs_s > s_p {
+            1.0
+        } else {
+            0.0
+        };
+        (sigma_compr, fs, s_p, 1.0 / s_p, s_soft, d_ii)
     } else {
-        0.0
+        // no compression: fs = c and the slip constants are the joint's precomputed ones
+        let d_ii = (abs_s - k.s_p0).max(0.0) * k.inv_s_soft0;
+        (0.0, mat.cohesion, k.s_p0, k.inv_s_p0, k.s_soft0, d_ii)
     };
-    let d_kin = if d_ii == 0.0 { d_i } else { d_i.hypot(d_ii) };
+    let d_i = (o - k.o_p).max(0.0) * k.inv_o_soft;
+    let d_kin = if d_ii == 0.0 {
+        d_i
+    } else {
+        (d_i * d_i + d_ii * d_ii).sqrt()
+    };
     let damage = d_kin.max(damage_old).min(1.0);
-    let mode_mix = if d_kin > damage_old {
+    let mode_mix = if FULL && d_kin > damage_old {
         std::f64::consts::FRAC_2_PI * d_ii.atan2(d_i)
     } else {
         mix_old
@@ -150,7 +174,7 @@ pub fn point_traction(
             let x = o * k.inv_o_p;
             (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
         };
-        let y = abs_s / s_p;
+        let y = abs_s * inv_s_p;
         let tau = (fs * pre_peak(y)).copysign(s);
         let psi_t = fs * s_p * pre_peak_energy(y);
         PointTraction {
@@ -205,6 +229,30 @@ pub fn evaluate(
     mix_old: [f64; 2],
     t: f64,
 ) -> JointEval {
+    evaluate_impl::<true>(mat, consts, x, damage_old, mix_old, t)
+}
+
+/// The nodal forces (P, Q, R, S) only, as [`evaluate`] computes them (bit for bit).
+#[inline]
+pub fn evaluate_forces(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    x: &JointNodes,
+    damage_old: [f64; 2],
+    t: f64,
+) -> [[f64; 2]; 4] {
+    evaluate_impl::<false>(mat, consts, x, damage_old, [0.0; 2], t).forces
+}
+
+#[inline(always)]
+fn evaluate_impl<const FULL: bool>(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    x: &JointNodes,
+    damage_old: [f64; 2],
+    mix_old: [f64; 2],
+    t: f64,
+) -> JointEval {
     let h = consts.h;
     let k = kinematics(x, h);
     let area = 0.5 * k.l * t;
@@ -212,7 +260,7 @@ pub fn evaluate(
     let mut frame = 0.0;
     let mut q = [[0.0; 2]; 2];
     for i in 0..2 {
-        let pt = point_traction(mat, consts, k.o[i], k.s[i], damage_old[i], mix_old[i]);
+        let pt = law::<FULL>(mat, consts, k.o[i], k.s[i], damage_old[i], mix_old[i]);
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
         out.stored += area * pt.stored;

@@ -54,7 +54,10 @@ pub mod timestep;
 
 pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
-pub use joint::{JointEval, JointKinematics, PointTraction, evaluate, kinematics, point_traction};
+pub use joint::{
+    JointEval, JointKinematics, PointTraction, evaluate, evaluate_forces, kinematics,
+    point_traction,
+};
 pub use material::{JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints};
 pub use set::{Joint, JointId, JointSet};

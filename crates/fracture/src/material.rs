@@ -60,6 +60,14 @@ pub struct JointConsts {
     pub inv_o_soft: f64,
     /// `2 h/p_t`: the peak slip per unit shear strength (m/Pa).
     pub slip_per_fs: f64,
+    /// Peak slip without compression, `s_p0 = 2 h c/p_t` (m).
+    pub s_p0: f64,
+    /// `1/s_p0`.
+    pub inv_s_p0: f64,
+    /// Shear softening width without compression (m), > 0 for a validated joint.
+    pub s_soft0: f64,
+    /// `1/s_soft0`.
+    pub inv_s_soft0: f64,
 }
 
 /// A validated joint material with its derived constants.
@@ -206,7 +214,13 @@ impl JointMaterial {
     pub fn consts(&self, h: f64) -> JointConsts {
         let o_p = self.peak_opening(h);
         let o_soft = self.critical_opening(h) - o_p;
+        let s_p0 = self.peak_slip(h, self.cohesion);
+        let s_soft0 = self.slip_softening_width(h, self.cohesion);
         JointConsts {
+            s_p0,
+            inv_s_p0: 1.0 / s_p0,
+            s_soft0,
+            inv_s_soft0: 1.0 / s_soft0,
             h,
             kn: self.p / h,
             o_p,

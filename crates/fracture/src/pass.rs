@@ -9,7 +9,7 @@
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{JointEval, evaluate};
+use crate::joint::{JointEval, evaluate, evaluate_forces};
 use crate::set::{JointId, JointSet};
 use crate::state::JointState;
 
@@ -89,14 +89,33 @@ pub fn accumulate_joint_forces(
         .par_iter_mut()
         .with_min_len(MIN_CHUNK)
         .enumerate()
-        .for_each(|(j, out)| *out = eval_joint(set, state, x, j).forces);
-    for (nodes, fj) in set.nodes.iter().zip(&scratch.forces) {
-        for (n, fe) in nodes.iter().zip(fj) {
-            let fi = &mut f[*n as usize];
-            fi[0] += fe[0];
-            fi[1] += fe[1];
-        }
-    }
+        .for_each(|(j, out)| {
+            let hist = &state.history[j];
+            *out = if hist.broken_at.is_some() {
+                [[0.0; 2]; 4]
+            } else {
+                evaluate_forces(
+                    &set.materials[set.material[j] as usize],
+                    &set.consts[j],
+                    &set.gather(j, x),
+                    hist.damage,
+                    set.thickness,
+                )
+            };
+        });
+    // gather per node over its (joint, slot) list in joint order: parallel and deterministic
+    let forces = &scratch.forces;
+    let (offsets, slots) = (&set.node_offsets, &set.node_slots);
+    f.par_iter_mut()
+        .with_min_len(4 * MIN_CHUNK)
+        .enumerate()
+        .for_each(|(i, fi)| {
+            for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
+                let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+                fi[0] += fe[0];
+                fi[1] += fe[1];
+            }
+        });
 }
 
 /// End-of-step commit at the step's final positions `x` and time `time`: damage grows to its

@@ -41,6 +41,11 @@ pub struct JointSet {
     pub thickness: f64,
     /// Number of nodes the ids refer to.
     pub n_nodes: usize,
+    /// Node-to-joint map (CSR): the slots of node `i` are
+    /// `node_slots[node_offsets[i]..node_offsets[i + 1]]`.
+    pub node_offsets: Vec<u32>,
+    /// `4 j + k` for node k (P, Q, R, S) of joint j, in increasing order per node.
+    pub node_slots: Vec<u32>,
 }
 
 impl JointSet {
@@ -71,6 +76,8 @@ impl JointSet {
             materials,
             thickness,
             n_nodes,
+            node_offsets: Vec::new(),
+            node_slots: Vec::new(),
         };
         for (j, jt) in joints.iter().enumerate() {
             let joint = j as u32;
@@ -101,6 +108,26 @@ impl JointSet {
             set.material.push(jt.material);
             set.consts.push(mat.consts(h));
         }
+        // CSR node -> joint slots, counting sort (slots stay in increasing order per node)
+        let mut offsets = vec![0u32; n_nodes + 1];
+        for nodes in &set.nodes {
+            for &nd in nodes {
+                offsets[nd as usize + 1] += 1;
+            }
+        }
+        for i in 0..n_nodes {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut slots = vec![0u32; 4 * n];
+        for (j, nodes) in set.nodes.iter().enumerate() {
+            for (k, &nd) in nodes.iter().enumerate() {
+                slots[fill[nd as usize] as usize] = (4 * j + k) as u32;
+                fill[nd as usize] += 1;
+            }
+        }
+        set.node_offsets = offsets;
+        set.node_slots = slots;
         Ok(set)
     }
 
