@@ -36,6 +36,27 @@ fn bench(c: &mut Criterion) {
         let state = JointState::new(&set, &x);
         let mut scratch = JointScratch::new(set.len());
         let mut f = vec![[0.0; 2]; x.len()];
+        // CPU time per joint on one thread (user + system time of the process from
+        // /proc/self/stat): less sensitive than wall time to other jobs sharing the cores
+        if let Some(t0) = cpu_seconds() {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let reps = 100;
+            pool.install(|| {
+                for _ in 0..reps {
+                    accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+                }
+            });
+            if let Some(t1) = cpu_seconds() {
+                let ns = (t1 - t0) * 1e9 / (reps * set.len()) as f64;
+                println!(
+                    "{name}: {ns:.1} CPU-ns per joint on 1 thread ({:.1} M joints per CPU-second)",
+                    1e3 / ns
+                );
+            }
+        }
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -54,6 +75,16 @@ fn bench(c: &mut Criterion) {
         }
     }
     g.finish();
+}
+
+/// utime + stime of this process in seconds (Linux), if readable.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // fields 14 and 15 of stat (utime, stime) are at 11 and 12 after the command name
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
 
 criterion_group!(benches, bench);

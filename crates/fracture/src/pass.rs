@@ -45,16 +45,15 @@ impl JointScratch {
 
 #[inline]
 fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> JointEval {
-    let hist = &state.history[j];
-    if hist.broken_at.is_some() {
+    if !state.intact[j] {
         return JointEval::default();
     }
     evaluate(
         &set.materials[set.material[j] as usize],
         &set.consts[j],
         &set.gather(j, x),
-        hist.damage,
-        hist.mode_mix,
+        state.damage[j],
+        state.history[j].mode_mix,
         set.thickness,
     )
 }
@@ -66,7 +65,7 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
         "positions must have one entry per node"
     );
     assert_eq!(
-        state.history.len(),
+        state.damage.len(),
         set.len(),
         "state belongs to another joint set"
     );
@@ -90,17 +89,16 @@ pub fn accumulate_joint_forces(
         .with_min_len(MIN_CHUNK)
         .enumerate()
         .for_each(|(j, out)| {
-            let hist = &state.history[j];
-            *out = if hist.broken_at.is_some() {
-                [[0.0; 2]; 4]
-            } else {
+            *out = if state.intact[j] {
                 evaluate_forces(
                     &set.materials[set.material[j] as usize],
                     &set.consts[j],
                     &set.gather(j, x),
-                    hist.damage,
+                    state.damage[j],
                     set.thickness,
                 )
+            } else {
+                [[0.0; 2]; 4]
             };
         });
     // gather per node over its (joint, slot) list in joint order: parallel and deterministic
@@ -144,9 +142,11 @@ pub fn commit_joints(
         .history
         .par_iter_mut()
         .with_min_len(MIN_CHUNK)
+        .zip(state.damage.par_iter_mut())
         .zip(scratch.evals.par_iter())
-        .for_each(|(h, e)| {
-            if h.broken_at.is_some() {
+        .zip(state.intact.par_iter())
+        .for_each(|(((h, d), e), &intact)| {
+            if !intact {
                 return;
             }
             let mut dw = 0.0;
@@ -157,13 +157,15 @@ pub fn commit_joints(
             h.work += dw;
             h.dissipated += dw - (e.stored - h.stored);
             h.stored = e.stored;
-            h.damage = e.damage;
+            *d = e.damage;
             h.mode_mix = e.mode_mix;
             h.last = e.local;
         });
     let mut n_new = 0;
     for (j, h) in state.history.iter_mut().enumerate() {
-        if h.broken_at.is_none() && h.damage[0] >= 1.0 && h.damage[1] >= 1.0 {
+        let d = state.damage[j];
+        if state.intact[j] && d[0] >= 1.0 && d[1] >= 1.0 {
+            state.intact[j] = false;
             h.broken_at = Some(time);
             let p = set.gather(j, x);
             let mix = h.mode_mix();

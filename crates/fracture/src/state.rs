@@ -4,11 +4,10 @@
 use crate::joint::evaluate;
 use crate::set::JointSet;
 
-/// Committed history and energy of one joint.
+/// Committed history and energy of one joint (the damage, read by every force pass, is kept
+/// apart in [`JointState::damage`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointHistory {
-    /// Damage at the two points (P/S, Q/R), in `[0, 1]`, never decreasing.
-    pub damage: [f64; 2],
     /// Mode indicator at the two points (0 pure mode I, 1 pure mode II).
     pub mode_mix: [f64; 2],
     /// Time of failure, if broken.
@@ -25,11 +24,6 @@ pub struct JointHistory {
 }
 
 impl JointHistory {
-    /// Damage of the joint: the mean of its two points; the joint breaks when it reaches 1.
-    pub fn damage(&self) -> f64 {
-        0.5 * (self.damage[0] + self.damage[1])
-    }
-
     /// Mode indicator of the joint: the mean of its two points.
     pub fn mode_mix(&self) -> f64 {
         0.5 * (self.mode_mix[0] + self.mode_mix[1])
@@ -59,7 +53,11 @@ pub struct JointEnergy {
 /// The history of every joint of a [`JointSet`].
 #[derive(Debug, Clone)]
 pub struct JointState {
-    /// One entry per joint.
+    /// Damage at the two points (P/S, Q/R) of each joint, in `[0, 1]`, never decreasing.
+    pub damage: Vec<[f64; 2]>,
+    /// False once a joint has broken.
+    pub intact: Vec<bool>,
+    /// Mode, failure time and energy books, one entry per joint.
     pub history: Vec<JointHistory>,
     /// Stored energy at the start (J).
     pub stored_initial: f64,
@@ -78,6 +76,7 @@ impl JointState {
             "positions must have one entry per node"
         );
         let mut stored_initial = 0.0;
+        let mut damage = Vec::with_capacity(set.len());
         let history = (0..set.len())
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
@@ -90,8 +89,8 @@ impl JointState {
                     set.thickness,
                 );
                 stored_initial += e.stored;
+                damage.push(e.damage);
                 JointHistory {
-                    damage: e.damage,
                     mode_mix: e.mode_mix,
                     broken_at: None,
                     work: 0.0,
@@ -102,11 +101,18 @@ impl JointState {
             })
             .collect();
         JointState {
+            damage,
+            intact: vec![true; set.len()],
             history,
             stored_initial,
             released_at_break: 0.0,
             n_broken: 0,
         }
+    }
+
+    /// Damage of joint `j`: the mean of its two points; the joint breaks when it reaches 1.
+    pub fn joint_damage(&self, j: usize) -> f64 {
+        0.5 * (self.damage[j][0] + self.damage[j][1])
     }
 
     /// Totals over all joints, summed in joint order.

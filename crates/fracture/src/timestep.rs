@@ -29,7 +29,7 @@ pub fn joint_omega_sq_bound(set: &JointSet, state: &JointState, masses: &[f64]) 
     );
     let mut row = vec![0.0; set.n_nodes];
     for (j, nodes) in set.nodes.iter().enumerate() {
-        if state.history[j].is_broken() {
+        if !state.intact[j] {
             continue;
         }
         let m = &set.materials[set.material[j] as usize];

@@ -195,7 +195,7 @@ fn shear_peak_under_compression_is_c_plus_sigma_tan_phi() {
             "normal stress held: {s0}"
         );
         assert_eq!(
-            rig.hist().damage[0] > 0.0,
+            rig.state.damage[0][0] > 0.0,
             s > s_p,
             "no damage before the shear peak"
         );
@@ -297,7 +297,7 @@ fn unloading_and_reloading_follow_the_damaged_secant_and_create_no_energy() {
     for i in 1..=n {
         rig.go(o_d * i as f64 / n as f64, 0.0);
     }
-    let d = rig.hist().damage;
+    let d = rig.state.damage[0];
     assert!(
         (d[0] - 0.4).abs() < 1e-12 && (d[1] - 0.4).abs() < 1e-12,
         "damage {d:?}"
@@ -322,7 +322,10 @@ fn unloading_and_reloading_follow_the_damaged_secant_and_create_no_energy() {
             (s0 - law).abs() < 1e-9 * m.ft && (s1 - law).abs() < 1e-9 * m.ft,
             "o {o}: {s0} vs {law}"
         );
-        assert_eq!(rig.hist().damage, d, "damage must not change on the secant");
+        assert_eq!(
+            rig.state.damage[0], d,
+            "damage must not change on the secant"
+        );
     }
     // closed cycle on piecewise-linear branches: no work, no dissipation (round-off: 1e-12 G A)
     let g_area = m.g_i * H * T;
@@ -346,7 +349,7 @@ fn compression_causes_no_damage_and_returns_its_energy() {
         let s = 0.5 * m.peak_slip(H, m.cohesion) * i as f64 / 1000.0;
         let [(s0, _), _] = rig.go(o, s);
         assert!((s0 - m.p / H * o).abs() < 1e-9 * m.ft, "sigma {s0}");
-        assert_eq!(rig.hist().damage, [0.0, 0.0]);
+        assert_eq!(rig.state.damage[0], [0.0, 0.0]);
     }
     // the work returns to zero up to the trapezoid error on the shear branch (fs varies with
     // sigma along this path): below 1e-6 of G_I A
