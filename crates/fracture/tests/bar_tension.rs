@@ -12,7 +12,7 @@
 
 mod common;
 
-use common::exploded_grid;
+use common::{Elastic, exploded_grid};
 use fdem_fracture::*;
 
 const E: f64 = 30e9;
@@ -21,37 +21,6 @@ const RHO: f64 = 2500.0;
 const FT: f64 = 5e6;
 const T: f64 = 0.1; // thickness (m)
 
-struct Cst {
-    nodes: [usize; 3],
-    b: [f64; 3],
-    c: [f64; 3],
-    area: f64,
-}
-
-fn elastic_forces(tris: &[Cst], x0: &[[f64; 2]], x: &[[f64; 2]], f: &mut [[f64; 2]]) {
-    let k = E / (1.0 - NU * NU);
-    for tri in tris {
-        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
-        for a in 0..3 {
-            let n = tri.nodes[a];
-            let u = [x[n][0] - x0[n][0], x[n][1] - x0[n][1]];
-            exx += tri.b[a] * u[0];
-            eyy += tri.c[a] * u[1];
-            gxy += tri.c[a] * u[0] + tri.b[a] * u[1];
-        }
-        let s = 0.5 / tri.area;
-        let (exx, eyy, gxy) = (exx * s, eyy * s, gxy * s);
-        let sxx = k * (exx + NU * eyy);
-        let syy = k * (eyy + NU * exx);
-        let sxy = k * 0.5 * (1.0 - NU) * gxy;
-        for a in 0..3 {
-            let n = tri.nodes[a];
-            f[n][0] -= 0.5 * T * (tri.b[a] * sxx + tri.c[a] * sxy);
-            f[n][1] -= 0.5 * T * (tri.c[a] * syy + tri.b[a] * sxy);
-        }
-    }
-}
-
 #[test]
 fn bar_of_joints_breaks_at_ft_times_its_cross_section() {
     let (nx, ny, h) = (10, 2, 0.01);
@@ -59,30 +28,8 @@ fn bar_of_joints_breaks_at_ft_times_its_cross_section() {
     let mesh = exploded_grid(nx, ny, h, h);
     let x0 = mesh.x.clone();
     let n = x0.len();
-    let tris: Vec<Cst> = mesh
-        .tris
-        .iter()
-        .map(|t| {
-            let p = t.map(|i| x0[i as usize]);
-            let area = 0.5
-                * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
-                    - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
-            let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
-            let c = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
-            Cst {
-                nodes: t.map(|i| i as usize),
-                b,
-                c,
-                area,
-            }
-        })
-        .collect();
-    let mut mass = vec![0.0; n];
-    for tri in &tris {
-        for &a in &tri.nodes {
-            mass[a] += RHO * tri.area * T / 3.0;
-        }
-    }
+    let elastic = Elastic::new(&mesh.tris, &x0, E, NU, T);
+    let mass = elastic.masses(RHO, n);
     let mat = JointMaterialInput {
         tensile_strength: FT,
         cohesion: 2.0 * FT,
@@ -142,7 +89,7 @@ fn bar_of_joints_breaks_at_ft_times_its_cross_section() {
         }
         for _ in 0..200_000 {
             f.iter_mut().for_each(|a| *a = [0.0; 2]);
-            elastic_forces(&tris, &x0, &x, &mut f);
+            elastic.add_forces(&x0, &x, &mut f);
             accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
             let mut res: f64 = 0.0;
             for i in 0..n {

@@ -86,3 +86,106 @@ impl Lcg {
         ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
     }
 }
+
+/// A small-strain linear-elastic constant-strain triangle in plane stress (test support only;
+/// the solver has its own finite-strain elements).
+pub struct Cst {
+    /// Node ids.
+    pub nodes: [usize; 3],
+    /// `b_a = y_b - y_c` (reference).
+    pub b: [f64; 3],
+    /// `c_a = x_c - x_b` (reference).
+    pub c: [f64; 3],
+    /// Reference area.
+    pub area: f64,
+}
+
+/// Linear elastic plane-stress triangles of a mesh: modulus, Poisson ratio, thickness.
+pub struct Elastic {
+    /// The triangles.
+    pub tris: Vec<Cst>,
+    /// Young's modulus (Pa).
+    pub e: f64,
+    /// Poisson's ratio.
+    pub nu: f64,
+    /// Thickness (m).
+    pub t: f64,
+}
+
+impl Elastic {
+    /// Builds the triangles from reference positions.
+    pub fn new(tris: &[[u32; 3]], x0: &[[f64; 2]], e: f64, nu: f64, t: f64) -> Self {
+        let tris = tris
+            .iter()
+            .map(|tri| {
+                let p = tri.map(|i| x0[i as usize]);
+                let area = 0.5
+                    * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                        - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+                let b = [p[1][1] - p[2][1], p[2][1] - p[0][1], p[0][1] - p[1][1]];
+                let c = [p[2][0] - p[1][0], p[0][0] - p[2][0], p[1][0] - p[0][0]];
+                Cst {
+                    nodes: tri.map(|i| i as usize),
+                    b,
+                    c,
+                    area,
+                }
+            })
+            .collect();
+        Elastic { tris, e, nu, t }
+    }
+
+    fn stress(&self, tri: &Cst, x0: &[[f64; 2]], x: &[[f64; 2]]) -> ([f64; 3], [f64; 3]) {
+        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
+        for a in 0..3 {
+            let n = tri.nodes[a];
+            let u = [x[n][0] - x0[n][0], x[n][1] - x0[n][1]];
+            exx += tri.b[a] * u[0];
+            eyy += tri.c[a] * u[1];
+            gxy += tri.c[a] * u[0] + tri.b[a] * u[1];
+        }
+        let s = 0.5 / tri.area;
+        let (exx, eyy, gxy) = (exx * s, eyy * s, gxy * s);
+        let k = self.e / (1.0 - self.nu * self.nu);
+        let sig = [
+            k * (exx + self.nu * eyy),
+            k * (eyy + self.nu * exx),
+            k * 0.5 * (1.0 - self.nu) * gxy,
+        ];
+        (sig, [exx, eyy, gxy])
+    }
+
+    /// Adds the elastic forces at positions `x` to `f`.
+    pub fn add_forces(&self, x0: &[[f64; 2]], x: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        for tri in &self.tris {
+            let (s, _) = self.stress(tri, x0, x);
+            for a in 0..3 {
+                let n = tri.nodes[a];
+                f[n][0] -= 0.5 * self.t * (tri.b[a] * s[0] + tri.c[a] * s[2]);
+                f[n][1] -= 0.5 * self.t * (tri.c[a] * s[1] + tri.b[a] * s[2]);
+            }
+        }
+    }
+
+    /// Strain energy `sum A t sigma : eps / 2` (J).
+    pub fn energy(&self, x0: &[[f64; 2]], x: &[[f64; 2]]) -> f64 {
+        self.tris
+            .iter()
+            .map(|tri| {
+                let (s, e) = self.stress(tri, x0, x);
+                0.5 * tri.area * self.t * (s[0] * e[0] + s[1] * e[1] + s[2] * e[2])
+            })
+            .sum()
+    }
+
+    /// Lumped masses `rho A t/3` per node.
+    pub fn masses(&self, rho: f64, n_nodes: usize) -> Vec<f64> {
+        let mut m = vec![0.0; n_nodes];
+        for tri in &self.tris {
+            for &a in &tri.nodes {
+                m[a] += rho * tri.area * self.t / 3.0;
+            }
+        }
+        m
+    }
+}
