@@ -27,8 +27,9 @@ struct Outcome {
     dt: f64,
 }
 
-/// Pulls the right end at `speed` (m/s) for `duration` (s).
-fn pull(speed: f64, duration: f64, safety: f64) -> Outcome {
+/// Pulls the right end at `speed` (m/s) for `duration` (s), time step `safety` times the
+/// stable bound, joint penalties `penalty` (Pa).
+fn pull(speed: f64, duration: f64, safety: f64, penalty: f64) -> Outcome {
     let (nx, ny, h) = (10, 2, 0.01);
     let len = nx as f64 * h;
     let mesh = exploded_grid(nx, ny, h, h);
@@ -42,8 +43,8 @@ fn pull(speed: f64, duration: f64, safety: f64) -> Outcome {
         friction_angle_deg: 30.0,
         fracture_energy_i: 50.0,
         fracture_energy_ii: 500.0,
-        penalty_normal: 10.0 * E,
-        penalty_tangential: 10.0 * E,
+        penalty_normal: penalty,
+        penalty_tangential: penalty,
     };
     let set = JointSet::new(&mesh.joints, &[mat], n, T).unwrap();
     let mut state = JointState::new(&set, &x0);
@@ -145,12 +146,12 @@ fn balance(o: &Outcome) -> f64 {
 
 #[test]
 fn dynamic_break_near_the_stability_limit_closes_the_energy_balance() {
-    let o = pull(0.5, 4e-4, 0.95);
+    let o = pull(0.5, 4e-4, 0.95, 10.0 * E);
     // the residual is the joints' trapezoid on (A sigma, o), (A tau, s) against the nodal
     // trapezoid: second order in dt (measured 1.5e-10, 3.4e-11, 8.4e-12 at 0.5, 0.25, 0.125)
     let r: Vec<f64> = [0.5, 0.25]
         .iter()
-        .map(|&sf| balance(&pull(0.5, 4e-4, sf)).abs())
+        .map(|&sf| balance(&pull(0.5, 4e-4, sf, 10.0 * E)).abs())
         .collect();
     println!(
         "residual at 0.5 and 0.25 of the bound: {:.3e}, {:.3e}",
@@ -179,7 +180,7 @@ fn dynamic_break_near_the_stability_limit_closes_the_energy_balance() {
 #[test]
 fn very_fast_loading_stays_finite_and_balanced() {
     // 20 m/s: the loading wave alone (rho c v = 173 MPa) is 35 times ft
-    let o = pull(20.0, 1e-4, 0.95);
+    let o = pull(20.0, 1e-4, 0.95, 10.0 * E);
     let err = balance(&o);
     println!(
         "bar at 20 m/s: {} steps, {} breaks, W_ext = {:.4e} J, residual {err:.2e}",
@@ -191,4 +192,21 @@ fn very_fast_loading_stays_finite_and_balanced() {
     assert!(o.w_ext.is_finite() && o.kinetic.is_finite() && o.strain.is_finite());
     // measured 2.9e-6 (larger steps in o and s per dt at this speed)
     assert!(err.abs() < 1e-4, "energy residual {err:e}");
+}
+
+#[test]
+fn penalty_of_1000_e_with_the_bound_time_step_stays_finite_and_balanced() {
+    // joints 1000 times stiffer than the triangles: the joint bound sets dt (about 10 times
+    // smaller than with p = 10 E), and the run through the break stays finite and balanced
+    let o = pull(0.5, 2e-4, 0.95, 1000.0 * E);
+    let err = balance(&o);
+    println!(
+        "p = 1000 E: dt = {:.3e} s, {} steps, {} breaks, residual {err:.2e}",
+        o.dt,
+        o.steps,
+        o.events.len()
+    );
+    assert!(!o.events.is_empty(), "the bar must break");
+    assert!(o.w_ext.is_finite() && o.kinetic.is_finite());
+    assert!(err.abs() < 1e-6, "energy residual {err:e}");
 }
