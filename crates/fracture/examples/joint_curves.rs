@@ -119,7 +119,8 @@ impl Plot {
         }
         let _ = writeln!(
             self.svg,
-            r#"<path d="{d}" fill="none" stroke="{color}" stroke-width="1.8" clip-path="url(#plot)"/>"#
+            r#"<path d="{d}" fill="none" stroke="{color}" stroke-width="1.8" stroke-dasharray="{}" clip-path="url(#plot)"/>"#,
+            if k == 0 { "6,3" } else { "none" }
         );
         let ly = M + 18.0 + 16.0 * k as f64;
         let _ = writeln!(
@@ -161,15 +162,6 @@ fn main() {
         (-0.05, 1.05),
         (-0.2, 1.05),
     );
-    let r = drive(&mono);
-    p.line(
-        &r.iter()
-            .map(|v| (v[0] / o_c, v[2] / m.ft))
-            .collect::<Vec<_>>(),
-        "#1f77b4",
-        "monotonic",
-        0,
-    );
     let r = drive(&cyc);
     p.line(
         &r.iter()
@@ -178,6 +170,15 @@ fn main() {
         "#d62728",
         "unload/reload at D = 0.3",
         1,
+    );
+    let r = drive(&mono);
+    p.line(
+        &r.iter()
+            .map(|v| (v[0] / o_c, v[2] / m.ft))
+            .collect::<Vec<_>>(),
+        "#1f77b4",
+        "monotonic",
+        0,
     );
     p.save(&dir.join("fracture_mode_i.svg"));
 

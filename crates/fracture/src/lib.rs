@@ -58,7 +58,7 @@ pub use joint::{
     JointEval, JointKinematics, PointTraction, evaluate, evaluate_forces, kinematics,
     point_traction,
 };
-pub use material::{JointMaterial, JointMaterialInput};
+pub use material::{JointConsts, JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints};
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
