@@ -1,0 +1,2 @@
+//! Memory bandwidth (STREAM triad): written next.
+fn main() {}

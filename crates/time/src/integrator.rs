@@ -1,0 +1,217 @@
+//! The trait every scheme implements, its cost and counters, and the bookkeeping the
+//! schemes share (cached acceleration, prescribed DOFs, counters).
+
+use crate::{SchemeKind, SecondOrderSystem, State};
+
+/// Force and gradient evaluations a scheme makes per step, in steady state (a force
+/// evaluated at the end of one step and reused at the start of the next, "FSAL", counts once).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StepCost {
+    /// Force (acceleration) evaluations per step.
+    pub forces: u32,
+    /// Force-gradient products `G` per step.
+    pub gradients: u32,
+}
+
+impl StepCost {
+    /// Force evaluations per step counting each finite-difference gradient as two forces
+    /// (`exact_gradient = false`) or as none (an exact product, `true`).
+    pub fn force_equivalents(&self, exact_gradient: bool) -> u32 {
+        self.forces
+            + if exact_gradient {
+                0
+            } else {
+                2 * self.gradients
+            }
+    }
+}
+
+/// What a scheme has done since construction or [`Integrator::reset_counters`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Calls of [`SecondOrderSystem::acceleration`], including those of the start-up, of
+    /// re-evaluations after [`Integrator::invalidate`], and of the finite-difference
+    /// gradient default (two per gradient).
+    pub forces: u64,
+    /// Calls of [`SecondOrderSystem::force_gradient`].
+    pub gradients: u64,
+}
+
+/// An explicit one-step scheme for a [`SecondOrderSystem`].
+///
+/// The last acceleration evaluation of a step is at the final state `(t + h, x')` for
+/// central difference, CHIN, OMF30 and Forest & Ruth (so a system can read its final
+/// forces, e.g. platen reactions, there); for OMF32 it is at the last stage `x5` and for
+/// Gear PC at the predicted state. Acceleration entries at prescribed DOFs are set to zero
+/// by the scheme after every evaluation (a system can still record the reaction forces it
+/// computed there).
+///
+/// Each implementation owns its scratch buffers, allocated once at construction for
+/// `n_dofs` DOFs: a step allocates nothing. Update loops run on rayon above
+/// [`crate::kernels::PAR_MIN_DOFS`] DOFs and give bit-identical results for any number of
+/// threads.
+///
+/// Schemes that reuse the last force of a step as the first of the next one cache the
+/// acceleration at `state.t`. The cache is dropped automatically when `state.t` is not the
+/// time it was computed at; if anything else changes the forces between two steps
+/// (positions edited by hand, a new contact list, changed material state), call
+/// [`invalidate`](Self::invalidate) and the next step re-evaluates it (one extra force).
+pub trait Integrator: Send {
+    /// Which scheme this is.
+    fn kind(&self) -> SchemeKind;
+
+    /// Number of DOFs the scratch buffers were sized for.
+    fn n_dofs(&self) -> usize;
+
+    /// Advances `state` from `state.t` to `state.t + h`, calling
+    /// [`SecondOrderSystem::end_of_step`] once at the end.
+    ///
+    /// `h` must be positive and finite, and may change from one step to the next (every
+    /// scheme here accepts a variable step); `state` must have [`n_dofs`](Self::n_dofs)
+    /// DOFs. These are checked by the caller (the solver checks its settings once), not
+    /// here: `step` is the inner loop and panics on a wrong length.
+    fn step(&mut self, system: &mut dyn SecondOrderSystem, state: &mut State, h: f64);
+
+    /// Force and gradient evaluations per step, in steady state.
+    fn cost(&self) -> StepCost {
+        self.kind().cost()
+    }
+
+    /// Counts since construction or the last [`reset_counters`](Self::reset_counters).
+    fn counters(&self) -> Counters;
+
+    /// Sets the counters to zero.
+    fn reset_counters(&mut self);
+
+    /// Forgets cached forces (and, for Gear PC, the higher derivatives) so that the next
+    /// step starts afresh from `state`.
+    fn invalidate(&mut self);
+
+    /// The largest stable `h omega` on the undamped oscillator (computed from the spectral
+    /// radius of the one-step operator; see [`crate::stability`]).
+    fn stability_limit(&self) -> f64 {
+        self.kind().stability_limit()
+    }
+}
+
+/// Bookkeeping shared by the schemes: cached acceleration, counters, prescribed DOFs.
+#[derive(Clone, Debug)]
+pub(crate) struct Core {
+    /// Acceleration buffer (for FSAL schemes: the acceleration at `a_time`).
+    pub a: Vec<f64>,
+    /// Time at which `a` holds the acceleration of the current state, if it does.
+    pub a_time: Option<f64>,
+    pub counters: Counters,
+    prescribed: Vec<usize>,
+    px: Vec<f64>,
+    pv: Vec<f64>,
+}
+
+impl Core {
+    pub fn new(n: usize) -> Self {
+        Self {
+            a: vec![0.0; n],
+            a_time: None,
+            counters: Counters::default(),
+            prescribed: Vec::new(),
+            px: Vec::new(),
+            pv: Vec::new(),
+        }
+    }
+
+    /// Checks sizes, records the prescribed DOFs and their values at the start of the step.
+    pub fn begin(&mut self, system: &dyn SecondOrderSystem, state: &State) {
+        let n = self.a.len();
+        assert!(
+            state.x.len() == n && state.v.len() == n && system.n_dofs() == n,
+            "scheme built for {n} DOFs got a state of {} / {} and a system of {}",
+            state.x.len(),
+            state.v.len(),
+            system.n_dofs()
+        );
+        self.prescribed.clear();
+        self.prescribed.extend_from_slice(system.prescribed_dofs());
+        self.px.clear();
+        self.pv.clear();
+        for &i in &self.prescribed {
+            self.px.push(state.x[i]);
+            self.pv.push(state.v[i]);
+        }
+    }
+
+    /// Prescribed DOFs back to their values at the start of the step, then the system's
+    /// prescribed motion at stage time `t`.
+    pub fn constrain(
+        &self,
+        system: &mut dyn SecondOrderSystem,
+        t: f64,
+        x: &mut [f64],
+        v: &mut [f64],
+    ) {
+        for (k, &i) in self.prescribed.iter().enumerate() {
+            x[i] = self.px[k];
+            v[i] = self.pv[k];
+        }
+        system.prescribe(t, x, v);
+    }
+
+    /// The prescribed DOF indices recorded by [`begin`](Self::begin).
+    pub fn prescribed(&self) -> &[usize] {
+        &self.prescribed
+    }
+
+    /// Makes sure `a` holds the acceleration at the start of the step (FSAL schemes).
+    pub fn ensure_start_acceleration(
+        &mut self,
+        system: &mut dyn SecondOrderSystem,
+        state: &mut State,
+    ) {
+        if self.a_time != Some(state.t) {
+            self.constrain(system, state.t, &mut state.x, &mut state.v);
+            self.eval(system, state.t, &state.x, &state.v);
+        }
+    }
+
+    /// `a = a(t, x, v)` into the core buffer, then zero at prescribed DOFs (they do not
+    /// accelerate: this also keeps them out of the finite-difference gradient's probe).
+    pub fn eval(&mut self, system: &mut dyn SecondOrderSystem, t: f64, x: &[f64], v: &[f64]) {
+        system.acceleration(t, x, v, &mut self.a);
+        for &i in &self.prescribed {
+            self.a[i] = 0.0;
+        }
+        self.counters.forces += 1;
+    }
+
+    /// `g = G(x)` given `self.a = a(t, x, v)`.
+    pub fn gradient(
+        &mut self,
+        system: &mut dyn SecondOrderSystem,
+        t: f64,
+        x: &[f64],
+        v: &[f64],
+        g: &mut [f64],
+        work: &mut crate::GradientWork,
+    ) {
+        system.force_gradient(t, x, v, &self.a, g, work);
+        self.counters.gradients += 1;
+        if !system.has_exact_gradient() {
+            self.counters.forces += 2;
+        }
+    }
+
+    /// Ends an accepted step: time, end-of-step hook, counters, cache time.
+    pub fn finish(
+        &mut self,
+        system: &mut dyn SecondOrderSystem,
+        state: &mut State,
+        t_new: f64,
+        fsal: bool,
+    ) {
+        state.t = t_new;
+        system.end_of_step(state.t, &state.x, &state.v);
+        self.counters.steps += 1;
+        self.a_time = if fsal { Some(t_new) } else { None };
+    }
+}
