@@ -1,0 +1,177 @@
+//! The explode operation: every (selected) triangle gets its own three nodes, and every
+//! internal edge that is no longer shared is listed with its two triangles, for the joint
+//! elements of fracture.
+//!
+//! Joint convention (fdem-theory.md sec. 4): edge `P -> Q` of `T1` (CCW in `T1`) and edge
+//! `R -> S` of `T2` (CCW in `T2`), with `P = S` and `Q = R` in the reference state. The normal
+//! `nn = (tt_y, -tt_x)`, `tt` along `P -> Q`, points from `T1` to `T2`.
+
+use crate::error::MeshError;
+use crate::ids::{NodeId, TriId};
+use crate::mesh::{Mesh, PhysicalGroup, RawMesh};
+
+/// An internal edge of an exploded mesh: the two triangles and the four node ids.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct InternalEdge {
+    /// `[T1, T2]`.
+    pub tris: [TriId; 2],
+    /// `[P, Q, R, S]`: `P -> Q` CCW in `T1`, `R -> S` CCW in `T2`, `P = S`, `Q = R` in the
+    /// reference.
+    pub nodes: [NodeId; 4],
+    /// Local edge index of `P -> Q` in `T1` and of `R -> S` in `T2` (edge `k` runs from
+    /// local node `k` to `k+1`).
+    pub local_edge: [u8; 2],
+}
+
+/// An exploded mesh with its joints and the map back to the original nodes.
+#[derive(Clone, Debug)]
+pub struct Exploded {
+    /// The exploded mesh (coincident nodes allowed; same triangles, groups and regions).
+    pub mesh: Mesh,
+    /// Original node of each new node.
+    pub original_node: Vec<NodeId>,
+    /// Internal edges whose two sides no longer share nodes, in original edge order.
+    pub internal_edges: Vec<InternalEdge>,
+}
+
+/// Explodes `mesh`. With `only_groups = None` every triangle gets its own nodes; with
+/// `Some(names)` only the triangles of those dimension-2 groups do, and the others keep
+/// sharing nodes among themselves. Every internal edge with at least one exploded triangle
+/// becomes an [`InternalEdge`]. Errors if a named group is missing or is not of dimension 2.
+pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, MeshError> {
+    let nt = mesh.triangles.len();
+    let mut selected = vec![only_groups.is_none(); nt];
+    if let Some(names) = only_groups {
+        for name in names {
+            let g = mesh.group(name)?;
+            if g.dim != 2 {
+                return Err(MeshError::MissingGroup {
+                    name: format!(
+                        "{name} (as a dimension-2 group; it has dimension {})",
+                        g.dim
+                    ),
+                    available: mesh
+                        .groups
+                        .iter()
+                        .filter(|g| g.dim == 2)
+                        .map(|g| g.name.clone())
+                        .collect(),
+                });
+            }
+            for t in &g.triangles {
+                selected[t.idx()] = true;
+            }
+        }
+    }
+    const NONE: u32 = u32::MAX;
+    let mut shared = vec![NONE; mesh.nodes.len()];
+    let mut original_node = Vec::with_capacity(3 * nt);
+    let mut tris = Vec::with_capacity(nt);
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let mut nt3 = [0u32; 3];
+        for k in 0..3 {
+            let n = tri[k] as usize;
+            if selected[t] {
+                nt3[k] = original_node.len() as u32;
+                original_node.push(NodeId(n as u32));
+            } else {
+                if shared[n] == NONE {
+                    shared[n] = original_node.len() as u32;
+                    original_node.push(NodeId(n as u32));
+                }
+                nt3[k] = shared[n];
+            }
+        }
+        tris.push(nt3);
+    }
+    let local = |t: TriId, orig: NodeId| -> usize {
+        let tri = mesh.triangles[t.idx()];
+        (0..3).find(|&k| tri[k] == orig.0).unwrap_or(0)
+    };
+    let new_of = |t: TriId, orig: NodeId| NodeId(tris[t.idx()][local(t, orig)]);
+    let mut internal_edges = Vec::new();
+    for e in &mesh.edges {
+        if let Some(t2) = e.right {
+            let t1 = e.left;
+            if !(selected[t1.idx()] || selected[t2.idx()]) {
+                continue;
+            }
+            let [p0, q0] = e.nodes;
+            internal_edges.push(InternalEdge {
+                tris: [t1, t2],
+                nodes: [
+                    new_of(t1, p0),
+                    new_of(t1, q0),
+                    new_of(t2, q0),
+                    new_of(t2, p0),
+                ],
+                local_edge: [local(t1, p0) as u8, local(t2, q0) as u8],
+            });
+        }
+    }
+    // Copies of each original node (for point groups).
+    let mut copies: Vec<Vec<NodeId>> = vec![Vec::new(); mesh.nodes.len()];
+    for (i, o) in original_node.iter().enumerate() {
+        copies[o.idx()].push(NodeId(i as u32));
+    }
+    // Edge lookup: original (min, max) -> mesh edge.
+    let mut edge_of = std::collections::HashMap::with_capacity(mesh.edges.len());
+    for e in &mesh.edges {
+        let (a, b) = (
+            e.nodes[0].0.min(e.nodes[1].0),
+            e.nodes[0].0.max(e.nodes[1].0),
+        );
+        edge_of.insert((a, b), *e);
+    }
+    let groups = mesh
+        .groups
+        .iter()
+        .map(|g| {
+            let mut edges = Vec::new();
+            for ed in &g.edges {
+                let key = (ed[0].0.min(ed[1].0), ed[0].0.max(ed[1].0));
+                if let Some(me) = edge_of.get(&key) {
+                    for t in std::iter::once(me.left).chain(me.right) {
+                        edges.push([new_of(t, ed[0]), new_of(t, ed[1])]);
+                    }
+                }
+            }
+            PhysicalGroup {
+                name: g.name.clone(),
+                dim: g.dim,
+                tag: g.tag,
+                nodes: if g.dim == 0 {
+                    g.nodes
+                        .iter()
+                        .flat_map(|n| copies[n.idx()].iter().copied())
+                        .collect()
+                } else {
+                    Vec::new()
+                },
+                edges,
+                triangles: g.triangles.clone(),
+            }
+        })
+        .collect();
+    let nodes = original_node.iter().map(|o| mesh.nodes[o.idx()]).collect();
+    let node_tags = original_node
+        .iter()
+        .map(|o| mesh.node_tags[o.idx()])
+        .collect();
+    let exploded = Mesh::build(
+        RawMesh {
+            path: format!("{} (exploded)", mesh.source),
+            node_tags,
+            nodes,
+            triangles: tris,
+            tri_tags: mesh.tri_tags.clone(),
+            groups,
+        },
+        false,
+    )?;
+    Ok(Exploded {
+        mesh: exploded,
+        original_node,
+        internal_edges,
+    })
+}

@@ -1,0 +1,231 @@
+//! The internal-force kernel and its exact directional derivative.
+//!
+//! Two passes, both parallel with rayon and both independent of the number of threads:
+//! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
+//! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum to
+//!    the force array.
+//!
+//! No allocation per call: the buffer lives in a [`ForceScratch`] made once by the caller.
+
+use crate::elements::{Elements, MaterialConsts, TriData};
+use crate::material::ElasticLaw;
+use crate::triangle::{
+    Mat2, Sym2, det, edge_matrix, elastic_stress, inv, mul, nodal_forces, rate_of_deformation,
+};
+use rayon::prelude::*;
+
+/// Triangles per rayon task in the element pass.
+const TRI_CHUNK: usize = 8192;
+/// Nodes per rayon task in the gather pass.
+const NODE_CHUNK: usize = 8192;
+
+/// Scratch memory of the force kernels: three nodal forces per triangle.
+#[derive(Clone, Debug, Default)]
+pub struct ForceScratch {
+    /// Per-triangle nodal forces.
+    pub per_tri: Vec<[[f64; 2]; 3]>,
+}
+
+impl ForceScratch {
+    /// Scratch for `elements`.
+    pub fn new(elements: &Elements) -> ForceScratch {
+        ForceScratch {
+            per_tri: vec![[[0.0; 2]; 3]; elements.len()],
+        }
+    }
+}
+
+#[inline(always)]
+fn corners(td: &TriData, x: &[[f64; 2]]) -> [[f64; 2]; 3] {
+    [
+        x[td.nodes[0] as usize],
+        x[td.nodes[1] as usize],
+        x[td.nodes[2] as usize],
+    ]
+}
+
+/// Cauchy stress (elastic + viscous) of one triangle.
+#[inline(always)]
+pub(crate) fn tri_stress<const VISCOUS: bool>(
+    td: &TriData,
+    c: &MaterialConsts,
+    xs: [[f64; 2]; 3],
+    v: &[[f64; 2]],
+) -> (Sym2, Mat2) {
+    let g = edge_matrix(xs[0], xs[1], xs[2]);
+    let f = mul(g, td.ginv);
+    let mut s = elastic_stress(c.law, c.mu, c.lam, f);
+    if VISCOUS && td.eta != 0.0 {
+        let vs = corners(td, v);
+        let d = rate_of_deformation(g, edge_matrix(vs[0], vs[1], vs[2]));
+        s[0] += td.eta * d[0];
+        s[1] += td.eta * d[1];
+        s[2] += td.eta * d[2];
+    }
+    (s, f)
+}
+
+#[inline(always)]
+fn tri_force<const VISCOUS: bool>(
+    td: &TriData,
+    mats: &[MaterialConsts],
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+) -> [[f64; 2]; 3] {
+    let c = &mats[td.material as usize];
+    let xs = corners(td, x);
+    let (s, _) = tri_stress::<VISCOUS>(td, c, xs, v);
+    nodal_forces(s, c.half_t, xs)
+}
+
+impl Elements {
+    /// Adds the internal nodal forces (elastic + viscous) at positions `x` and velocities `v`
+    /// to `f`: `f_a += -(t/2) sigma rot(x_c - x_b)` for each triangle.
+    ///
+    /// Parallel (rayon), bit-identical for any number of threads, no allocation. `v` is read
+    /// only if some triangle has damping. Panics if the slices are shorter than the node count
+    /// or `scratch` was made for other elements (programming errors, not input errors).
+    pub fn internal_forces(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+    ) {
+        assert!(x.len() >= self.n_nodes && f.len() >= self.n_nodes);
+        assert_eq!(scratch.per_tri.len(), self.tris.len());
+        let mats = &self.materials[..];
+        let buf = &mut scratch.per_tri;
+        if self.viscous {
+            assert!(v.len() >= self.n_nodes);
+            buf.par_iter_mut()
+                .zip(self.tris.par_iter())
+                .with_min_len(TRI_CHUNK)
+                .for_each(|(o, td)| *o = tri_force::<true>(td, mats, x, v));
+        } else {
+            buf.par_iter_mut()
+                .zip(self.tris.par_iter())
+                .with_min_len(TRI_CHUNK)
+                .for_each(|(o, td)| *o = tri_force::<false>(td, mats, x, v));
+        }
+        self.gather(&scratch.per_tri, f);
+    }
+
+    /// Adds the per-triangle forces in `per_tri` to the node array `f`, each node summing its
+    /// slots in a fixed order.
+    pub fn gather(&self, per_tri: &[[[f64; 2]; 3]], f: &mut [[f64; 2]]) {
+        let slots = per_tri.as_flattened();
+        let off = &self.gather_offsets;
+        let list = &self.gather_slots;
+        f[..self.n_nodes]
+            .par_chunks_mut(NODE_CHUNK)
+            .enumerate()
+            .for_each(|(ci, chunk)| {
+                let base = ci * NODE_CHUNK;
+                for (k, fi) in chunk.iter_mut().enumerate() {
+                    let i = base + k;
+                    let (mut sx, mut sy) = (0.0, 0.0);
+                    for &s in &list[off[i] as usize..off[i + 1] as usize] {
+                        let p = slots[s as usize];
+                        sx += p[0];
+                        sy += p[1];
+                    }
+                    fi[0] += sx;
+                    fi[1] += sy;
+                }
+            });
+    }
+
+    /// Adds the exact directional derivative of the internal force with respect to the
+    /// positions, `df += (d f_int / d x)[x, v] . dx` (velocities held fixed), to `df`.
+    ///
+    /// Per triangle, with `dG = [dx1-dx0 | dx2-dx0]`, `dF = dG G0^-1`,
+    /// `dB = dF F^T + F dF^T`, `c = tr(F^-1 dF)`:
+    /// Munjiza `d sigma = mu dB + lam*/2 tr(dB) I`; neo-Hookean
+    /// `d sigma = (mu dB + lam* c I)/J - c sigma_e`; viscous `d sigma_v = eta sym(-L dG G^-1)`;
+    /// then `df_a = -(t/2)(d sigma rot(x_c-x_b) + sigma rot(dx_c-dx_b))`.
+    pub fn force_derivative(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        dx: &[[f64; 2]],
+        df: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+    ) {
+        assert!(x.len() >= self.n_nodes && dx.len() >= self.n_nodes && df.len() >= self.n_nodes);
+        assert_eq!(scratch.per_tri.len(), self.tris.len());
+        let mats = &self.materials[..];
+        let viscous = self.viscous;
+        scratch
+            .per_tri
+            .par_iter_mut()
+            .zip(self.tris.par_iter())
+            .with_min_len(TRI_CHUNK)
+            .for_each(|(o, td)| *o = tri_force_derivative(td, mats, x, v, dx, viscous));
+        self.gather(&scratch.per_tri, df);
+    }
+}
+
+#[inline(always)]
+fn tri_force_derivative(
+    td: &TriData,
+    mats: &[MaterialConsts],
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    dx: &[[f64; 2]],
+    viscous: bool,
+) -> [[f64; 2]; 3] {
+    let c = &mats[td.material as usize];
+    let xs = corners(td, x);
+    let dxs = corners(td, dx);
+    let g = edge_matrix(xs[0], xs[1], xs[2]);
+    let dg = edge_matrix(dxs[0], dxs[1], dxs[2]);
+    let f = mul(g, td.ginv);
+    let dfm = mul(dg, td.ginv);
+    let mut s = elastic_stress(c.law, c.mu, c.lam, f);
+    // dB = dF F^T + F dF^T
+    let db = [
+        2.0 * (dfm[0] * f[0] + dfm[1] * f[1]),
+        2.0 * (dfm[2] * f[2] + dfm[3] * f[3]),
+        dfm[0] * f[2] + dfm[1] * f[3] + f[0] * dfm[2] + f[1] * dfm[3],
+    ];
+    let mut ds = match c.law {
+        ElasticLaw::Munjiza => {
+            let tr = 0.5 * c.lam * (db[0] + db[1]);
+            [c.mu * db[0] + tr, c.mu * db[1] + tr, c.mu * db[2]]
+        }
+        ElasticLaw::NeoHookean => {
+            let j = det(f);
+            let fi = inv(f);
+            let cc = fi[0] * dfm[0] + fi[1] * dfm[2] + fi[2] * dfm[1] + fi[3] * dfm[3];
+            let rj = 1.0 / j;
+            [
+                (c.mu * db[0] + c.lam * cc) * rj - cc * s[0],
+                (c.mu * db[1] + c.lam * cc) * rj - cc * s[1],
+                c.mu * db[2] * rj - cc * s[2],
+            ]
+        }
+    };
+    if viscous && td.eta != 0.0 {
+        let vs = corners(td, v);
+        let gv = edge_matrix(vs[0], vs[1], vs[2]);
+        let gi = inv(g);
+        let l = mul(gv, gi);
+        // dL = -L dG G^-1
+        let dl = mul(mul(l, dg), gi);
+        let d = rate_of_deformation(g, gv);
+        s[0] += td.eta * d[0];
+        s[1] += td.eta * d[1];
+        s[2] += td.eta * d[2];
+        ds[0] -= td.eta * dl[0];
+        ds[1] -= td.eta * dl[3];
+        ds[2] -= td.eta * 0.5 * (dl[1] + dl[2]);
+    }
+    let a = nodal_forces(ds, c.half_t, xs);
+    let b = nodal_forces(s, c.half_t, dxs);
+    [
+        [a[0][0] + b[0][0], a[0][1] + b[0][1]],
+        [a[1][0] + b[1][0], a[1][1] + b[1][1]],
+        [a[2][0] + b[2][0], a[2][1] + b[2][1]],
+    ]
+}
