@@ -1,12 +1,57 @@
 //! The `fdem` command-line program. Subcommands arrive with the crates that implement them.
 
-use clap::Parser;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
 
 /// fdem: a 2D combined finite-discrete element solver.
 #[derive(Parser)]
 #[command(version, about)]
-struct Cli {}
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
 
-fn main() {
-    let _cli = Cli::parse();
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene: writes a ParaView collection (.pvd + .vtu), histories.csv and summary.json.
+    Run {
+        /// The scene file (JSON, see docs/scene-format.md).
+        scene: PathBuf,
+        /// Output folder (default results/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Also write each frame's arrays as JSON (frame_NNNN.json), for independent checks.
+        #[arg(long)]
+        raw: bool,
+    },
+    /// Validate a scene: report the mesh, each scheme's stable time step and the run time.
+    Check {
+        /// The scene file.
+        scene: PathBuf,
+    },
+    /// Describe a mesh file: counts, physical groups, element sizes.
+    Info {
+        /// The mesh file (.msh or .json).
+        mesh: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run { scene, out, raw } => cmd::run::run(&scene, out, raw),
+        Command::Check { scene } => cmd::check::check(&scene),
+        Command::Info { mesh } => cmd::info::info(&mesh),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
 }

@@ -87,8 +87,8 @@ pub struct Model {
     pub tri_body: Vec<u32>,
     /// Thickness of each triangle [m].
     pub tri_thickness: Vec<f64>,
-    /// The distinct materials.
-    pub materials: Vec<MaterialSpec>,
+    /// The distinct (material, thickness [m]) pairs.
+    pub materials: Vec<(MaterialSpec, f64)>,
     /// First node of each body, and one past the last.
     pub body_nodes: Vec<std::ops::Range<u32>>,
     /// Lumped node masses [kg].
@@ -217,10 +217,14 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
                         fix: format!("add a material for \"{g}\" or a default under \"*\""),
                     }
                 })?;
-            let mi = match m.materials.iter().position(|x| same(x, spec)) {
+            let mi = match m
+                .materials
+                .iter()
+                .position(|x| same(&x.0, spec) && x.1 == body.thickness)
+            {
                 Some(i) => i,
                 None => {
-                    m.materials.push(*spec);
+                    m.materials.push((*spec, body.thickness));
                     m.materials.len() - 1
                 }
             };
@@ -264,7 +268,7 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
     for (e, t) in m.triangles.iter().enumerate() {
         let [a, b, c] = t.map(|i| m.x0[i as usize]);
         let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-        let mat = &m.materials[m.tri_material[e] as usize];
+        let mat = &m.materials[m.tri_material[e] as usize].0;
         let third = mat.density * area.abs() * m.tri_thickness[e] / 3.0;
         for &i in t {
             m.mass[i as usize] += third;

@@ -401,6 +401,8 @@ pub struct Histories {
 pub enum Probe {
     /// Mean displacement (x, y) of a group's nodes.
     Displacement(GroupProbe),
+    /// Mean velocity (x, y) of a group's nodes.
+    Velocity(GroupProbe),
     /// Total reaction force (x, y) on a group's constrained nodes.
     Reaction(GroupProbe),
     /// Kinetic, strain and external-work energies of the whole scene.
@@ -561,7 +563,7 @@ impl Scene {
             return Err(bad(
                 "integrator.scheme".into(),
                 format!("unknown scheme '{}'", self.integrator.scheme),
-                &format!("use one of {}", crate::schemes::SCHEME_NAMES.join(", ")),
+                &format!("use one of {}", crate::schemes::scheme_names()),
             ));
         }
         if self.analysis != Analysis::Static {

@@ -1,4 +1,6 @@
-//! Whole-or-nothing file writes: a temporary file beside the target, flushed, then renamed.
+//! Whole-or-nothing file writes: a temporary file beside the target, then a rename (atomic on
+//! POSIX file systems, so a reader or an interrupted run never sees a partial file). No fsync:
+//! this protects against an interrupted process, not against a power cut.
 
 use std::io::Write;
 use std::path::Path;
@@ -20,7 +22,6 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
-        f.sync_data()?;
         std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
