@@ -54,8 +54,9 @@ pub struct Mesh {
     pub triangles: Vec<[u32; 3]>,
     /// Material region of each triangle (index into `regions`).
     pub tri_region: Vec<RegionId>,
-    /// Names of the material regions: the dimension-2 groups in tag order, then `"default"` if
-    /// some triangle is in no dimension-2 group. A triangle's region is the first that holds it.
+    /// Names of the material regions: the dimension-2 groups in tag order that are the first
+    /// group of at least one triangle, then `"default"` if some triangle is in no dimension-2
+    /// group. A triangle's region is the first dimension-2 group that holds it.
     pub regions: Vec<String>,
     /// Physical groups, in order of (dimension, tag).
     pub groups: Vec<PhysicalGroup>,
@@ -200,18 +201,37 @@ impl Mesh {
             ns.dedup();
             g.nodes = ns;
         }
-        // Regions.
+        // Regions: the dimension-2 groups, in order, that are the first group of some triangle.
         let mut regions: Vec<String> = Vec::new();
-        let mut tri_region = vec![RegionId(u32::MAX); triangles.len()];
-        for g in groups.iter().filter(|g| g.dim == 2) {
-            let r = RegionId(regions.len() as u32);
-            regions.push(g.name.clone());
+        let mut first = vec![usize::MAX; triangles.len()];
+        for (gi, g) in groups.iter().enumerate().filter(|(_, g)| g.dim == 2) {
             for t in &g.triangles {
-                if tri_region[t.idx()].0 == u32::MAX {
-                    tri_region[t.idx()] = r;
+                if first[t.idx()] == usize::MAX {
+                    first[t.idx()] = gi;
                 }
             }
         }
+        let mut used_group = vec![false; groups.len()];
+        for &gi in first.iter().filter(|&&gi| gi != usize::MAX) {
+            used_group[gi] = true;
+        }
+        let mut region_of_group = vec![u32::MAX; groups.len()];
+        for (gi, g) in groups.iter().enumerate() {
+            if used_group[gi] {
+                region_of_group[gi] = regions.len() as u32;
+                regions.push(g.name.clone());
+            }
+        }
+        let mut tri_region: Vec<RegionId> = first
+            .iter()
+            .map(|&gi| {
+                RegionId(if gi == usize::MAX {
+                    u32::MAX
+                } else {
+                    region_of_group[gi]
+                })
+            })
+            .collect();
         if tri_region.iter().any(|r| r.0 == u32::MAX) {
             let r = RegionId(regions.len() as u32);
             regions.push("default".to_string());

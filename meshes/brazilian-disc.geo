@@ -1,0 +1,42 @@
+// Brazilian disc, D = 50 mm, loaded over two arcs of half-angle a at top and bottom (Hondros).
+// Units: m. Centre node embedded (for the centre stress).
+R = 0.025;
+a = 6 * Pi / 180;        // half-angle of each loading arc
+lc = R / 40;             // size away from the loading arcs
+lcl = R / 140;           // size at the loading arcs
+Point(1) = {0, 0, 0, lc};
+Point(2) = {R * Cos(Pi/2 - a), R * Sin(Pi/2 - a), 0, lcl};
+Point(3) = {R * Cos(Pi/2 + a), R * Sin(Pi/2 + a), 0, lcl};
+Point(4) = {R * Cos(3*Pi/2 - a), R * Sin(3*Pi/2 - a), 0, lcl};
+Point(5) = {R * Cos(3*Pi/2 + a), R * Sin(3*Pi/2 + a), 0, lcl};
+Point(6) = {0, R, 0, lcl};
+Point(7) = {0, -R, 0, lcl};
+Circle(1) = {2, 1, 6};
+Circle(2) = {6, 1, 3};
+Circle(3) = {3, 1, 4};
+Circle(4) = {4, 1, 7};
+Circle(5) = {7, 1, 5};
+Circle(6) = {5, 1, 2};
+Curve Loop(1) = {1, 2, 3, 4, 5, 6};
+Plane Surface(1) = {1};
+Point{1} In Surface{1};
+// Grade the size from the loading arcs to the rest.
+Field[1] = Distance;
+Field[1].CurvesList = {1, 2, 4, 5};
+Field[1].Sampling = 100;
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = lcl;
+Field[2].SizeMax = lc;
+Field[2].DistMin = 0.002;
+Field[2].DistMax = 0.012;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Physical Surface("body") = {1};
+Physical Curve("load_top") = {1, 2};
+Physical Curve("load_bottom") = {4, 5};
+Physical Curve("rim") = {3, 6};
+Physical Point("top") = {6};
+Physical Point("bottom") = {7};
+Physical Point("center") = {1};

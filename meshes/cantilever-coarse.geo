@@ -1,0 +1,26 @@
+// Cantilever 10 x 1 (m), neutral axis y = 0: [0, 10] x [-0.5, 0.5], mesh size 0.2 (coarse).
+// "left" is clamped, "right" carries the tip shear; points "root_mid" and "tip" on the axis.
+L = 10;
+H = 1;
+lc = 0.2;
+Point(1) = {0, -H/2, 0, lc};
+Point(2) = {L, -H/2, 0, lc};
+Point(3) = {L, 0, 0, lc};
+Point(4) = {L, H/2, 0, lc};
+Point(5) = {0, H/2, 0, lc};
+Point(6) = {0, 0, 0, lc};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 5};
+Line(5) = {5, 6};
+Line(6) = {6, 1};
+Curve Loop(1) = {1, 2, 3, 4, 5, 6};
+Plane Surface(1) = {1};
+Physical Surface("body") = {1};
+Physical Curve("bottom") = {1};
+Physical Curve("right") = {2, 3};
+Physical Curve("top") = {4};
+Physical Curve("left") = {5, 6};
+Physical Point("tip") = {3};
+Physical Point("root_mid") = {6};

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# meshio cross-check of the meshes in meshes/: node, triangle and group counts equal those
+# recorded in crates/mesh/tests/meshes.rs (which the Rust reader is tested against).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+if [ ! -x .venv/bin/python ]; then python3 -m venv .venv; fi
+.venv/bin/pip install -q -r tests/python/requirements.txt
+.venv/bin/python tests/python/mesh_counts.py
