@@ -73,3 +73,83 @@ pub fn column(head: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
         .unwrap_or_else(|| panic!("no column {name}"));
     rows.iter().map(|r| r[i]).collect()
 }
+
+/// Reference node positions of a frame.
+pub fn reference_points(f: &fdem_solver::output::FrameData) -> Vec<[f64; 2]> {
+    f.points
+        .iter()
+        .zip(&f.displacement)
+        .map(|(p, u)| [p[0] - u[0], p[1] - u[1]])
+        .collect()
+}
+
+/// Triangle centroids in the reference configuration.
+pub fn centroids(f: &fdem_solver::output::FrameData) -> Vec<[f64; 2]> {
+    let x0 = reference_points(f);
+    f.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| x0[i as usize]);
+            [
+                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+            ]
+        })
+        .collect()
+}
+
+/// Stress (sxx, syy, sxy) recovered at point `q`: a least-squares quadratic fit of the
+/// triangles' constant stresses at their centroids, over the `n` centroids nearest to `q`
+/// (a patch recovery in the spirit of Zienkiewicz-Zhu; exact for quadratic fields).
+pub fn recovered_stress(
+    f: &fdem_solver::output::FrameData,
+    cen: &[[f64; 2]],
+    q: [f64; 2],
+    n: usize,
+) -> [f64; 3] {
+    let mut idx: Vec<(f64, usize)> = cen
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ((c[0] - q[0]).powi(2) + (c[1] - q[1]).powi(2), i))
+        .collect();
+    idx.select_nth_unstable_by(n, |a, b| a.0.total_cmp(&b.0));
+    let near = &idx[..n];
+    let scale = near.iter().map(|p| p.0).fold(0.0, f64::max).sqrt();
+    let mut out = [0.0; 3];
+    for comp in 0..3 {
+        let mut ata = [[0.0; 6]; 6];
+        let mut atb = [0.0; 6];
+        for &(_, i) in near {
+            let (x, y) = ((cen[i][0] - q[0]) / scale, (cen[i][1] - q[1]) / scale);
+            let row = [1.0, x, y, x * x, x * y, y * y];
+            for r in 0..6 {
+                for c in 0..6 {
+                    ata[r][c] += row[r] * row[c];
+                }
+                atb[r] += row[r] * f.stress[i][comp];
+            }
+        }
+        // Gaussian elimination with partial pivoting.
+        for p in 0..6 {
+            let piv = (p..6)
+                .max_by(|a, b| ata[*a][p].abs().total_cmp(&ata[*b][p].abs()))
+                .unwrap();
+            ata.swap(p, piv);
+            atb.swap(p, piv);
+            for r in p + 1..6 {
+                let l = ata[r][p] / ata[p][p];
+                for c in p..6 {
+                    ata[r][c] -= l * ata[p][c];
+                }
+                atb[r] -= l * atb[p];
+            }
+        }
+        let mut sol = [0.0; 6];
+        for r in (0..6).rev() {
+            let s: f64 = (r + 1..6).map(|c| ata[r][c] * sol[c]).sum();
+            sol[r] = (atb[r] - s) / ata[r][r];
+        }
+        out[comp] = sol[0];
+    }
+    out
+}
