@@ -51,7 +51,14 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(2)
+            // 2: the input (scene, mesh) is invalid; 1: the run itself failed.
+            let input = e.downcast_ref::<fdem_solver::SceneError>().is_some()
+                || matches!(
+                    e.downcast_ref::<fdem_solver::RunError>(),
+                    Some(fdem_solver::RunError::Scene(_))
+                )
+                || e.downcast_ref::<clap::Error>().is_some();
+            ExitCode::from(if input { 2 } else { 1 })
         }
     }
 }
