@@ -1,0 +1,130 @@
+//! The explode operation: own nodes per triangle, internal edges in the joint convention of
+//! fdem-theory sec. 4, the map back to original nodes, and partial explosion of a group.
+
+mod common;
+use common::*;
+use fdem_mesh::{Material, explode, read_mesh};
+
+fn check_joints(ex: &fdem_mesh::Exploded) {
+    let m = &ex.mesh;
+    for j in &ex.internal_edges {
+        let [p, q, r, s] = j.nodes.map(|n| m.nodes[n.idx()]);
+        assert_eq!(p, s);
+        assert_eq!(q, r);
+        let [t1, t2] = j.tris;
+        let (k1, k2) = (j.local_edge[0] as usize, j.local_edge[1] as usize);
+        let tri1 = m.triangles[t1.idx()];
+        let tri2 = m.triangles[t2.idx()];
+        // P -> Q is CCW local edge k1 of T1; R -> S is CCW local edge k2 of T2.
+        assert_eq!([tri1[k1], tri1[(k1 + 1) % 3]], [j.nodes[0].0, j.nodes[1].0]);
+        assert_eq!([tri2[k2], tri2[(k2 + 1) % 3]], [j.nodes[2].0, j.nodes[3].0]);
+        // nn = (tt_y, -tt_x) points from T1 to T2.
+        let tt = [q[0] - p[0], q[1] - p[1]];
+        let nn = [tt[1], -tt[0]];
+        let c = |t: [u32; 3]| {
+            let x = t.map(|n| m.nodes[n as usize]);
+            [
+                (x[0][0] + x[1][0] + x[2][0]) / 3.0,
+                (x[0][1] + x[1][1] + x[2][1]) / 3.0,
+            ]
+        };
+        let (c1, c2) = (c(tri1), c(tri2));
+        assert!((c2[0] - c1[0]) * nn[0] + (c2[1] - c1[1]) * nn[1] > 0.0);
+    }
+}
+
+/// Full explosion: 3 nodes per triangle, one joint per internal edge, map back to the
+/// original nodes, same mass, and under a homogeneous deformation the forces of the copies of
+/// each node add up to the original mesh's force (1e-12 relative).
+#[test]
+fn full_explode_gives_joints_and_keeps_mechanics() {
+    let mesh = common::grid(6, 4, 1.5, 1.0, 0.5, 9);
+    let ex = explode(&mesh, None).unwrap();
+    let nt = mesh.n_triangles();
+    assert_eq!(ex.mesh.n_nodes(), 3 * nt);
+    assert_eq!(
+        ex.internal_edges.len(),
+        mesh.edges.len() - mesh.boundary_edges.len()
+    );
+    assert_eq!(ex.mesh.boundary_edges.len(), 3 * nt);
+    for (i, o) in ex.original_node.iter().enumerate() {
+        assert_eq!(ex.mesh.nodes[i], mesh.nodes[o.idx()]);
+    }
+    check_joints(&ex);
+    let mat = Material::new(1e10, 0.25, 2500.0);
+    let (el0, el1) = (elements(&mesh, mat), elements(&ex.mesh, mat));
+    let m0: f64 = el0.lumped_masses().iter().sum();
+    let m1: f64 = el1.lumped_masses().iter().sum();
+    assert!((m0 - m1).abs() < 1e-12 * m0);
+    let fgrad = [1.02, 0.01, -0.02, 0.97];
+    let (x0, x1) = (
+        affine(&mesh.nodes, fgrad, [0.0; 2]),
+        affine(&ex.mesh.nodes, fgrad, [0.0; 2]),
+    );
+    let mut f0 = vec![[0.0; 2]; x0.len()];
+    let mut f1 = vec![[0.0; 2]; x1.len()];
+    el0.internal_forces(&x0, &x0, &mut f0, &mut fdem_mesh::ForceScratch::new(&el0));
+    el1.internal_forces(&x1, &x1, &mut f1, &mut fdem_mesh::ForceScratch::new(&el1));
+    let mut back = vec![[0.0; 2]; x0.len()];
+    for (i, o) in ex.original_node.iter().enumerate() {
+        back[o.idx()][0] += f1[i][0];
+        back[o.idx()][1] += f1[i][1];
+    }
+    let scale = f0
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max);
+    for (a, b) in f0.iter().zip(&back) {
+        assert!((a[0] - b[0]).abs() < 1e-12 * scale && (a[1] - b[1]).abs() < 1e-12 * scale);
+    }
+}
+
+/// Partial explosion of the notched beam's fracture zone: zone triangles own their nodes,
+/// bulk triangles still share theirs, joints on every edge touching the zone, groups kept.
+#[test]
+fn partial_explode_of_fracture_zone() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes");
+    let mesh = read_mesh(root.join("notched-beam.msh")).unwrap();
+    let zone = mesh.group("fracture_zone").unwrap();
+    let mut in_zone = vec![false; mesh.n_triangles()];
+    for t in &zone.triangles {
+        in_zone[t.idx()] = true;
+    }
+    let ex = explode(&mesh, Some(&["fracture_zone"])).unwrap();
+    let mut bulk_nodes: Vec<u32> = mesh
+        .triangles
+        .iter()
+        .zip(&in_zone)
+        .filter(|(_, z)| !**z)
+        .flat_map(|(t, _)| *t)
+        .collect();
+    bulk_nodes.sort_unstable();
+    bulk_nodes.dedup();
+    assert_eq!(
+        ex.mesh.n_nodes(),
+        bulk_nodes.len() + 3 * zone.triangles.len()
+    );
+    let expect = mesh
+        .edges
+        .iter()
+        .filter(|e| {
+            e.right
+                .is_some_and(|r| in_zone[r.idx()] || in_zone[e.left.idx()])
+        })
+        .count();
+    assert_eq!(ex.internal_edges.len(), expect);
+    check_joints(&ex);
+    assert_eq!(ex.mesh.regions, mesh.regions);
+    assert_eq!(ex.mesh.tri_region, mesh.tri_region);
+    // A point group gets every copy of its node (the load point lies on zone triangles).
+    let lt = mesh.group("load_top").unwrap().nodes[0];
+    let copies = ex.original_node.iter().filter(|o| **o == lt).count();
+    assert!(copies > 1);
+    assert_eq!(ex.mesh.group("load_top").unwrap().nodes.len(), copies);
+    assert_eq!(
+        ex.mesh.group("bottom").unwrap().edges.len(),
+        mesh.group("bottom").unwrap().edges.len()
+    );
+    assert!(explode(&mesh, Some(&["nope"])).is_err());
+    assert!(explode(&mesh, Some(&["top"])).is_err());
+}
