@@ -113,7 +113,9 @@ impl SchemeKind {
     }
 
     /// The global order of the position error on the oscillator, as measured by this
-    /// crate's convergence tests (`tests/convergence.rs`), with the default start-up.
+    /// crate's convergence tests (`tests/convergence.rs`), with the default start-up
+    /// (Gear PC: 2, because its start-up sets `r_3..r_q` to zero; with exact derivatives
+    /// PC-3 reaches 4 and PC-4, PC-5 reach 5).
     pub fn measured_order(self) -> u32 {
         match self {
             SchemeKind::CentralDifference | SchemeKind::Omf30 => 2,

@@ -1,0 +1,235 @@
+//! Line plots written as PNG and SVG, whole or not at all (a temporary file, then a
+//! rename), with the embedded DejaVu Sans font so that no system font is needed.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use anyhow::{Context, Result, anyhow};
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::prelude::*;
+
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+
+/// Registers the embedded font as plotters' "sans-serif" (once per process).
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The font is embedded and known good: failure here is a build defect.
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
+            .unwrap_or_else(|_| panic!("embedded DejaVu Sans failed to load"));
+    });
+}
+
+/// One named curve.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend name.
+    pub name: String,
+    /// Points `(x, y)`; points with a non-finite coordinate, or not positive on a log axis,
+    /// are skipped.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Linear or logarithmic axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// Linear.
+    Linear,
+    /// Base-10 logarithmic.
+    Log,
+}
+
+/// A plot of several curves, drawn with lines and point markers.
+#[derive(Clone, Debug)]
+pub struct Plot {
+    /// Title above the chart.
+    pub title: String,
+    /// Label of the horizontal axis.
+    pub x_label: String,
+    /// Label of the vertical axis.
+    pub y_label: String,
+    /// Horizontal scale.
+    pub x_scale: Scale,
+    /// Vertical scale.
+    pub y_scale: Scale,
+    /// The curves.
+    pub series: Vec<Series>,
+    /// Optional fixed vertical range (else fitted to the data).
+    pub y_range: Option<(f64, f64)>,
+}
+
+const SIZE: (u32, u32) = (1000, 700);
+const COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+];
+
+impl Plot {
+    fn usable(&self, p: &(f64, f64)) -> bool {
+        let in_range = self.y_range.is_none_or(|(a, b)| p.1 >= a && p.1 <= b);
+        in_range
+            && p.0.is_finite()
+            && p.1.is_finite()
+            && (self.x_scale == Scale::Linear || p.0 > 0.0)
+            && (self.y_scale == Scale::Linear || p.1 > 0.0)
+    }
+
+    fn range(&self, pick: impl Fn(&(f64, f64)) -> f64, scale: Scale) -> Range<f64> {
+        let vals = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| self.usable(p))
+            .map(pick);
+        let (lo, hi) = vals.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        if !lo.is_finite() {
+            return if scale == Scale::Log {
+                0.1..10.0
+            } else {
+                0.0..1.0
+            };
+        }
+        match scale {
+            Scale::Log => {
+                let (l, h) = (
+                    lo.log10().floor(),
+                    hi.log10().ceil().max(lo.log10().floor() + 1.0),
+                );
+                10f64.powf(l)..10f64.powf(h)
+            }
+            Scale::Linear => {
+                let pad = 0.02 * (hi - lo).max(1e-12);
+                (lo - pad)..(hi + pad)
+            }
+        }
+    }
+
+    /// Writes `<stem>.png` and `<stem>.svg`; returns their paths.
+    pub fn write(&self, stem: &Path) -> Result<Vec<PathBuf>> {
+        register_font();
+        let png = stem.with_extension("png");
+        let svg = stem.with_extension("svg");
+        // PNG: drawn to a temporary file with a .png extension (the encoder picks the
+        // format from it), then renamed into place.
+        let tmp_png = stem.with_extension("part.png");
+        {
+            let root = BitMapBackend::new(&tmp_png, SIZE).into_drawing_area();
+            self.draw(root)
+                .with_context(|| format!("drawing {}", png.display()))?;
+        }
+        std::fs::rename(&tmp_png, &png).with_context(|| format!("writing {}", png.display()))?;
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+            self.draw(root)
+                .with_context(|| format!("drawing {}", svg.display()))?;
+        }
+        crate::write_atomically(&svg, text.as_bytes())?;
+        Ok(vec![png, svg])
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        let xr = self.range(|p| p.0, self.x_scale);
+        let yr = match self.y_range {
+            Some((a, b)) => a..b,
+            None => self.range(|p| p.1, self.y_scale),
+        };
+        match (self.x_scale, self.y_scale) {
+            (Scale::Log, Scale::Log) => self.draw_in(root, xr.log_scale(), yr.log_scale()),
+            (Scale::Log, Scale::Linear) => self.draw_in(root, xr.log_scale(), yr),
+            (Scale::Linear, Scale::Log) => self.draw_in(root, xr, yr.log_scale()),
+            (Scale::Linear, Scale::Linear) => self.draw_in(root, xr, yr),
+        }
+    }
+
+    fn draw_in<DB, X, Y>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+        x: X,
+        y: Y,
+    ) -> Result<()>
+    where
+        DB: DrawingBackend,
+        DB::ErrorType: 'static,
+        X: AsRangedCoord<Value = f64>,
+        Y: AsRangedCoord<Value = f64>,
+        X::CoordDescType: ValueFormatter<f64>,
+        Y::CoordDescType: ValueFormatter<f64>,
+    {
+        let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e:?}");
+        let tick = |scale: Scale| {
+            move |v: &f64| match scale {
+                Scale::Log => format!("{:.0e}", v),
+                Scale::Linear => {
+                    let s = format!("{v:.3}");
+                    s.trim_end_matches('0').trim_end_matches('.').to_string()
+                }
+            }
+        };
+        let (xt, yt) = (tick(self.x_scale), tick(self.y_scale));
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, ("sans-serif", 26))
+            .margin(15)
+            .x_label_area_size(55)
+            .y_label_area_size(85)
+            .build_cartesian_2d(x, y)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .x_label_formatter(&xt)
+            .y_label_formatter(&yt)
+            .label_style(("sans-serif", 16))
+            .axis_desc_style(("sans-serif", 18))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(err)?;
+        for (i, s) in self.series.iter().enumerate() {
+            let colour = COLOURS[i % COLOURS.len()];
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| self.usable(p))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))
+                .map_err(err)?
+                .label(s.name.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+                });
+            if pts.len() <= 60 {
+                chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled())))
+                    .map_err(err)?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 16))
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+        Ok(())
+    }
+}
