@@ -74,6 +74,7 @@ fn loaded() -> Loaded {
         dt_limit,
         dt: 0.5 * dt_limit,
         n_steps: STEPS,
+        contributions: Vec::new(),
     }
 }
 

@@ -23,7 +23,7 @@ use crate::model::{self, Model};
 use crate::output::{Collection, FrameData, HistoryWriter, frame, vtu, write_atomic};
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 use crate::static_solve;
-use crate::system::{SceneSystem, StageTimers};
+use crate::system::{ForceContribution, SceneSystem, StageTimers};
 
 /// A scene with its meshes and model, ready to run.
 pub struct Loaded {
@@ -49,6 +49,10 @@ pub struct Loaded {
     pub dt: f64,
     /// Number of steps (0 for static).
     pub n_steps: u64,
+    /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
+    /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
+    /// time step for their frequency bound.
+    pub contributions: Vec<Box<dyn ForceContribution>>,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -142,6 +146,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         dt_limit,
         dt,
         n_steps,
+        contributions: Vec::new(),
     })
 }
 
@@ -151,6 +156,26 @@ pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
 }
 
 impl Loaded {
+    /// Adds a force contribution (contact, joints). The highest frequency becomes
+    /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
+    /// with it (an explicit `time_step` above the new limit is then lowered to it).
+    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) {
+        let wc = c.frequency_bound();
+        self.contributions.push(c);
+        if wc > 0.0 && self.scene.analysis != Analysis::Static {
+            self.omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
+            self.dt_limit = stable_step(self.scheme, self.omega_max, self.z_high);
+            let h = match self.scene.integrator.time_step {
+                TimeStep::Auto => self.scene.integrator.safety * self.dt_limit,
+                TimeStep::Fixed(h) => h.min(self.dt_limit),
+            };
+            let duration = self.scene.duration.unwrap_or(0.0);
+            let n = (duration / h).ceil().max(1.0);
+            self.dt = duration / n;
+            self.n_steps = n as u64;
+        }
+    }
+
     /// A short description: meshes, model size, analysis, time step.
     pub fn describe(&self) -> String {
         let mut s = String::new();
@@ -703,6 +728,7 @@ fn dynamic(
     let model = l.model.clone();
     let elements = l.elements.clone();
     let mut sys = SceneSystem::new(model, elements, alpha);
+    sys.contributions = std::mem::take(&mut l.contributions);
     let n = sys.model.n_nodes();
     let mut x0 = sys.model.x0.as_flattened().to_vec();
     let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -932,6 +958,7 @@ fn dynamic(
         &sys.force,
         &reaction,
     );
+    l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {
         summary,
         last_frame,
