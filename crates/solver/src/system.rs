@@ -36,7 +36,7 @@ pub trait ForceContribution: Send {
 /// Wall time spent per stage [s].
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct StageTimers {
-    /// Internal (element) forces.
+    /// Internal (element) forces; for the static analysis, the assembly and sparse solve.
     pub internal_forces: f64,
     /// External loads and gravity.
     pub external_loads: f64,
