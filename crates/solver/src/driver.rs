@@ -463,12 +463,15 @@ impl Writer {
             .points
             .iter()
             .chain(&data.velocity)
-            .all(|p| p[0].is_finite() && p[1].is_finite());
+            .chain(&data.force)
+            .all(|p| p[0].is_finite() && p[1].is_finite())
+            && data.stress.iter().flatten().all(|s| s.is_finite())
+            && data.energy_density.iter().all(|e| e.is_finite());
         if !check_finite {
             return Err(RunError::Unstable {
                 step: 0,
                 time: data.time,
-                message: "non-finite node positions or velocities in an output frame".into(),
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)".into(),
             });
         }
         let name = format!("frame_{:04}.vtu", self.frames);
