@@ -184,6 +184,11 @@ impl SecondOrderSystem for SceneSystem {
         }
     }
 
+    fn velocity_dependent(&self) -> bool {
+        // Element viscosity, mass-proportional damping, or a contribution (friction) read v.
+        self.elements.viscous || self.alpha > 0.0 || !self.contributions.is_empty()
+    }
+
     fn prescribed_dofs(&self) -> &[usize] {
         &self.constrained_dofs
     }
