@@ -1,0 +1,1046 @@
+//! Loading a scene (scene file, meshes, model, time step) and running it: the dynamic and
+//! relaxation loops over the time crate's schemes, the static solve, frames, histories and
+//! the run summary.
+//!
+//! Time step: `h_limit = (h omega)_scheme / omega_max * (sqrt(1 + z^2) - z)`, where
+//! `omega_max` is the largest element frequency bound of the mesh crate, `(h omega)_scheme`
+//! the scheme's stability limit on the undamped oscillator, and `z` the damping ratio of the
+//! highest mode (element viscosity and mass-proportional damping). `"auto"` takes
+//! `safety * h_limit`; a fixed step above `h_limit` is an error. The step is then shortened so
+//! that a whole number of steps spans the duration.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use fdem_mesh::{Elements, Mesh, TriId};
+use fdem_time::{SchemeKind, State};
+use serde::Serialize;
+
+use crate::error::{RunError, SceneError};
+use crate::mesh_adapter;
+use crate::model::{self, Model};
+use crate::output::{Collection, FrameData, HistoryWriter, frame, vtu, write_atomic};
+use crate::scene::{Analysis, Probe, Scene, TimeStep};
+use crate::static_solve;
+use crate::system::{ForceContribution, SceneSystem, StageTimers};
+
+/// A scene with its meshes and model, ready to run.
+pub struct Loaded {
+    /// The scene file.
+    pub file: PathBuf,
+    /// The parsed scene.
+    pub scene: Scene,
+    /// The bodies' meshes.
+    pub meshes: Vec<Mesh>,
+    /// The assembled model.
+    pub model: Model,
+    /// The elements for the force kernels.
+    pub elements: Elements,
+    /// The scheme.
+    pub scheme: SchemeKind,
+    /// Largest element frequency bound [rad/s].
+    pub omega_max: f64,
+    /// Damping ratio of the highest mode.
+    pub z_high: f64,
+    /// The stable limit of the chosen scheme [s].
+    pub dt_limit: f64,
+    /// The time step used [s] (0 for static).
+    pub dt: f64,
+    /// Number of steps (0 for static).
+    pub n_steps: u64,
+    /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
+    /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
+    /// time step for their frequency bound.
+    pub contributions: Vec<Box<dyn ForceContribution>>,
+}
+
+/// Reads a scene file, its meshes, and builds the model; every error names the file and field.
+pub fn load(file: &Path) -> Result<Loaded, SceneError> {
+    let scene = Scene::from_file(file)?;
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let mut meshes = Vec::new();
+    let mut inputs = Vec::new();
+    for (i, b) in scene.bodies.iter().enumerate() {
+        let path = dir.join(&b.mesh);
+        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
+            file: file.to_path_buf(),
+            path: format!("bodies[{i}].mesh"),
+            mesh: path.clone(),
+            message,
+        })?;
+        inputs.push(mesh_adapter::to_input(&mesh));
+        meshes.push(mesh);
+    }
+    let model = model::build(&scene, file, &inputs)?;
+    for (i, p) in scene.histories.probes.iter().enumerate() {
+        if let Probe::Displacement(g) | Probe::Velocity(g) | Probe::Reaction(g) = p {
+            model.find_group(
+                &scene,
+                file,
+                &format!("histories.probes[{i}]"),
+                &g.group,
+                g.body.as_deref(),
+            )?;
+        }
+    }
+    let xi = scene.damping.viscosity_ratio;
+    let elements = mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
+        file: file.to_path_buf(),
+        path: "bodies".into(),
+        message,
+        fix: "check the materials and the mesh".into(),
+    })?;
+    let scheme: SchemeKind = scene
+        .integrator
+        .scheme
+        .parse()
+        .map_err(|_| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: "integrator.scheme".into(),
+            message: format!("unknown scheme '{}'", scene.integrator.scheme),
+            fix: format!("use one of {}", SchemeKind::valid_names()),
+        })?;
+    let omega_max = elements.max_frequency_bound(&model.x0);
+    let z_visc = (0..elements.len())
+        .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
+        .fold(0.0, f64::max);
+    let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
+    let dt_limit = stable_step(scheme, omega_max, z_high);
+    let (dt, n_steps) = if scene.analysis == Analysis::Static {
+        (0.0, 0)
+    } else {
+        let duration = scene.duration.unwrap_or(0.0);
+        let h = match scene.integrator.time_step {
+            TimeStep::Auto => scene.integrator.safety * dt_limit,
+            TimeStep::Fixed(h) => {
+                if h > dt_limit {
+                    return Err(SceneError::Invalid {
+                        file: file.to_path_buf(),
+                        path: "integrator.time_step".into(),
+                        message: format!(
+                            "time step {h:e} s is above the stability limit {dt_limit:e} s of {scheme} on this mesh"
+                        ),
+                        fix: format!(
+                            "use \"auto\" or a step below {:.3e} s (e.g. {:.3e} s)",
+                            dt_limit,
+                            0.5 * dt_limit
+                        ),
+                    });
+                }
+                h
+            }
+        };
+        let n = (duration / h).ceil().max(1.0);
+        (duration / n, n as u64)
+    };
+    Ok(Loaded {
+        file: file.to_path_buf(),
+        scene,
+        meshes,
+        model,
+        elements,
+        scheme,
+        omega_max,
+        z_high,
+        dt_limit,
+        dt,
+        n_steps,
+        contributions: Vec::new(),
+    })
+}
+
+/// The stable step of `scheme` for highest frequency `omega` and its damping ratio `z`.
+pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
+    scheme.stability_limit() / omega * ((1.0 + z * z).sqrt() - z)
+}
+
+impl Loaded {
+    /// Adds a force contribution (contact, joints). The highest frequency becomes
+    /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
+    /// with it (an explicit `time_step` above the new limit is then lowered to it).
+    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) {
+        let wc = c.frequency_bound();
+        self.contributions.push(c);
+        if wc > 0.0 && self.scene.analysis != Analysis::Static {
+            self.omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
+            self.dt_limit = stable_step(self.scheme, self.omega_max, self.z_high);
+            let h = match self.scene.integrator.time_step {
+                TimeStep::Auto => self.scene.integrator.safety * self.dt_limit,
+                TimeStep::Fixed(h) => h.min(self.dt_limit),
+            };
+            let duration = self.scene.duration.unwrap_or(0.0);
+            let n = (duration / h).ceil().max(1.0);
+            self.dt = duration / n;
+            self.n_steps = n as u64;
+        }
+    }
+
+    /// A short description: meshes, model size, analysis, time step.
+    pub fn describe(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "scene {}{}",
+            self.file.display(),
+            if self.scene.title.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", self.scene.title)
+            }
+        );
+        for (b, m) in self.scene.bodies.iter().zip(&self.meshes) {
+            let _ = writeln!(
+                s,
+                "  body {}: {} ({} nodes, {} triangles)",
+                b.name.as_deref().unwrap_or("-"),
+                b.mesh.display(),
+                m.nodes.len(),
+                m.triangles.len()
+            );
+        }
+        let free = self.model.constrained.iter().filter(|c| !**c).count();
+        let _ = write!(
+            s,
+            "  {} nodes, {} triangles, {} free DOFs; analysis {:?}",
+            self.model.n_nodes(),
+            self.model.triangles.len(),
+            free,
+            self.scene.analysis
+        );
+        if self.scene.analysis != Analysis::Static {
+            let _ = write!(
+                s,
+                "; {} with h = {:.4e} s (limit {:.4e} s), {} steps",
+                self.scheme, self.dt, self.dt_limit, self.n_steps
+            );
+        }
+        s
+    }
+}
+
+/// `fdem check`'s report: the stable step of every scheme and the estimated run time, from a
+/// timed force evaluation.
+pub fn check_report(l: &Loaded) -> String {
+    let mut s = String::new();
+    let n_tri = l.elements.len().max(1);
+    let x = &l.model.x0;
+    let mut f = vec![[0.0; 2]; x.len()];
+    let mut scratch = fdem_mesh::ForceScratch::new(&l.elements);
+    let start = Instant::now();
+    let mut evals = 0;
+    while evals < 3 || (start.elapsed().as_secs_f64() < 0.2 && evals < 100) {
+        l.elements.internal_forces(x, x, &mut f, &mut scratch);
+        evals += 1;
+    }
+    let per_eval = start.elapsed().as_secs_f64() / evals as f64;
+    let _ = writeln!(
+        s,
+        "highest element frequency bound {:.4e} rad/s; damping ratio of that mode {:.3}",
+        l.omega_max, l.z_high
+    );
+    let _ = writeln!(
+        s,
+        "one force evaluation: {:.3e} s ({:.1} M triangles/s)",
+        per_eval,
+        n_tri as f64 / per_eval / 1e6
+    );
+    if l.scene.analysis == Analysis::Static {
+        let _ = writeln!(s, "static analysis: one sparse Cholesky solve");
+        return s;
+    }
+    let duration = l.scene.duration.unwrap_or(0.0);
+    let safety = l.scene.integrator.safety;
+    let _ = writeln!(
+        s,
+        "{:<20} {:>10} {:>12} {:>12} {:>10} {:>12}",
+        "scheme", "h*omega", "h_limit [s]", "h used [s]", "steps", "est. time"
+    );
+    for k in SchemeKind::ALL {
+        let lim = stable_step(k, l.omega_max, l.z_high);
+        let h = if k == l.scheme { l.dt } else { safety * lim };
+        let steps = (duration / h).ceil();
+        let est = steps * k.cost().force_equivalents(false) as f64 * per_eval * 1.15;
+        let _ = writeln!(
+            s,
+            "{:<20} {:>10.4} {:>12.4e} {:>12.4e} {:>10} {:>11.1}s{}",
+            k.name(),
+            k.stability_limit(),
+            lim,
+            h,
+            steps,
+            est,
+            if k == l.scheme { "  <- scene" } else { "" }
+        );
+    }
+    s
+}
+
+/// Options of a run.
+#[derive(Debug, Clone)]
+pub struct RunOptions {
+    /// Output folder (created).
+    pub out_dir: PathBuf,
+    /// Also write each frame's arrays as JSON (`frame_NNNN.json`).
+    pub raw: bool,
+}
+
+/// Progress of a run, passed to the caller's callback.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    /// Steps done.
+    pub step: u64,
+    /// Steps planned.
+    pub steps: u64,
+    /// Simulated time [s].
+    pub time: f64,
+}
+
+impl Progress {
+    /// Fraction done, 0 to 1.
+    pub fn fraction(&self) -> f64 {
+        if self.steps == 0 {
+            1.0
+        } else {
+            self.step as f64 / self.steps as f64
+        }
+    }
+}
+
+/// Energies at the end of the run [J].
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Energies {
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Strain energy.
+    pub strain: f64,
+    /// Work of the external loads and gravity (trapezoid rule on each step's displacement).
+    pub external_work: f64,
+    /// Work of the supports at prescribed-velocity DOFs.
+    pub support_work: f64,
+    /// `external_work + support_work - kinetic - strain`: energy dissipated by damping, plus
+    /// the integration error.
+    pub dissipated_or_error: f64,
+}
+
+/// The run summary (also written as `summary.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// The scene file.
+    pub scene: String,
+    /// Analysis kind.
+    pub analysis: String,
+    /// Scheme name.
+    pub scheme: String,
+    /// Nodes.
+    pub nodes: usize,
+    /// Triangles.
+    pub triangles: usize,
+    /// Time step [s].
+    pub time_step: f64,
+    /// Stable limit [s].
+    pub time_step_limit: f64,
+    /// Steps done.
+    pub steps: u64,
+    /// Force evaluations.
+    pub force_evaluations: u64,
+    /// Simulated time [s].
+    pub simulated_time: f64,
+    /// Wall time of the whole run [s].
+    pub wall_time: f64,
+    /// Triangles times steps per second of stepping wall time.
+    pub element_steps_per_second: f64,
+    /// Per-stage wall times [s].
+    pub timers: StageTimers,
+    /// Energies at the end.
+    pub energy: Energies,
+    /// Frames written.
+    pub frames: usize,
+    /// Relaxation: whether the residual tolerance was reached.
+    pub converged: Option<bool>,
+    /// Relaxation: final |residual| / |load|.
+    pub relative_residual: Option<f64>,
+    /// Largest displacement magnitude at the end [m].
+    pub max_displacement: f64,
+    /// Threads used.
+    pub threads: usize,
+}
+
+impl Summary {
+    /// A few lines for the terminal.
+    pub fn describe(&self) -> String {
+        let mut s = if self.analysis == "static" {
+            format!(
+                "static solve (sparse Cholesky, {} DOFs) in {:.3} s, {:.2} s wall\n",
+                2 * self.nodes,
+                self.timers.internal_forces,
+                self.wall_time
+            )
+        } else {
+            format!(
+                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
+                self.steps,
+                self.time_step,
+                self.scheme,
+                self.force_evaluations,
+                self.wall_time,
+                self.element_steps_per_second
+            )
+        };
+        let t = &self.timers;
+        let _ = writeln!(
+            s,
+            "time: internal forces {:.3} s, loads {:.3} s, damping {:.3} s, contributions {:.3} s, integration {:.3} s, histories {:.3} s, output {:.3} s",
+            t.internal_forces,
+            t.external_loads,
+            t.mass_damping,
+            t.contributions,
+            t.integration,
+            t.histories,
+            t.output
+        );
+        let e = &self.energy;
+        let _ = write!(
+            s,
+            "energy: kinetic {:.4e} J, strain {:.4e} J, external work {:.4e} J, support work {:.4e} J, dissipated/error {:.3e} J; max |u| {:.4e} m",
+            e.kinetic,
+            e.strain,
+            e.external_work,
+            e.support_work,
+            e.dissipated_or_error,
+            self.max_displacement
+        );
+        if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
+            let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
+        }
+        s
+    }
+}
+
+/// The state of a finished run, for tests and callers that want the numbers.
+pub struct Outcome {
+    /// The summary.
+    pub summary: Summary,
+    /// The last frame's data.
+    pub last_frame: FrameData,
+}
+
+/// Runs a loaded scene, writing output under `options.out_dir`.
+pub fn run(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, RunError> {
+    run_outcome(l, options, progress).map(|o| o.summary)
+}
+
+/// Output files of a run.
+struct Writer {
+    dir: PathBuf,
+    pvd: Collection,
+    raw: bool,
+    level: u32,
+    frames: usize,
+}
+
+impl Writer {
+    fn new(options: &RunOptions, level: u32) -> Result<Self, RunError> {
+        std::fs::create_dir_all(&options.out_dir).map_err(|e| RunError::Output {
+            file: options.out_dir.clone(),
+            message: e.to_string(),
+        })?;
+        Ok(Self {
+            dir: options.out_dir.clone(),
+            pvd: Collection::new(&options.out_dir.join("results.pvd")),
+            raw: options.raw,
+            level,
+            frames: 0,
+        })
+    }
+
+    fn frame(&mut self, data: &FrameData) -> Result<(), RunError> {
+        let check_finite = data
+            .points
+            .iter()
+            .chain(&data.velocity)
+            .chain(&data.force)
+            .all(|p| p[0].is_finite() && p[1].is_finite())
+            && data.stress.iter().flatten().all(|s| s.is_finite())
+            && data.energy_density.iter().all(|e| e.is_finite());
+        if !check_finite {
+            return Err(RunError::Unstable {
+                step: 0,
+                time: data.time,
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)".into(),
+            });
+        }
+        let name = format!("frame_{:04}.vtu", self.frames);
+        let out = |file: PathBuf, e: String| RunError::Output { file, message: e };
+        let bytes = vtu::encode(data, self.level).map_err(|e| out(self.dir.join(&name), e))?;
+        write_atomic(&self.dir.join(&name), &bytes)
+            .map_err(|e| out(self.dir.join(&name), e.to_string()))?;
+        if self.raw {
+            let raw = format!("frame_{:04}.json", self.frames);
+            let text =
+                serde_json::to_vec(data).map_err(|e| out(self.dir.join(&raw), e.to_string()))?;
+            write_atomic(&self.dir.join(&raw), &text)
+                .map_err(|e| out(self.dir.join(&raw), e.to_string()))?;
+        }
+        self.pvd
+            .push(data.time, &name)
+            .map_err(|e| out(self.dir.join("results.pvd"), e.to_string()))?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    fn summary(&self, s: &Summary) -> Result<(), RunError> {
+        let p = self.dir.join("summary.json");
+        let text = serde_json::to_vec_pretty(s).map_err(|e| RunError::Output {
+            file: p.clone(),
+            message: e.to_string(),
+        })?;
+        write_atomic(&p, &text).map_err(|e| RunError::Output {
+            file: p,
+            message: e.to_string(),
+        })
+    }
+}
+
+/// Builds a frame from positions, velocities, forces and reactions.
+pub fn make_frame(
+    model: &Model,
+    elements: &Elements,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    force: &[[f64; 2]],
+    reaction: &[[f64; 2]],
+) -> FrameData {
+    let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
+    elements.stresses(x, v, &mut stresses);
+    let stress: Vec<[f64; 4]> = stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect();
+    let energy_density = (0..elements.len())
+        .map(|e| {
+            let td = &elements.tris[e];
+            let th = 2.0 * elements.materials[td.material as usize].half_t;
+            elements.element_energy(TriId(e as u32), x) / (td.area0 * th)
+        })
+        .collect();
+    frame_from_parts(model, t, x, v, force, reaction, stress, energy_density)
+}
+
+/// Assembles a frame from node arrays and per-triangle stresses and energy densities.
+pub fn frame_from_parts(
+    model: &Model,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    force: &[[f64; 2]],
+    reaction: &[[f64; 2]],
+    stress: Vec<[f64; 4]>,
+    energy_density: Vec<f64>,
+) -> FrameData {
+    FrameData {
+        time: t,
+        points: x.to_vec(),
+        triangles: model.triangles.clone(),
+        displacement: x
+            .iter()
+            .zip(&model.x0)
+            .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+            .collect(),
+        velocity: v.to_vec(),
+        force: force.to_vec(),
+        reaction: reaction.to_vec(),
+        principal: stress
+            .iter()
+            .map(|s| frame::principal(s[0], s[1], s[2]))
+            .collect(),
+        von_mises: stress.iter().map(|s| frame::von_mises(*s)).collect(),
+        stress,
+        energy_density,
+        material: model.tri_material.iter().map(|&m| m as i32).collect(),
+        body: model.tri_body.iter().map(|&b| b as i32).collect(),
+    }
+}
+
+/// History columns and their evaluation.
+struct Histories {
+    writer: HistoryWriter,
+    every: u64,
+    groups: Vec<Vec<u32>>,
+}
+
+impl Histories {
+    fn new(l: &Loaded, dir: &Path) -> Option<Self> {
+        let probes = &l.scene.histories.probes;
+        if probes.is_empty() {
+            return None;
+        }
+        let mut cols = vec!["time".to_string()];
+        let mut groups = Vec::new();
+        for p in probes {
+            match p {
+                Probe::Displacement(g) | Probe::Velocity(g) | Probe::Reaction(g) => {
+                    let kind = match p {
+                        Probe::Displacement(_) => "u",
+                        Probe::Velocity(_) => "v",
+                        _ => "reaction",
+                    };
+                    cols.push(format!("{kind}_x[{}]", g.group));
+                    cols.push(format!("{kind}_y[{}]", g.group));
+                    let nodes = l
+                        .model
+                        .find_group(&l.scene, &l.file, "histories", &g.group, g.body.as_deref())
+                        .map(|n| n.to_vec())
+                        .unwrap_or_default();
+                    groups.push(nodes);
+                }
+                Probe::Energy => {
+                    for c in [
+                        "kinetic",
+                        "strain",
+                        "external_work",
+                        "support_work",
+                        "balance",
+                    ] {
+                        cols.push(c.into());
+                    }
+                    groups.push(Vec::new());
+                }
+            }
+        }
+        let every = l
+            .scene
+            .histories
+            .every
+            .map(|e| e as u64)
+            .unwrap_or((l.n_steps / 1000).max(1));
+        Some(Self {
+            writer: HistoryWriter::new(&dir.join("histories.csv"), &cols),
+            every,
+            groups,
+        })
+    }
+
+    fn record(
+        &mut self,
+        l: &Loaded,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        reaction: &[[f64; 2]],
+        elements: &Elements,
+        energy: &Energies,
+        kinetic: f64,
+    ) {
+        let mut row = vec![t];
+        for (p, nodes) in l.scene.histories.probes.iter().zip(&self.groups) {
+            match p {
+                Probe::Displacement(_) => {
+                    let k = nodes.len().max(1) as f64;
+                    let (mut ux, mut uy) = (0.0, 0.0);
+                    for &n in nodes {
+                        ux += x[n as usize][0] - l.model.x0[n as usize][0];
+                        uy += x[n as usize][1] - l.model.x0[n as usize][1];
+                    }
+                    row.extend([ux / k, uy / k]);
+                }
+                Probe::Velocity(_) => {
+                    let k = nodes.len().max(1) as f64;
+                    let (mut vx, mut vy) = (0.0, 0.0);
+                    for &n in nodes {
+                        vx += v[n as usize][0];
+                        vy += v[n as usize][1];
+                    }
+                    row.extend([vx / k, vy / k]);
+                }
+                Probe::Reaction(_) => {
+                    let (mut rx, mut ry) = (0.0, 0.0);
+                    for &n in nodes {
+                        rx += reaction[n as usize][0];
+                        ry += reaction[n as usize][1];
+                    }
+                    row.extend([rx, ry]);
+                }
+                Probe::Energy => {
+                    let u = elements.strain_energy(x);
+                    row.extend([
+                        kinetic,
+                        u,
+                        energy.external_work,
+                        energy.support_work,
+                        energy.external_work + energy.support_work - kinetic - u,
+                    ]);
+                }
+            }
+        }
+        self.writer.push(&row);
+    }
+}
+
+/// Runs a loaded scene and returns the summary with the last frame.
+pub fn run_outcome(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Outcome, RunError> {
+    let wall = Instant::now();
+    let mut writer = Writer::new(options, l.scene.output.compression)?;
+    if l.scene.analysis == Analysis::Static {
+        let (frame, mut summary) = static_solve::solve(l)?;
+        let s = Instant::now();
+        if l.scene.output.frames > 0 {
+            writer.frame(&frame)?;
+        }
+        summary.timers.output = s.elapsed().as_secs_f64();
+        summary.frames = writer.frames;
+        summary.wall_time = wall.elapsed().as_secs_f64();
+        let mut h = Histories::new(l, &options.out_dir);
+        if let Some(h) = &mut h {
+            let x: Vec<[f64; 2]> = frame.points.clone();
+            h.record(
+                l,
+                0.0,
+                &x,
+                &frame.velocity,
+                &frame.reaction,
+                &l.elements,
+                &summary.energy,
+                0.0,
+            );
+            h.writer.flush().map_err(|e| RunError::Output {
+                file: options.out_dir.join("histories.csv"),
+                message: e.to_string(),
+            })?;
+        }
+        writer.summary(&summary)?;
+        progress(&Progress {
+            step: 1,
+            steps: 1,
+            time: 0.0,
+        });
+        return Ok(Outcome {
+            summary,
+            last_frame: frame,
+        });
+    }
+    dynamic(l, options, progress, writer, wall)
+}
+
+fn dynamic(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+    mut writer: Writer,
+    wall: Instant,
+) -> Result<Outcome, RunError> {
+    let relaxation = l.scene.analysis == Analysis::Relaxation;
+    let alpha = l.scene.damping.mass_proportional;
+    let model = l.model.clone();
+    let elements = l.elements.clone();
+    let mut sys = SceneSystem::new(model, elements, alpha);
+    sys.contributions = std::mem::take(&mut l.contributions);
+    let n = sys.model.n_nodes();
+    let mut x0 = sys.model.x0.as_flattened().to_vec();
+    let mut v0 = sys.model.v0.as_flattened().to_vec();
+    for &d in sys.constrained() {
+        v0[d] = 0.0;
+    }
+    fdem_time::SecondOrderSystem::prescribe(&mut sys, 0.0, &mut x0, &mut v0);
+    let mut state = State::new(0.0, x0, v0);
+    let mut integ = l.scheme.build(2 * n);
+    let h = l.dt;
+    let n_steps = l.n_steps;
+    let frames = l.scene.output.frames;
+    let mut next_frame = 0usize;
+    let mut hist = Histories::new(l, &options.out_dir);
+
+    // Energy bookkeeping on the loaded and prescribed DOFs only.
+    let mut loaded_dofs: Vec<usize> = sys
+        .model
+        .loads
+        .iter()
+        .flat_map(|ld| ld.forces.iter().map(|(d, _)| *d as usize))
+        .collect();
+    loaded_dofs.sort_unstable();
+    loaded_dofs.dedup();
+    let prescribed: Vec<usize> = sys
+        .model
+        .prescribed
+        .iter()
+        .map(|p| p.dof as usize)
+        .collect();
+    let mut fext_full = vec![0.0; 2 * n];
+    let ext_at = |m: &Model, t: f64, buf: &mut Vec<f64>| {
+        for &d in &loaded_dofs {
+            buf[d] = 0.0;
+        }
+        for ld in &m.loads {
+            let s = model::ramp_factor(t, ld.ramp);
+            for &(d, v) in &ld.forces {
+                buf[d as usize] += s * v;
+            }
+        }
+    };
+    ext_at(&sys.model, 0.0, &mut fext_full);
+    let mut prev_fext: Vec<f64> = loaded_dofs.iter().map(|&d| fext_full[d]).collect();
+    let mut prev_x_loaded: Vec<f64> = loaded_dofs.iter().map(|&d| state.x[d]).collect();
+    let mut prev_x_pres: Vec<f64> = prescribed.iter().map(|&d| state.x[d]).collect();
+    let mut acc = vec![0.0; 2 * n];
+    fdem_time::SecondOrderSystem::acceleration(&mut sys, 0.0, &state.x, &state.v, &mut acc);
+    let mut prev_r_pres: Vec<f64> = prescribed
+        .iter()
+        .map(|&d| -sys.force.as_flattened()[d])
+        .collect();
+    let mut energy = Energies::default();
+    let mass_dof: Vec<f64> = sys.model.mass.iter().flat_map(|m| [*m, *m]).collect();
+    let grav0: Vec<f64> = state.x.clone();
+
+    let emit =
+        |sys: &mut SceneSystem, state: &State, writer: &mut Writer| -> Result<(), RunError> {
+            let s = Instant::now();
+            let saved = sys.timers;
+            let mut a = vec![0.0; state.x.len()];
+            fdem_time::SecondOrderSystem::acceleration(sys, state.t, &state.x, &state.v, &mut a);
+            sys.timers = saved;
+            let reaction = sys.reactions();
+            let fr = make_frame(
+                &sys.model,
+                &sys.elements,
+                state.t,
+                state.x_nodes(),
+                state.v_nodes(),
+                &sys.force,
+                &reaction,
+            );
+            writer.frame(&fr)?;
+            sys.timers.output += s.elapsed().as_secs_f64();
+            Ok(())
+        };
+
+    if frames > 0 {
+        emit(&mut sys, &state, &mut writer)?;
+        next_frame = 1;
+    }
+    let load_norm = {
+        let mut f = vec![0.0; 2 * n];
+        sys.model.add_external(f64::INFINITY, &mut f);
+        f.iter().map(|v| v * v).sum::<f64>().sqrt()
+    };
+    let mut converged = None;
+    let mut rel_res = None;
+    let mut step_time = 0.0;
+    let mut last_progress = Instant::now();
+    let check_every = 100u64;
+    let mut steps_done = 0u64;
+    let mut kinetic;
+    for step in 1..=n_steps {
+        let s = Instant::now();
+        integ.step(&mut sys, &mut state, h);
+        step_time += s.elapsed().as_secs_f64();
+        steps_done = step;
+        // Work of loads and supports (trapezoid rule on this step's displacement).
+        if !loaded_dofs.is_empty() {
+            ext_at(&sys.model, state.t, &mut fext_full);
+            for (k, &d) in loaded_dofs.iter().enumerate() {
+                let f1 = fext_full[d];
+                energy.external_work += 0.5 * (prev_fext[k] + f1) * (state.x[d] - prev_x_loaded[k]);
+                prev_fext[k] = f1;
+                prev_x_loaded[k] = state.x[d];
+            }
+        }
+        if !prescribed.is_empty() {
+            let f = sys.force.as_flattened();
+            for (k, &d) in prescribed.iter().enumerate() {
+                let r1 = -f[d];
+                energy.support_work += 0.5 * (prev_r_pres[k] + r1) * (state.x[d] - prev_x_pres[k]);
+                prev_r_pres[k] = r1;
+                prev_x_pres[k] = state.x[d];
+            }
+        }
+        if step % check_every == 0 || step == n_steps {
+            if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
+                let _ = writer.summary(&partial_summary(
+                    l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+                ));
+                return Err(RunError::Unstable {
+                    step,
+                    time: state.t,
+                    message: "non-finite positions or velocities".into(),
+                });
+            }
+            if relaxation {
+                let f = sys.force.as_flattened();
+                let mut r2 = 0.0;
+                for d in 0..2 * n {
+                    if !sys.model.constrained[d] {
+                        r2 += f[d] * f[d];
+                    }
+                }
+                // Scale: applied loads, or the reactions when the loading is by supports.
+                let reac: f64 = sys
+                    .constrained()
+                    .iter()
+                    .map(|&d| f[d] * f[d])
+                    .sum::<f64>()
+                    .sqrt();
+                let scale = load_norm.max(reac).max(f64::MIN_POSITIVE);
+                let r = r2.sqrt() / scale;
+                rel_res = Some(r);
+                if r <= l.scene.integrator.relaxation_tolerance {
+                    converged = Some(true);
+                }
+            }
+        }
+        if let Some(hh) = &mut hist
+            && (step % hh.every == 0 || step == n_steps || converged == Some(true))
+        {
+            let s = Instant::now();
+            let reaction = sys.reactions();
+            kinetic = kinetic_energy(&mass_dof, &state.v);
+            let mut e = energy;
+            e.external_work += gravity_work(&sys.model, &state.x, &grav0);
+            hh.record(
+                l,
+                state.t,
+                state.x_nodes(),
+                state.v_nodes(),
+                &reaction,
+                &sys.elements,
+                &e,
+                kinetic,
+            );
+            sys.timers.histories += s.elapsed().as_secs_f64();
+        }
+        let frame_due = frames > 0 && {
+            let tf = (next_frame as f64) * (n_steps as f64) / (frames as f64);
+            (step as f64) >= tf.round()
+        };
+        if frame_due
+            || (frames > 0 && (step == n_steps || converged == Some(true)) && next_frame <= frames)
+        {
+            emit(&mut sys, &state, &mut writer)?;
+            next_frame += 1;
+            if let Some(hh) = &hist {
+                let _ = hh.writer.flush();
+            }
+        }
+        if last_progress.elapsed().as_secs_f64() > 0.2 || step == n_steps {
+            last_progress = Instant::now();
+            progress(&Progress {
+                step,
+                steps: n_steps,
+                time: state.t,
+            });
+        }
+        if converged == Some(true) {
+            break;
+        }
+    }
+    if relaxation && converged.is_none() {
+        converged = Some(false);
+    }
+    kinetic = kinetic_energy(&mass_dof, &state.v);
+    energy.kinetic = kinetic;
+    energy.strain = sys.elements.strain_energy(state.x_nodes());
+    energy.external_work += gravity_work(&sys.model, &state.x, &grav0);
+    energy.dissipated_or_error =
+        energy.external_work + energy.support_work - energy.kinetic - energy.strain;
+    if let Some(hh) = &hist {
+        hh.writer.flush().map_err(|e| RunError::Output {
+            file: options.out_dir.join("histories.csv"),
+            message: e.to_string(),
+        })?;
+    }
+    let mut summary = partial_summary(
+        l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+    );
+    summary.converged = converged;
+    summary.relative_residual = rel_res;
+    summary.force_evaluations = integ.counters().forces;
+    writer.summary(&summary)?;
+    let reaction = sys.reactions();
+    let last_frame = make_frame(
+        &sys.model,
+        &sys.elements,
+        state.t,
+        state.x_nodes(),
+        state.v_nodes(),
+        &sys.force,
+        &reaction,
+    );
+    l.contributions = std::mem::take(&mut sys.contributions);
+    Ok(Outcome {
+        summary,
+        last_frame,
+    })
+}
+
+fn kinetic_energy(m: &[f64], v: &[f64]) -> f64 {
+    0.5 * m.iter().zip(v).map(|(m, v)| m * v * v).sum::<f64>()
+}
+
+fn gravity_work(model: &Model, x: &[f64], x0: &[f64]) -> f64 {
+    match model.gravity {
+        None => 0.0,
+        Some(g) => model
+            .mass
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                m * (g[0] * (x[2 * i] - x0[2 * i]) + g[1] * (x[2 * i + 1] - x0[2 * i + 1]))
+            })
+            .sum(),
+    }
+}
+
+fn partial_summary(
+    l: &Loaded,
+    sys: &SceneSystem,
+    steps: u64,
+    state: &State,
+    wall: Instant,
+    step_time: f64,
+    writer: &Writer,
+    energy: &Energies,
+) -> Summary {
+    let mut timers = sys.timers;
+    timers.integration = (step_time
+        - timers.internal_forces
+        - timers.external_loads
+        - timers.mass_damping
+        - timers.contributions)
+        .max(0.0);
+    let max_u = state
+        .x_nodes()
+        .iter()
+        .zip(&sys.model.x0)
+        .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
+        .fold(0.0, f64::max);
+    Summary {
+        scene: l.file.display().to_string(),
+        analysis: format!("{:?}", l.scene.analysis).to_lowercase(),
+        scheme: l.scheme.name().into(),
+        nodes: sys.model.n_nodes(),
+        triangles: sys.elements.len(),
+        time_step: l.dt,
+        time_step_limit: l.dt_limit,
+        steps,
+        force_evaluations: sys.evaluations,
+        simulated_time: state.t,
+        wall_time: wall.elapsed().as_secs_f64(),
+        element_steps_per_second: if step_time > 0.0 {
+            sys.elements.len() as f64 * steps as f64 / step_time
+        } else {
+            0.0
+        },
+        timers,
+        energy: *energy,
+        frames: writer.frames,
+        converged: None,
+        relative_residual: None,
+        max_displacement: max_u,
+        threads: rayon::current_num_threads(),
+    }
+}

@@ -1,0 +1,428 @@
+//! The assembled model of a scene: all bodies' nodes and triangles in one numbering, the
+//! materials of the triangles, the constrained degrees of freedom and the loads.
+//!
+//! Loads are consistent nodal forces in the reference configuration (dead loads):
+//!
+//! - pressure `p` on an edge of length `L` (outward unit normal `n`): `-p n L t / 2` on each
+//!   of its two nodes (positive `p` pushes into the body);
+//! - traction `T`: `T L t / 2` on each node;
+//! - point load `P` on a group of `k` nodes: `P / k` on each;
+//! - gravity `g`: `m_i g` on node `i` (lumped mass `m_i = sum rho A0 t / 3`).
+//!
+//! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0).
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use crate::error::SceneError;
+use crate::scene::{BoundaryCondition, MaterialSpec, Scene};
+
+/// One body's mesh as the solver needs it (filled by the mesh adapter).
+#[derive(Debug, Clone, Default)]
+pub struct MeshInput {
+    /// Node positions [m].
+    pub nodes: Vec<[f64; 2]>,
+    /// Triangles (CCW node indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// Name of the physical surface group of each triangle ("" when it has none).
+    pub triangle_group: Vec<String>,
+    /// Nodes of every named physical group (points, edges and surfaces), sorted, unique.
+    pub node_groups: BTreeMap<String, Vec<u32>>,
+    /// Edges (node pairs) of every named physical edge group.
+    pub edge_groups: BTreeMap<String, Vec<[u32; 2]>>,
+}
+
+/// A load with a ramp: nodal forces (DOF, value) at full strength.
+#[derive(Debug, Clone)]
+pub struct RampedLoad {
+    /// Ramp time [s] (0: a step).
+    pub ramp: f64,
+    /// (DOF index, force [N]) pairs.
+    pub forces: Vec<(u32, f64)>,
+}
+
+/// A prescribed-velocity DOF.
+#[derive(Debug, Clone, Copy)]
+pub struct PrescribedDof {
+    /// DOF index (2 node + component).
+    pub dof: u32,
+    /// Full velocity [m/s].
+    pub velocity: f64,
+    /// Ramp time [s].
+    pub ramp: f64,
+}
+
+/// Ramp factor `min(1, t/ramp)`, 1 for a step.
+pub fn ramp_factor(t: f64, ramp: f64) -> f64 {
+    if ramp <= 0.0 {
+        1.0
+    } else {
+        (t / ramp).min(1.0)
+    }
+}
+
+/// Integral of the ramp factor from 0 to t (displacement of a ramped unit velocity).
+pub fn ramp_integral(t: f64, ramp: f64) -> f64 {
+    if ramp <= 0.0 {
+        t
+    } else if t <= ramp {
+        0.5 * t * t / ramp
+    } else {
+        t - 0.5 * ramp
+    }
+}
+
+/// The whole scene in one node numbering.
+#[derive(Debug, Clone, Default)]
+pub struct Model {
+    /// Reference node positions [m].
+    pub x0: Vec<[f64; 2]>,
+    /// Initial node velocities [m/s].
+    pub v0: Vec<[f64; 2]>,
+    /// Triangles (global node indices).
+    pub triangles: Vec<[u32; 3]>,
+    /// Material index of each triangle into `materials`.
+    pub tri_material: Vec<u32>,
+    /// Body index of each triangle.
+    pub tri_body: Vec<u32>,
+    /// Thickness of each triangle [m].
+    pub tri_thickness: Vec<f64>,
+    /// The distinct (material, thickness [m]) pairs.
+    pub materials: Vec<(MaterialSpec, f64)>,
+    /// First node of each body, and one past the last.
+    pub body_nodes: Vec<std::ops::Range<u32>>,
+    /// Lumped node masses [kg].
+    pub mass: Vec<f64>,
+    /// Constrained DOFs (fixed or prescribed velocity), one flag per DOF.
+    pub constrained: Vec<bool>,
+    /// DOFs with a prescribed nonzero velocity.
+    pub prescribed: Vec<PrescribedDof>,
+    /// External loads.
+    pub loads: Vec<RampedLoad>,
+    /// Gravity [m/s^2], if any.
+    pub gravity: Option<[f64; 2]>,
+    /// Node groups by (body index, name), global node indices.
+    pub groups: Vec<(u32, String, Vec<u32>)>,
+}
+
+impl Model {
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.x0.len()
+    }
+
+    /// External load vector (flat DOFs) at time t, gravity included, added to `f`.
+    pub fn add_external(&self, t: f64, f: &mut [f64]) {
+        for l in &self.loads {
+            let s = ramp_factor(t, l.ramp);
+            for &(d, v) in &l.forces {
+                f[d as usize] += s * v;
+            }
+        }
+        if let Some(g) = self.gravity {
+            for (i, m) in self.mass.iter().enumerate() {
+                f[2 * i] += m * g[0];
+                f[2 * i + 1] += m * g[1];
+            }
+        }
+    }
+
+    /// The nodes of a group named by a scene (body name optional), or a clear error.
+    pub fn find_group(
+        &self,
+        scene: &Scene,
+        file: &Path,
+        path: &str,
+        group: &str,
+        body: Option<&str>,
+    ) -> Result<&[u32], SceneError> {
+        let body_index = match body {
+            Some(b) => Some(
+                scene
+                    .bodies
+                    .iter()
+                    .position(|x| x.name.as_deref() == Some(b))
+                    .ok_or_else(|| SceneError::Invalid {
+                        file: file.to_path_buf(),
+                        path: format!("{path}.body"),
+                        message: format!("no body is named '{b}'"),
+                        fix: "name the body in its \"name\" field or correct the body name".into(),
+                    })? as u32,
+            ),
+            None => None,
+        };
+        let hits: Vec<&(u32, String, Vec<u32>)> = self
+            .groups
+            .iter()
+            .filter(|(bi, name, _)| name == group && body_index.is_none_or(|b| b == *bi))
+            .collect();
+        match hits.len() {
+            1 => Ok(&hits[0].2),
+            0 => {
+                let known: Vec<&str> = self
+                    .groups
+                    .iter()
+                    .filter(|(bi, _, _)| body_index.is_none_or(|b| b == *bi))
+                    .map(|(_, n, _)| n.as_str())
+                    .collect();
+                Err(SceneError::Invalid {
+                    file: file.to_path_buf(),
+                    path: format!("{path}.group"),
+                    message: format!("the mesh has no physical group named '{group}'"),
+                    fix: format!("use one of: {}", known.join(", ")),
+                })
+            }
+            _ => Err(SceneError::Invalid {
+                file: file.to_path_buf(),
+                path: format!("{path}.group"),
+                message: format!("several bodies have a group named '{group}'"),
+                fix: "add \"body\": <name> to say which body".into(),
+            }),
+        }
+    }
+}
+
+/// Builds the model from a scene and the bodies' meshes (in the order of `scene.bodies`).
+pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, SceneError> {
+    let mut m = Model {
+        gravity: scene.gravity,
+        ..Default::default()
+    };
+    let mut edge_groups: Vec<(u32, String, Vec<[u32; 2]>)> = Vec::new();
+    for (bi, (body, mesh)) in scene.bodies.iter().zip(meshes).enumerate() {
+        let base = m.x0.len() as u32;
+        m.body_nodes.push(base..base + mesh.nodes.len() as u32);
+        m.x0.extend(
+            mesh.nodes
+                .iter()
+                .map(|p| [p[0] + body.offset[0], p[1] + body.offset[1]]),
+        );
+        m.v0.extend(std::iter::repeat_n(body.initial_velocity, mesh.nodes.len()));
+        for (ti, t) in mesh.triangles.iter().enumerate() {
+            let g = &mesh.triangle_group[ti];
+            let spec = body
+                .materials
+                .get(g)
+                .or_else(|| body.materials.get("*"))
+                .ok_or_else(|| {
+                    let surfaces: Vec<&str> = body.materials.keys().map(|s| s.as_str()).collect();
+                    SceneError::Invalid {
+                        file: file.to_path_buf(),
+                        path: format!("bodies[{bi}].materials"),
+                        message: format!(
+                            "triangle {ti} of {} is in group '{g}', which has no material (given: {})",
+                            body.mesh.display(),
+                            surfaces.join(", ")
+                        ),
+                        fix: format!("add a material for \"{g}\" or a default under \"*\""),
+                    }
+                })?;
+            let mi = match m
+                .materials
+                .iter()
+                .position(|x| same(&x.0, spec) && x.1 == body.thickness)
+            {
+                Some(i) => i,
+                None => {
+                    m.materials.push((*spec, body.thickness));
+                    m.materials.len() - 1
+                }
+            };
+            m.triangles.push([t[0] + base, t[1] + base, t[2] + base]);
+            m.tri_material.push(mi as u32);
+            m.tri_body.push(bi as u32);
+            m.tri_thickness.push(body.thickness);
+        }
+        for key in body.materials.keys() {
+            if key != "*" && !mesh.triangle_group.iter().any(|g| g == key) {
+                let known: std::collections::BTreeSet<&str> =
+                    mesh.triangle_group.iter().map(|s| s.as_str()).collect();
+                return Err(SceneError::Invalid {
+                    file: file.to_path_buf(),
+                    path: format!("bodies[{bi}].materials.{key}"),
+                    message: format!("the mesh has no surface group named '{key}'"),
+                    fix: format!(
+                        "use one of: {} (or \"*\")",
+                        known.into_iter().collect::<Vec<_>>().join(", ")
+                    ),
+                });
+            }
+        }
+        for (name, nodes) in &mesh.node_groups {
+            m.groups.push((
+                bi as u32,
+                name.clone(),
+                nodes.iter().map(|&n| n + base).collect(),
+            ));
+        }
+        for (name, edges) in &mesh.edge_groups {
+            edge_groups.push((
+                bi as u32,
+                name.clone(),
+                edges.iter().map(|e| [e[0] + base, e[1] + base]).collect(),
+            ));
+        }
+    }
+    // Lumped masses.
+    m.mass = vec![0.0; m.x0.len()];
+    for (e, t) in m.triangles.iter().enumerate() {
+        let [a, b, c] = t.map(|i| m.x0[i as usize]);
+        let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+        let mat = &m.materials[m.tri_material[e] as usize].0;
+        let third = mat.density * area.abs() * m.tri_thickness[e] / 3.0;
+        for &i in t {
+            m.mass[i as usize] += third;
+        }
+    }
+    // Edge -> opposite node, for outward normals of loaded edges.
+    let mut opposite: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            opposite.insert((a.min(b), a.max(b)), c);
+        }
+    }
+    let node_thickness = {
+        let mut th = vec![0.0; m.x0.len()];
+        for (e, t) in m.triangles.iter().enumerate() {
+            for &i in t {
+                th[i as usize] = m.tri_thickness[e];
+            }
+        }
+        th
+    };
+    m.constrained = vec![false; 2 * m.x0.len()];
+    for (i, bc) in scene.boundary_conditions.iter().enumerate() {
+        let path = format!("boundary_conditions[{i}]");
+        let edges_of = |name: &str| -> Result<&Vec<[u32; 2]>, SceneError> {
+            let hits: Vec<_> = edge_groups
+                .iter()
+                .filter(|(bi, n, _)| {
+                    n == name
+                        && bc
+                            .body()
+                            .is_none_or(|b| scene.bodies[*bi as usize].name.as_deref() == Some(b))
+                })
+                .collect();
+            match hits.len() {
+                1 => Ok(&hits[0].2),
+                0 => Err(SceneError::Invalid {
+                    file: file.to_path_buf(),
+                    path: format!("{path}.group"),
+                    message: format!("the mesh has no physical edge group named '{name}'"),
+                    fix: format!(
+                        "pressure and traction need an edge group; edge groups: {}",
+                        edge_groups
+                            .iter()
+                            .map(|g| g.1.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                }),
+                _ => Err(SceneError::Invalid {
+                    file: file.to_path_buf(),
+                    path: format!("{path}.group"),
+                    message: format!("several bodies have an edge group named '{name}'"),
+                    fix: "add \"body\": <name>".into(),
+                }),
+            }
+        };
+        match bc {
+            BoundaryCondition::Fixed(f) => {
+                let nodes = m
+                    .find_group(scene, file, &path, &f.group, f.body.as_deref())?
+                    .to_vec();
+                for n in nodes {
+                    if f.x {
+                        m.constrained[2 * n as usize] = true;
+                    }
+                    if f.y {
+                        m.constrained[2 * n as usize + 1] = true;
+                    }
+                }
+            }
+            BoundaryCondition::Velocity(v) => {
+                let nodes = m
+                    .find_group(scene, file, &path, &v.group, v.body.as_deref())?
+                    .to_vec();
+                for n in nodes {
+                    for (c, val) in [v.x, v.y].into_iter().enumerate() {
+                        if let Some(val) = val {
+                            let dof = 2 * n + c as u32;
+                            m.constrained[dof as usize] = true;
+                            m.prescribed.push(PrescribedDof {
+                                dof,
+                                velocity: val,
+                                ramp: v.ramp,
+                            });
+                        }
+                    }
+                }
+            }
+            BoundaryCondition::Pressure(_) | BoundaryCondition::Traction(_) => {
+                let (group, ramp) = match bc {
+                    BoundaryCondition::Pressure(p) => (&p.group, p.ramp),
+                    BoundaryCondition::Traction(p) => (&p.group, p.ramp),
+                    _ => unreachable!(),
+                };
+                let edges = edges_of(group)?;
+                let mut forces = Vec::with_capacity(4 * edges.len());
+                for &[a, b] in edges {
+                    let Some(&c) = opposite.get(&(a.min(b), a.max(b))) else {
+                        return Err(SceneError::Invalid {
+                            file: file.to_path_buf(),
+                            path: format!("{path}.group"),
+                            message: format!(
+                                "edge ({a}, {b}) of group '{group}' is not an edge of any triangle"
+                            ),
+                            fix: "mesh the edge group conforming with the surface".into(),
+                        });
+                    };
+                    let (pa, pb, pc) = (m.x0[a as usize], m.x0[b as usize], m.x0[c as usize]);
+                    let e = [pb[0] - pa[0], pb[1] - pa[1]];
+                    let len = (e[0] * e[0] + e[1] * e[1]).sqrt();
+                    let mut n = [e[1] / len, -e[0] / len];
+                    // Outward: away from the opposite node.
+                    if n[0] * (pc[0] - pa[0]) + n[1] * (pc[1] - pa[1]) > 0.0 {
+                        n = [-n[0], -n[1]];
+                    }
+                    let th = node_thickness[a as usize];
+                    let fvec = match bc {
+                        BoundaryCondition::Pressure(p) => [-p.value * n[0], -p.value * n[1]],
+                        BoundaryCondition::Traction(p) => p.value,
+                        _ => unreachable!(),
+                    };
+                    for node in [a, b] {
+                        for k in 0..2 {
+                            forces.push((2 * node + k as u32, 0.5 * fvec[k] * len * th));
+                        }
+                    }
+                }
+                m.loads.push(RampedLoad { ramp, forces });
+            }
+            BoundaryCondition::PointLoad(p) => {
+                let nodes = m
+                    .find_group(scene, file, &path, &p.group, p.body.as_deref())?
+                    .to_vec();
+                let k = nodes.len() as f64;
+                let forces = nodes
+                    .iter()
+                    .flat_map(|&n| [(2 * n, p.force[0] / k), (2 * n + 1, p.force[1] / k)])
+                    .collect();
+                m.loads.push(RampedLoad {
+                    ramp: p.ramp,
+                    forces,
+                });
+            }
+        }
+    }
+    Ok(m)
+}
+
+fn same(a: &MaterialSpec, b: &MaterialSpec) -> bool {
+    a.law == b.law
+        && a.young == b.young
+        && a.poisson == b.poisson
+        && a.density == b.density
+        && a.plane == b.plane
+}

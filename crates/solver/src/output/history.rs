@@ -1,0 +1,45 @@
+//! Histories as CSV: a header of column names, then one row per record; rewritten atomically
+//! at each flush, so the file on disk is always complete.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::write_atomic;
+
+/// Accumulates history rows in memory and writes `histories.csv` whole.
+#[derive(Debug, Clone)]
+pub struct HistoryWriter {
+    path: PathBuf,
+    text: String,
+    columns: usize,
+}
+
+impl HistoryWriter {
+    /// A writer with the given column names (the first should be `time`).
+    pub fn new(path: &Path, columns: &[String]) -> Self {
+        let mut text = columns.join(",");
+        text.push('\n');
+        Self {
+            path: path.to_path_buf(),
+            text,
+            columns: columns.len(),
+        }
+    }
+
+    /// Appends one row (must have as many values as columns).
+    pub fn push(&mut self, row: &[f64]) {
+        debug_assert_eq!(row.len(), self.columns);
+        for (i, v) in row.iter().enumerate() {
+            if i > 0 {
+                self.text.push(',');
+            }
+            let _ = write!(self.text, "{v:.17e}");
+        }
+        self.text.push('\n');
+    }
+
+    /// Writes the file whole.
+    pub fn flush(&self) -> std::io::Result<()> {
+        write_atomic(&self.path, self.text.as_bytes())
+    }
+}

@@ -1,0 +1,16 @@
+//! Output: `.vtu` frames collected in a `.pvd`, histories as CSV, and the JSON run summary.
+//!
+//! Every file is written whole or not at all ([`atomic::write_atomic`]: a temporary file in
+//! the same folder, then a rename), and the `.pvd` collection is rewritten after each frame,
+//! so an interrupted run leaves a readable result. vtkio is used only in [`vtu`].
+
+pub mod atomic;
+pub mod frame;
+pub mod history;
+pub mod pvd;
+pub mod vtu;
+
+pub use atomic::write_atomic;
+pub use frame::FrameData;
+pub use history::HistoryWriter;
+pub use pvd::Collection;

@@ -1,0 +1,166 @@
+//! The static analysis: the small-strain linear-elastic solve `K u = f` of the same
+//! constant-strain triangles (the mesh crate's sparse stiffness and faer's sparse Cholesky),
+//! with the scene's Dirichlet conditions (fixed DOFs: `u = 0`; prescribed velocity `v` with
+//! ramp `r`: `u = v (T - r/2)` at the end of the duration `T`) and Neumann loads at full
+//! strength (pressure, traction, point loads, gravity).
+//!
+//! Stresses are the linear ones, `sigma = D eps(u)`, `eps = sym grad u` with the reference
+//! shape-function gradients; `sigma_zz = lam* (eps_xx + eps_yy)` in plane strain (where
+//! `lam*` is the 3D Lame constant), 0 in plane stress. Strain energy density `sigma:eps / 2`.
+//! Nodal force `f_ext - K u` (zero at free DOFs up to round-off); reaction `K u - f_ext` at
+//! constrained DOFs.
+
+use std::time::Instant;
+
+use fdem_mesh::{PlaneKind, reference_gradients};
+
+use crate::driver::{Energies, Loaded, Summary, frame_from_parts};
+use crate::error::RunError;
+use crate::model::ramp_integral;
+use crate::output::FrameData;
+use crate::system::StageTimers;
+
+/// The static displacement (flat DOFs) of a loaded scene.
+pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
+    let n = 2 * l.model.n_nodes();
+    let k = l.elements.stiffness();
+    let mut f = vec![0.0; n];
+    l.model.add_external(f64::INFINITY, &mut f);
+    let mut prescribed: Vec<(usize, f64)> = Vec::new();
+    let mut value = vec![0.0; n];
+    for p in &l.model.prescribed {
+        let Some(t) = l.scene.duration else {
+            return Err(RunError::Static {
+                message: "a prescribed velocity needs a duration to give a displacement".into(),
+                fix: "add \"duration\": the static displacement is v (duration - ramp/2)".into(),
+            });
+        };
+        value[p.dof as usize] = p.velocity * ramp_integral(t, p.ramp);
+    }
+    for d in 0..n {
+        if l.model.constrained[d] {
+            prescribed.push((d, value[d]));
+        }
+    }
+    fdem_mesh::solve_static(&k, &f, &prescribed).map_err(|e| RunError::Static {
+        message: e.to_string(),
+        fix: "fix enough DOFs to prevent rigid-body motion (at least 3 independent ones per body)"
+            .into(),
+    })
+}
+
+/// Solves the static scene and returns its frame and summary.
+pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
+    let start = Instant::now();
+    let u = displacement(l)?;
+    let solve_time = start.elapsed().as_secs_f64();
+    let n = u.len();
+    let k = l.elements.stiffness();
+    // f_int = -K u.
+    let mut ku = vec![0.0; n];
+    {
+        let (cp, ri, vals) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
+        for col in 0..n {
+            for p in cp[col]..cp[col + 1] {
+                ku[ri[p]] += vals[p] * u[col];
+            }
+        }
+    }
+    let mut fext = vec![0.0; n];
+    l.model.add_external(f64::INFINITY, &mut fext);
+    let force: Vec<f64> = (0..n).map(|d| fext[d] - ku[d]).collect();
+    let mut reaction = vec![0.0; n];
+    for d in 0..n {
+        if l.model.constrained[d] {
+            reaction[d] = -force[d];
+        }
+    }
+    let (stress, energy_density) = linear_stresses(l, &u);
+    let x: Vec<[f64; 2]> = l
+        .model
+        .x0
+        .iter()
+        .enumerate()
+        .map(|(i, p)| [p[0] + u[2 * i], p[1] + u[2 * i + 1]])
+        .collect();
+    let zeros = vec![[0.0; 2]; l.model.n_nodes()];
+    let frame = frame_from_parts(
+        &l.model,
+        0.0,
+        &x,
+        &zeros,
+        force.as_chunks::<2>().0,
+        reaction.as_chunks::<2>().0,
+        stress,
+        energy_density,
+    );
+    let strain = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
+    let ext = 0.5 * u.iter().zip(&fext).map(|(a, b)| a * b).sum::<f64>();
+    let sup = 0.5 * u.iter().zip(&reaction).map(|(a, b)| a * b).sum::<f64>();
+    let max_u = frame
+        .displacement
+        .iter()
+        .map(|d| (d[0] * d[0] + d[1] * d[1]).sqrt())
+        .fold(0.0, f64::max);
+    let summary = Summary {
+        scene: l.file.display().to_string(),
+        analysis: "static".into(),
+        scheme: "sparse-cholesky".into(),
+        nodes: l.model.n_nodes(),
+        triangles: l.elements.len(),
+        time_step: 0.0,
+        time_step_limit: l.dt_limit,
+        steps: 0,
+        force_evaluations: 0,
+        simulated_time: 0.0,
+        wall_time: 0.0,
+        element_steps_per_second: 0.0,
+        timers: StageTimers {
+            internal_forces: solve_time,
+            ..Default::default()
+        },
+        energy: Energies {
+            kinetic: 0.0,
+            strain,
+            external_work: ext,
+            support_work: sup,
+            dissipated_or_error: ext + sup - strain,
+        },
+        frames: 0,
+        converged: None,
+        relative_residual: None,
+        max_displacement: max_u,
+        threads: rayon::current_num_threads(),
+    };
+    Ok((frame, summary))
+}
+
+/// Linear stresses `(sxx, syy, sxy, szz)` and strain energy densities of every triangle for
+/// the displacement `u` (flat DOFs).
+pub fn linear_stresses(l: &Loaded, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
+    let e = &l.elements;
+    let mut stress = Vec::with_capacity(e.len());
+    let mut density = Vec::with_capacity(e.len());
+    for td in &e.tris {
+        let c = &e.materials[td.material as usize];
+        let g = reference_gradients(td.ginv);
+        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
+        for a in 0..3 {
+            let n = td.nodes[a] as usize;
+            let (ux, uy) = (u[2 * n], u[2 * n + 1]);
+            exx += ux * g[a][0];
+            eyy += uy * g[a][1];
+            gxy += ux * g[a][1] + uy * g[a][0];
+        }
+        let sxx = (c.lam + 2.0 * c.mu) * exx + c.lam * eyy;
+        let syy = c.lam * exx + (c.lam + 2.0 * c.mu) * eyy;
+        let sxy = c.mu * gxy;
+        let szz = match c.material.plane {
+            PlaneKind::Strain => c.lam * (exx + eyy),
+            PlaneKind::Stress => 0.0,
+        };
+        stress.push([sxx, syy, sxy, szz]);
+        density.push(0.5 * (sxx * exx + syy * eyy + sxy * gxy));
+    }
+    (stress, density)
+}

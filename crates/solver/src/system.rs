@@ -1,0 +1,213 @@
+//! The composition: one [`SecondOrderSystem`] over the mesh, the loads, damping and any further
+//! force contributions (contact, joints) a scene needs.
+//!
+//! The force on DOF `i` at time `t` is
+//!
+//! `f_i = f_int,i(x, v) + s(t) f_ext,i + m_i g - alpha m_i v_i + sum_c f_c,i(t, x, v)`
+//!
+//! with `f_int` the mesh crate's internal force (elastic + element viscosity), `s(t)` each
+//! load's ramp, `alpha` the mass-proportional damping, and `f_c` the optional contributions.
+//! A term the scene does not have costs nothing: no loads, no gravity, `alpha = 0`, no
+//! viscosity (the mesh kernel then never reads `v`) and an empty contribution list are all
+//! skipped. Constrained DOFs get zero acceleration and are moved by [`SceneSystem::prescribe`].
+
+use std::time::Instant;
+
+use fdem_mesh::{Elements, ForceScratch};
+use fdem_time::SecondOrderSystem;
+
+use crate::model::{Model, ramp_factor, ramp_integral};
+
+/// A force term beyond the elements and the loads (contact, joints, ...), plugged into
+/// [`SceneSystem::contributions`]. An empty list costs nothing.
+pub trait ForceContribution: Send {
+    /// Name in the summary's timers.
+    fn name(&self) -> &str;
+    /// Adds this term's nodal forces at `(t, x, v)` to `f`. Must not commit history.
+    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]);
+    /// Commits history at the end of an accepted step (default: nothing).
+    fn end_of_step(&mut self, _t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {}
+    /// An upper bound on the highest frequency this term adds [rad/s] (default 0).
+    fn frequency_bound(&self) -> f64 {
+        0.0
+    }
+}
+
+/// Wall time spent per stage [s].
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct StageTimers {
+    /// Internal (element) forces; for the static analysis, the assembly and sparse solve.
+    pub internal_forces: f64,
+    /// External loads and gravity.
+    pub external_loads: f64,
+    /// Mass-proportional damping.
+    pub mass_damping: f64,
+    /// Further contributions (contact, joints).
+    pub contributions: f64,
+    /// Everything else inside the integrator's step (its update loops).
+    pub integration: f64,
+    /// History recording.
+    pub histories: f64,
+    /// Frame output (stresses, encoding, writing).
+    pub output: f64,
+}
+
+/// The scene as a second-order system for the time crate.
+pub struct SceneSystem {
+    /// The assembled scene (loads, constraints, groups).
+    pub model: Model,
+    /// The triangles prepared for the force kernels.
+    pub elements: Elements,
+    scratch: ForceScratch,
+    inv_mass: Vec<f64>,
+    constrained_dofs: Vec<usize>,
+    x0: Vec<f64>,
+    alpha: f64,
+    /// Optional force terms (contact, joints): none by default.
+    pub contributions: Vec<Box<dyn ForceContribution>>,
+    /// Nodal force of the last evaluation (internal + external + damping + contributions).
+    pub force: Vec<[f64; 2]>,
+    /// Stage timers (accumulated).
+    pub timers: StageTimers,
+    /// Time of the last evaluation's external loads [s].
+    pub evaluations: u64,
+    timing: bool,
+}
+
+impl SceneSystem {
+    /// Composes the system; `alpha` is the mass-proportional damping [1/s].
+    pub fn new(model: Model, elements: Elements, alpha: f64) -> Self {
+        let n = model.n_nodes();
+        let mut inv_mass = vec![0.0; 2 * n];
+        for (i, m) in model.mass.iter().enumerate() {
+            let im = if *m > 0.0 { 1.0 / m } else { 0.0 };
+            inv_mass[2 * i] = im;
+            inv_mass[2 * i + 1] = im;
+        }
+        let constrained_dofs: Vec<usize> = (0..2 * n).filter(|&d| model.constrained[d]).collect();
+        for &d in &constrained_dofs {
+            inv_mass[d] = 0.0;
+        }
+        let x0 = model.x0.as_flattened().to_vec();
+        let scratch = ForceScratch::new(&elements);
+        Self {
+            model,
+            elements,
+            scratch,
+            inv_mass,
+            constrained_dofs,
+            x0,
+            alpha,
+            contributions: Vec::new(),
+            force: vec![[0.0; 2]; n],
+            timers: StageTimers::default(),
+            evaluations: 0,
+            timing: true,
+        }
+    }
+
+    /// Turns the per-stage timers on or off (they cost two clock reads per stage).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing = on;
+    }
+
+    /// Constrained DOFs (fixed or prescribed velocity).
+    pub fn constrained(&self) -> &[usize] {
+        &self.constrained_dofs
+    }
+
+    /// Total nodal force at `(t, x, v)` into [`SceneSystem::force`].
+    pub fn evaluate(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        let xn = x.as_chunks::<2>().0;
+        let vn = v.as_chunks::<2>().0;
+        let clock = |on: bool| on.then(Instant::now);
+        let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
+        let s = clock(self.timing);
+        self.force.fill([0.0; 2]);
+        self.elements
+            .internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+        self.timers.internal_forces += secs(s);
+        if !self.model.loads.is_empty() || self.model.gravity.is_some() {
+            let s = clock(self.timing);
+            self.model.add_external(t, self.force.as_flattened_mut());
+            self.timers.external_loads += secs(s);
+        }
+        if self.alpha > 0.0 {
+            let s = clock(self.timing);
+            let a = self.alpha;
+            for ((f, vi), m) in self.force.iter_mut().zip(vn).zip(&self.model.mass) {
+                f[0] -= a * m * vi[0];
+                f[1] -= a * m * vi[1];
+            }
+            self.timers.mass_damping += secs(s);
+        }
+        if !self.contributions.is_empty() {
+            let s = clock(self.timing);
+            for c in &mut self.contributions {
+                c.add_forces(t, xn, vn, &mut self.force);
+            }
+            self.timers.contributions += secs(s);
+        }
+        self.evaluations += 1;
+    }
+
+    /// Reaction at each DOF: the force the supports apply, `-f` at constrained DOFs (quasi-static
+    /// reading), 0 elsewhere.
+    pub fn reactions(&self) -> Vec<[f64; 2]> {
+        let mut r = vec![[0.0; 2]; self.force.len()];
+        let rf = r.as_flattened_mut();
+        let f = self.force.as_flattened();
+        for &d in &self.constrained_dofs {
+            rf[d] = -f[d];
+        }
+        r
+    }
+}
+
+impl SecondOrderSystem for SceneSystem {
+    fn n_dofs(&self) -> usize {
+        self.inv_mass.len()
+    }
+
+    fn inv_mass(&self) -> &[f64] {
+        &self.inv_mass
+    }
+
+    fn acceleration(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+        self.evaluate(t, x, v);
+        for ((ai, f), im) in a
+            .iter_mut()
+            .zip(self.force.as_flattened())
+            .zip(&self.inv_mass)
+        {
+            *ai = f * im;
+        }
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        // Element viscosity, mass-proportional damping, or a contribution (friction) read v.
+        self.elements.viscous || self.alpha > 0.0 || !self.contributions.is_empty()
+    }
+
+    fn prescribed_dofs(&self) -> &[usize] {
+        &self.constrained_dofs
+    }
+
+    fn prescribe(&mut self, t: f64, x: &mut [f64], v: &mut [f64]) {
+        for p in &self.model.prescribed {
+            let d = p.dof as usize;
+            x[d] = self.x0[d] + p.velocity * ramp_integral(t, p.ramp);
+            v[d] = p.velocity * ramp_factor(t, p.ramp);
+        }
+    }
+
+    fn end_of_step(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        if !self.contributions.is_empty() {
+            let xn = x.as_chunks::<2>().0;
+            let vn = v.as_chunks::<2>().0;
+            for c in &mut self.contributions {
+                c.end_of_step(t, xn, vn);
+            }
+        }
+    }
+}

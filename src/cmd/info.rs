@@ -1,0 +1,14 @@
+//! `fdem info MESH`: counts, groups, sizes and quality of a mesh file.
+
+use std::path::Path;
+
+use anyhow::Result;
+
+/// Prints a description of the mesh.
+pub fn info(mesh: &Path) -> Result<()> {
+    println!(
+        "{}",
+        fdem_solver::mesh_adapter::describe_file(mesh).map_err(anyhow::Error::msg)?
+    );
+    Ok(())
+}

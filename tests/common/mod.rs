@@ -1,0 +1,155 @@
+//! Helpers shared by the whole-solver tests: run an example scene (possibly modified) into a
+//! fresh temporary folder and read its histories.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use fdem_solver::driver::{self, Outcome, RunOptions};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh, empty temporary folder named after `tag`.
+pub fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fdem-test-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Loads an example scene as JSON, applies `edit`, makes mesh paths absolute, and writes it
+/// into a temporary folder; returns the new scene path.
+pub fn edited_example(name: &str, tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
+    let src = root().join("examples").join(name);
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&src).unwrap()).unwrap();
+    for b in v["bodies"].as_array_mut().unwrap() {
+        let m = b["mesh"].as_str().unwrap().to_string();
+        b["mesh"] =
+            serde_json::Value::String(root().join("examples").join(m).display().to_string());
+    }
+    edit(&mut v);
+    let dir = temp_dir(tag);
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    p
+}
+
+/// Runs a scene into `<scene folder>/out` and returns the outcome.
+pub fn run(scene: &Path) -> (Outcome, PathBuf) {
+    let mut l = driver::load(scene).unwrap_or_else(|e| panic!("{e}"));
+    let out = scene.parent().unwrap().join("out");
+    let o = driver::run_outcome(
+        &mut l,
+        &RunOptions {
+            out_dir: out.clone(),
+            raw: false,
+        },
+        &mut |_| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    (o, out)
+}
+
+/// Reads `histories.csv`: column names and rows.
+pub fn histories(out: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(out.join("histories.csv")).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (head, rows)
+}
+
+/// Column `name` of the histories.
+pub fn column(head: &[String], rows: &[Vec<f64>], name: &str) -> Vec<f64> {
+    let i = head
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    rows.iter().map(|r| r[i]).collect()
+}
+
+/// Reference node positions of a frame.
+pub fn reference_points(f: &fdem_solver::output::FrameData) -> Vec<[f64; 2]> {
+    f.points
+        .iter()
+        .zip(&f.displacement)
+        .map(|(p, u)| [p[0] - u[0], p[1] - u[1]])
+        .collect()
+}
+
+/// Triangle centroids in the reference configuration.
+pub fn centroids(f: &fdem_solver::output::FrameData) -> Vec<[f64; 2]> {
+    let x0 = reference_points(f);
+    f.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| x0[i as usize]);
+            [
+                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+            ]
+        })
+        .collect()
+}
+
+/// Stress (sxx, syy, sxy) recovered at point `q`: a least-squares quadratic fit of the
+/// triangles' constant stresses at their centroids, over the `n` centroids nearest to `q`
+/// (a patch recovery in the spirit of Zienkiewicz-Zhu; exact for quadratic fields).
+pub fn recovered_stress(
+    f: &fdem_solver::output::FrameData,
+    cen: &[[f64; 2]],
+    q: [f64; 2],
+    n: usize,
+) -> [f64; 3] {
+    let mut idx: Vec<(f64, usize)> = cen
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ((c[0] - q[0]).powi(2) + (c[1] - q[1]).powi(2), i))
+        .collect();
+    idx.select_nth_unstable_by(n, |a, b| a.0.total_cmp(&b.0));
+    let near = &idx[..n];
+    let scale = near.iter().map(|p| p.0).fold(0.0, f64::max).sqrt();
+    let mut out = [0.0; 3];
+    for comp in 0..3 {
+        let mut ata = [[0.0; 6]; 6];
+        let mut atb = [0.0; 6];
+        for &(_, i) in near {
+            let (x, y) = ((cen[i][0] - q[0]) / scale, (cen[i][1] - q[1]) / scale);
+            let row = [1.0, x, y, x * x, x * y, y * y];
+            for r in 0..6 {
+                for c in 0..6 {
+                    ata[r][c] += row[r] * row[c];
+                }
+                atb[r] += row[r] * f.stress[i][comp];
+            }
+        }
+        // Gaussian elimination with partial pivoting.
+        for p in 0..6 {
+            let piv = (p..6)
+                .max_by(|a, b| ata[*a][p].abs().total_cmp(&ata[*b][p].abs()))
+                .unwrap();
+            ata.swap(p, piv);
+            atb.swap(p, piv);
+            for r in p + 1..6 {
+                let l = ata[r][p] / ata[p][p];
+                for c in p..6 {
+                    ata[r][c] -= l * ata[p][c];
+                }
+                atb[r] -= l * atb[p];
+            }
+        }
+        let mut sol = [0.0; 6];
+        for r in (0..6).rev() {
+            let s: f64 = (r + 1..6).map(|c| ata[r][c] * sol[c]).sum();
+            sol[r] = (atb[r] - s) / ata[r][r];
+        }
+        out[comp] = sol[0];
+    }
+    out
+}

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Reads fdem's ParaView output (.pvd + zlib-compressed .vtu) with meshio and with VTK's own
+# XML reader, and compares every array with the raw JSON dump the solver wrote beside each
+# frame (fdem run --raw): values must be equal bit for bit.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+if [ ! -x .venv/bin/python ]; then python3 -m venv .venv; fi
+.venv/bin/pip install -q -r tests/python/requirements.txt
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+cargo run --quiet -- run examples/bar-pulse.json --out "$out/bar" --raw >/dev/null 2>&1
+cargo run --quiet -- run examples/brazilian-disc-elastic.json --out "$out/disc" --raw >/dev/null 2>&1
+.venv/bin/python tests/python/vtu_readback.py "$out/bar" "$out/disc"
