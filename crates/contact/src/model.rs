@@ -1,0 +1,583 @@
+//! The contact model the solver drives: detection with refresh, the parallel force pass with
+//! deterministic scatter, friction history with an end-of-step commit, walls and energies.
+//!
+//! Per step the solver calls, in order:
+//! 1. [`Contact::update_detection`] (redetects only when a node or a plane has moved `b/2`
+//!    since the last detection, or the bonded list / topology changed);
+//! 2. [`Contact::compute_forces`] any number of times (trial stages included): it reads the
+//!    committed friction history and writes only trial values;
+//! 3. [`Contact::add_forces`] (or [`Contact::add_family`]) to scatter into the node forces;
+//! 4. [`Contact::commit`] once at the end of the step (the time crate's end-of-step hook).
+//!
+//! The force pass evaluates every couple in parallel (rayon) into a per-couple buffer and
+//! scatters serially in couple order, so the result is bit-identical for any thread count;
+//! once the buffers have grown to the largest couple count, a step allocates nothing.
+
+use rayon::prelude::*;
+
+use crate::bounding::BoundingCircles;
+use crate::broad_parry::ParryBroadPhase;
+use crate::couple::{CoupleForce, WallForce, couple_force_into, wall_force};
+use crate::exclusions::Exclusions;
+use crate::friction::stored_energy;
+use crate::geom::{V2, add, dot, norm, sub};
+use crate::laws::{BroadPhase, ContactLaws, ContactSettings};
+use crate::nbs::Nbs;
+use crate::potential_tri_tri::pair_energy;
+use crate::walls::RigidPlane;
+
+/// Errors found at the contact check point.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ContactError {
+    /// A contact went deeper than the allowed fraction of the altitude.
+    #[error(
+        "contact between {what} reached phi = {phi:.3} (penetration {pct:.0}% of the altitude H/3 at which the \
+         potential force stops growing), above the limit {limit:.3}: the time step is too large for the impact \
+         speed or the contact penalty is too low; reduce dt or raise the penalty"
+    )]
+    TooDeep {
+        /// Which couple, in words (triangle ids or plane id).
+        what: String,
+        /// Largest phi reached.
+        phi: f64,
+        /// phi as a percentage of the limit depth H/3.
+        pct: f64,
+        /// The limit from the settings.
+        limit: f64,
+    },
+    /// Triangles in contact were degenerate, inverted or had non-finite positions.
+    #[error(
+        "{count} contact couples involve degenerate, inverted or non-finite triangles (first: triangles {first:?}); \
+         they carry no contact force: check the element check point for inverted elements or NaN"
+    )]
+    InvalidTriangles {
+        /// Number of such couples.
+        count: usize,
+        /// The first such couple.
+        first: [u32; 2],
+    },
+}
+
+/// Summary of the last force pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactStats {
+    /// Triangle couples evaluated.
+    pub n_couples: usize,
+    /// Triangle couples with a non-zero normal force.
+    pub n_active: usize,
+    /// Plane-triangle couples with a non-zero normal force.
+    pub n_wall_active: usize,
+    /// Edges slipping.
+    pub n_slipping: usize,
+    /// Largest phi on a contacting edge (0..1; `phi = 3 d/H`).
+    pub max_phi: f64,
+    /// The couple with the largest phi: triangles `[i, j]`, or `[u32::MAX, tri]` for a plane.
+    pub max_phi_couple: [u32; 2],
+    /// Couples skipped because a triangle was degenerate, inverted or not finite.
+    pub n_invalid: usize,
+    /// First such couple.
+    pub first_invalid: [u32; 2],
+    /// Slip dissipation of this (trial) step [J/m]; booked by [`Contact::commit`].
+    pub trial_dissipation: f64,
+}
+
+impl ContactStats {
+    /// The check point: an error if a contact reached `phi > max_phi` or a couple was invalid.
+    pub fn check(&self, max_phi: f64) -> Result<(), ContactError> {
+        if self.n_invalid > 0 {
+            return Err(ContactError::InvalidTriangles {
+                count: self.n_invalid,
+                first: self.first_invalid,
+            });
+        }
+        if self.max_phi > max_phi {
+            let [a, b] = self.max_phi_couple;
+            let what = if a == u32::MAX {
+                format!("a rigid plane and triangle {b}")
+            } else {
+                format!("triangles {a} and {b}")
+            };
+            return Err(ContactError::TooDeep {
+                what,
+                phi: self.max_phi,
+                pct: 100.0 * self.max_phi,
+                limit: max_phi,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Energies of the contact state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactEnergy {
+    /// Potential `sum p int (phi_c + phi_t) dA` over couples and planes [J/m].
+    pub potential: f64,
+    /// Stored tangential spring energy `sum Ft^2/(2 k_t)` (committed) [J/m].
+    pub friction_stored: f64,
+    /// Slip dissipation committed since the start [J/m].
+    pub friction_dissipated: f64,
+}
+
+/// Force family, for separate work bookkeeping.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    /// Normal potential force.
+    Normal,
+    /// Coulomb friction.
+    Friction,
+    /// Contact damping.
+    Damping,
+}
+
+/// The contact model: settings, laws, planes, and the state and scratch it owns.
+pub struct Contact {
+    /// Detection settings.
+    pub settings: ContactSettings,
+    /// Laws per pair of materials.
+    pub laws: ContactLaws,
+    /// Rigid planes and platens (move a platen by changing its `point` and `velocity`).
+    pub walls: Vec<RigidPlane>,
+    excl: Exclusions,
+    circles: BoundingCircles,
+    nbs: Nbs,
+    parry: ParryBroadPhase,
+    x_det: Vec<V2>,
+    wall_det: Vec<V2>,
+    n_tris_det: usize,
+    buffer: f64,
+    stale: bool,
+    n_detections: u64,
+    couples: Vec<[u32; 2]>,
+    ft: Vec<[f64; 6]>,
+    ft_trial: Vec<[f64; 6]>,
+    results: Vec<CoupleForce>,
+    wall_pairs: Vec<[u32; 2]>,
+    wall_ft: Vec<f64>,
+    wall_ft_trial: Vec<f64>,
+    wall_results: Vec<WallForce>,
+    scratch_couples: Vec<[u32; 2]>,
+    scratch_ft: Vec<[f64; 6]>,
+    scratch_wall_ft: Vec<f64>,
+    friction_dissipated: f64,
+    stats: ContactStats,
+}
+
+impl Contact {
+    /// A contact model with no planes and no bonded pairs.
+    pub fn new(settings: ContactSettings, laws: ContactLaws) -> Self {
+        Contact {
+            settings,
+            laws,
+            walls: Vec::new(),
+            excl: Exclusions::new(),
+            circles: BoundingCircles::default(),
+            nbs: Nbs::new(),
+            parry: ParryBroadPhase::new(),
+            x_det: Vec::new(),
+            wall_det: Vec::new(),
+            n_tris_det: 0,
+            buffer: settings.buffer,
+            stale: true,
+            n_detections: 0,
+            couples: Vec::new(),
+            ft: Vec::new(),
+            ft_trial: Vec::new(),
+            results: Vec::new(),
+            wall_pairs: Vec::new(),
+            wall_ft: Vec::new(),
+            wall_ft_trial: Vec::new(),
+            wall_results: Vec::new(),
+            scratch_couples: Vec::new(),
+            scratch_ft: Vec::new(),
+            scratch_wall_ft: Vec::new(),
+            friction_dissipated: 0.0,
+            stats: ContactStats::default(),
+        }
+    }
+
+    /// Sets the bonded pairs (intact joints): they are never contact couples. Call again with
+    /// the new list when joints break; the next [`Self::update_detection`] redetects.
+    pub fn set_bonded(&mut self, n_tris: usize, pairs: &[[u32; 2]]) {
+        self.excl.set_bonded(n_tris, pairs);
+        self.stale = true;
+    }
+
+    /// Forces a new detection at the next [`Self::update_detection`].
+    pub fn invalidate(&mut self) {
+        self.stale = true;
+    }
+
+    /// The buffer in use [m] (fixed at the first detection when the setting is 0).
+    pub fn buffer(&self) -> f64 {
+        self.buffer
+    }
+
+    /// Number of detections done so far.
+    pub fn n_detections(&self) -> u64 {
+        self.n_detections
+    }
+
+    /// The current triangle couples `(i < j)`, sorted.
+    pub fn couples(&self) -> &[[u32; 2]] {
+        &self.couples
+    }
+
+    /// Per-couple results of the last force pass, aligned with [`Self::couples`]; entries with
+    /// `active == false` carry no force and their other fields are stale.
+    pub fn couple_results(&self) -> &[CoupleForce] {
+        &self.results
+    }
+
+    /// The current plane-triangle candidates `[plane, tri]`, sorted.
+    pub fn wall_pairs(&self) -> &[[u32; 2]] {
+        &self.wall_pairs
+    }
+
+    /// Per-candidate results of the last force pass, aligned with [`Self::wall_pairs`].
+    pub fn wall_results(&self) -> &[WallForce] {
+        &self.wall_results
+    }
+
+    /// Statistics of the last force pass.
+    pub fn stats(&self) -> &ContactStats {
+        &self.stats
+    }
+
+    /// Redetects if needed (rigorous criterion, module docs); returns true if it did.
+    pub fn update_detection(&mut self, x: &[V2], tris: &[[u32; 3]]) -> bool {
+        let mut need = self.stale
+            || x.len() != self.x_det.len()
+            || tris.len() != self.n_tris_det
+            || self.walls.len() != self.wall_det.len();
+        if !need {
+            let half = 0.5 * self.buffer;
+            let h2 = half * half;
+            need = x.iter().zip(&self.x_det).any(|(a, b)| {
+                let d = sub(*a, *b);
+                let d2 = d[0] * d[0] + d[1] * d[1];
+                d2 >= h2 || d2.is_nan()
+            }) || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
+                let s = dot(sub(w.point, *p0), w.normal).abs();
+                s >= half || s.is_nan()
+            });
+        }
+        if need {
+            self.detect(x, tris);
+        }
+        need
+    }
+
+    /// Detects couples now, keeping the friction history of couples found again.
+    pub fn detect(&mut self, x: &[V2], tris: &[[u32; 3]]) {
+        self.circles.update(x, tris);
+        if self.buffer <= 0.0 || self.buffer.is_nan() {
+            let (s, n) = self
+                .circles
+                .r
+                .iter()
+                .filter(|r| r.is_finite())
+                .fold((0.0, 0usize), |(s, n), r| (s + r, n + 1));
+            self.buffer = if n > 0 { 0.2 * s / n as f64 } else { 0.0 };
+        }
+        let b = self.buffer;
+        let mut found = std::mem::take(&mut self.scratch_couples);
+        match self.settings.broad_phase {
+            BroadPhase::Nbs => {
+                self.nbs
+                    .find_couples(&self.circles, b, tris, &self.excl, &mut found)
+            }
+            BroadPhase::ParryBvh => {
+                self.parry
+                    .find_couples(&self.circles, b, tris, &self.excl, &mut found)
+            }
+        }
+        // Carry the committed friction of couples found again (both lists sorted).
+        self.scratch_ft.clear();
+        let mut k = 0;
+        for c in &found {
+            while k < self.couples.len() && self.couples[k] < *c {
+                k += 1;
+            }
+            let old = if k < self.couples.len() && self.couples[k] == *c {
+                self.ft[k]
+            } else {
+                [0.0; 6]
+            };
+            self.scratch_ft.push(old);
+        }
+        std::mem::swap(&mut self.couples, &mut found);
+        std::mem::swap(&mut self.ft, &mut self.scratch_ft);
+        self.scratch_couples = found;
+        self.ft_trial.clear();
+        self.ft_trial.extend_from_slice(&self.ft);
+
+        // Plane candidates: bounding circle within the buffer of the plane.
+        let mut found = std::mem::take(&mut self.scratch_couples);
+        found.clear();
+        for (w, plane) in self.walls.iter().enumerate() {
+            for e in 0..self.circles.len() {
+                let r = self.circles.r[e];
+                if r.is_finite() && plane.signed_distance(self.circles.c[e]) < r + b {
+                    found.push([w as u32, e as u32]);
+                }
+            }
+        }
+        self.scratch_wall_ft.clear();
+        let mut k = 0;
+        for c in &found {
+            while k < self.wall_pairs.len() && self.wall_pairs[k] < *c {
+                k += 1;
+            }
+            let old = if k < self.wall_pairs.len() && self.wall_pairs[k] == *c {
+                self.wall_ft[k]
+            } else {
+                0.0
+            };
+            self.scratch_wall_ft.push(old);
+        }
+        std::mem::swap(&mut self.wall_pairs, &mut found);
+        std::mem::swap(&mut self.wall_ft, &mut self.scratch_wall_ft);
+        self.scratch_couples = found;
+        self.wall_ft_trial.clear();
+        self.wall_ft_trial.extend_from_slice(&self.wall_ft);
+
+        self.x_det.clear();
+        self.x_det.extend_from_slice(x);
+        self.wall_det.clear();
+        self.wall_det.extend(self.walls.iter().map(|w| w.point));
+        self.n_tris_det = tris.len();
+        self.stale = false;
+        self.n_detections += 1;
+    }
+
+    /// Evaluates all contact forces (trial: the committed friction history is only read).
+    /// `material[i]` is triangle i's material (empty slice: all 0); `dt` is the step used for
+    /// the friction increment. Call [`Self::update_detection`] first.
+    pub fn compute_forces(
+        &mut self,
+        x: &[V2],
+        v: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+        dt: f64,
+    ) -> ContactStats {
+        let laws = &self.laws;
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
+        self.results
+            .resize(self.couples.len(), CoupleForce::default());
+        self.results
+            .par_iter_mut()
+            .zip(self.ft_trial.par_iter_mut())
+            .zip(self.couples.par_iter().zip(self.ft.par_iter()))
+            .with_min_len(512)
+            .for_each(|((res, ftt), (c, ft_old))| {
+                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+                let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+                let law = laws.get(mat(c[0]), mat(c[1]));
+                let xs = nodes.map(|n| x[n as usize]);
+                if !law.enabled || law.penalty <= 0.0 || boxes_apart(&xs) {
+                    res.active = false;
+                    *ftt = [0.0; 6];
+                    return;
+                }
+                let vs = nodes.map(vel);
+                couple_force_into(res, &xs, &vs, ft_old, dt, law);
+                *ftt = res.ft;
+            });
+        let walls = &self.walls;
+        self.wall_results
+            .resize(self.wall_pairs.len(), WallForce::default());
+        self.wall_results
+            .par_iter_mut()
+            .zip(self.wall_ft_trial.par_iter_mut())
+            .zip(self.wall_pairs.par_iter().zip(self.wall_ft.par_iter()))
+            .with_min_len(512)
+            .for_each(|((res, ftt), (c, ft_old))| {
+                let plane = &walls[c[0] as usize];
+                let t = &tris[c[1] as usize];
+                if !plane.law.enabled || plane.law.penalty <= 0.0 {
+                    *res = WallForce::default();
+                    *ftt = 0.0;
+                    return;
+                }
+                let xs = t.map(|n| x[n as usize]);
+                let vs = t.map(vel);
+                *res = wall_force(plane, &xs, &vs, *ft_old, dt);
+                *ftt = res.ft;
+            });
+        // Serial, fixed-order reduction of the statistics.
+        let mut s = ContactStats {
+            n_couples: self.couples.len(),
+            ..Default::default()
+        };
+        for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active {
+                continue;
+            }
+            if r.invalid {
+                if s.n_invalid == 0 {
+                    s.first_invalid = *c;
+                }
+                s.n_invalid += 1;
+            }
+            s.n_active += (r.fn_total > 0.0) as usize;
+            s.n_slipping += r.slipping as usize;
+            s.trial_dissipation += r.dissipation;
+            if r.phi_max > s.max_phi {
+                s.max_phi = r.phi_max;
+                s.max_phi_couple = *c;
+            }
+        }
+        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
+            s.n_wall_active += (r.fn_total > 0.0) as usize;
+            s.n_slipping += r.slipping as usize;
+            s.trial_dissipation += r.dissipation;
+            if r.phi_max > s.max_phi {
+                s.max_phi = r.phi_max;
+                s.max_phi_couple = [u32::MAX, c[1]];
+            }
+        }
+        self.stats = s;
+        s
+    }
+
+    /// Adds all contact forces (normal + friction + damping) of the last pass to `f`, in
+    /// couple order (deterministic).
+    pub fn add_forces(&self, tris: &[[u32; 3]], f: &mut [V2]) {
+        for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active || r.fn_total == 0.0 {
+                continue;
+            }
+            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+            let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+            for k in 0..6 {
+                let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
+                let n = nodes[k] as usize;
+                f[n] = add(f[n], g);
+            }
+        }
+        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
+            let t = &tris[c[1] as usize];
+            for k in 0..3 {
+                let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
+                let n = t[k] as usize;
+                f[n] = add(f[n], g);
+            }
+        }
+    }
+
+    /// Adds one family of forces of the last pass to `f` (for separate work bookkeeping).
+    pub fn add_family(&self, family: Family, tris: &[[u32; 3]], f: &mut [V2]) {
+        let pick6 = |r: &CoupleForce| match family {
+            Family::Normal => r.normal,
+            Family::Friction => r.friction,
+            Family::Damping => r.damping,
+        };
+        let pick3 = |r: &WallForce| match family {
+            Family::Normal => r.normal,
+            Family::Friction => r.friction,
+            Family::Damping => r.damping,
+        };
+        for (r, c) in self.results.iter().zip(&self.couples) {
+            if !r.active || r.fn_total == 0.0 {
+                continue;
+            }
+            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+            let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+            let g = pick6(r);
+            for k in 0..6 {
+                let n = nodes[k] as usize;
+                f[n] = add(f[n], g[k]);
+            }
+        }
+        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
+            let t = &tris[c[1] as usize];
+            let g = pick3(r);
+            for k in 0..3 {
+                let n = t[k] as usize;
+                f[n] = add(f[n], g[k]);
+            }
+        }
+    }
+
+    /// Total force of the last pass on each plane (all families) [N/m], into `out`
+    /// (length = number of planes): the reaction to what the plane does to the triangles.
+    pub fn wall_reactions(&self, out: &mut [V2]) {
+        out.iter_mut().for_each(|o| *o = [0.0; 2]);
+        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
+            if let Some(o) = out.get_mut(c[0] as usize) {
+                for k in 0..3 {
+                    let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
+                    *o = sub(*o, g);
+                }
+            }
+        }
+    }
+
+    /// End-of-step hook: the trial tangential forces of the last pass become the committed
+    /// history, and the pass's slip dissipation is booked.
+    pub fn commit(&mut self) {
+        self.ft.copy_from_slice(&self.ft_trial);
+        self.wall_ft.copy_from_slice(&self.wall_ft_trial);
+        self.friction_dissipated += self.stats.trial_dissipation;
+    }
+
+    /// Energies of the current state: the contact potential at positions `x` (parallel,
+    /// summed in couple order), the committed tangential spring energy and the dissipation.
+    pub fn energy(&self, x: &[V2], tris: &[[u32; 3]], material: &[u32]) -> ContactEnergy {
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let per: Vec<f64> = self
+            .couples
+            .par_iter()
+            .with_min_len(512)
+            .map(|c| {
+                let law = self.laws.get(mat(c[0]), mat(c[1]));
+                if !law.enabled {
+                    return 0.0;
+                }
+                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+                let xc = ti.map(|n| x[n as usize]);
+                let xt = tj.map(|n| x[n as usize]);
+                pair_energy(&xc, &xt, law.penalty)
+            })
+            .collect();
+        let mut potential: f64 = per.iter().sum();
+        for c in &self.wall_pairs {
+            let plane = &self.walls[c[0] as usize];
+            if plane.law.enabled {
+                potential += plane.energy(&tris[c[1] as usize].map(|n| x[n as usize]));
+            }
+        }
+        let mut friction_stored = 0.0;
+        for (c, ft) in self.couples.iter().zip(&self.ft) {
+            let kt = self.laws.get(mat(c[0]), mat(c[1])).kt;
+            friction_stored += ft.iter().map(|f| stored_energy(*f, kt)).sum::<f64>();
+        }
+        for (c, ft) in self.wall_pairs.iter().zip(&self.wall_ft) {
+            friction_stored += stored_energy(*ft, self.walls[c[0] as usize].law.kt);
+        }
+        ContactEnergy {
+            potential,
+            friction_stored,
+            friction_dissipated: self.friction_dissipated,
+        }
+    }
+
+    /// Largest node displacement since the last detection [m] (for diagnostics).
+    pub fn max_displacement_since_detection(&self, x: &[V2]) -> f64 {
+        x.iter()
+            .zip(&self.x_det)
+            .map(|(a, b)| norm(sub(*a, *b)))
+            .fold(0.0, f64::max)
+    }
+}
+
+/// True when the vertex boxes of the two triangles of a couple are disjoint (no overlap).
+#[inline(always)]
+fn boxes_apart(x: &[V2; 6]) -> bool {
+    let lo = |a: usize, d: usize| x[a][d].min(x[a + 1][d]).min(x[a + 2][d]);
+    let hi = |a: usize, d: usize| x[a][d].max(x[a + 1][d]).max(x[a + 2][d]);
+    hi(0, 0) < lo(3, 0) || hi(3, 0) < lo(0, 0) || hi(0, 1) < lo(3, 1) || hi(3, 1) < lo(0, 1)
+}

@@ -1,0 +1,164 @@
+//! Broad phases against the O(N^2) brute force, exclusions, and the refresh criterion.
+
+mod common;
+use common::{Rng, random_triangle};
+use fdem_contact::broad_parry::ParryBroadPhase;
+use fdem_contact::nbs::Nbs;
+use fdem_contact::{
+    BoundingCircles, Contact, ContactLaw, ContactLaws, ContactSettings, Exclusions,
+    brute_force_couples,
+};
+use proptest::prelude::*;
+
+/// Positions, triangles and bonded pairs.
+type Cloud = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 2]>);
+
+/// A random cloud: triangles of random size (ratio up to `spread`), orientation and place in a
+/// box of side `box_side`; with probability `p_share` a triangle reuses a node of the previous
+/// one (a connected pair); `n_bond` random bonded pairs.
+fn cloud(seed: u64, n: usize, box_side: f64, spread: f64, p_share: f64, n_bond: usize) -> Cloud {
+    let mut rng = Rng(seed);
+    let mut x = Vec::new();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    for i in 0..n {
+        let c = [rng.range(0.0, box_side), rng.range(0.0, box_side)];
+        let s = rng.range(1.0 / spread, 1.0);
+        let v = random_triangle(&mut rng, c, s);
+        let base = x.len() as u32;
+        x.extend_from_slice(&v);
+        let mut t = [base, base + 1, base + 2];
+        if i > 0 && rng.f() < p_share {
+            // Reuse a node of the previous triangle (positions need not match for detection).
+            t[0] = tris[i - 1][(rng.next_u64() % 3) as usize];
+        }
+        tris.push(t);
+    }
+    let mut bonded = Vec::new();
+    for _ in 0..n_bond {
+        let a = (rng.next_u64() % n as u64) as u32;
+        let b = (rng.next_u64() % n as u64) as u32;
+        if a != b {
+            bonded.push([a, b]);
+        }
+    }
+    (x, tris, bonded)
+}
+
+fn check_all(x: &[[f64; 2]], tris: &[[u32; 3]], bonded: &[[u32; 2]], b: f64) -> usize {
+    let mut circles = BoundingCircles::default();
+    circles.update(x, tris);
+    let mut excl = Exclusions::new();
+    excl.set_bonded(tris.len(), bonded);
+    let brute = brute_force_couples(&circles, b, |i, j| excl.excluded(tris, i, j));
+    let mut nbs_out = Vec::new();
+    Nbs::new().find_couples(&circles, b, tris, &excl, &mut nbs_out);
+    assert_eq!(nbs_out, brute, "NBS differs from brute force");
+    let mut parry_out = Vec::new();
+    ParryBroadPhase::new().find_couples(&circles, b, tris, &excl, &mut parry_out);
+    assert_eq!(parry_out, brute, "parry differs from brute force");
+    brute.len()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn nbs_and_parry_find_exactly_the_brute_force_couples(
+        seed in any::<u64>(),
+        n in 2usize..400,
+        box_side in 1.0f64..40.0,
+        spread in 1.0f64..4.0,
+        b in 0.0f64..0.5,
+        p_share in 0.0f64..0.5,
+        n_bond in 0usize..50,
+    ) {
+        let (x, tris, bonded) = cloud(seed, n, box_side, spread, p_share, n_bond);
+        check_all(&x, &tris, &bonded, b);
+    }
+}
+
+#[test]
+fn dense_cloud_has_many_couples_and_matches_brute_force() {
+    // A guard that the property test is not vacuous: a dense cloud gives thousands of couples.
+    let (x, tris, bonded) = cloud(7, 2000, 20.0, 3.0, 0.3, 200);
+    let k = check_all(&x, &tris, &bonded, 0.1);
+    assert!(k > 3000, "only {k} couples");
+}
+
+#[test]
+fn exclusions_remove_shared_node_and_bonded_pairs() {
+    // Two overlapping triangles sharing node 0, and two bonded ones: no couples; unbonding
+    // restores the pair.
+    let x = vec![
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 1.0],
+        [0.5, 0.0],
+        [0.0, 0.5],
+        [2.0, 2.0],
+        [3.0, 2.0],
+        [2.0, 3.0],
+        [2.1, 2.1],
+        [3.1, 2.1],
+        [2.1, 3.1],
+    ];
+    let tris = vec![[0, 1, 2], [0, 3, 4], [5, 6, 7], [8, 9, 10]];
+    let mut c = Contact::new(
+        ContactSettings {
+            buffer: 0.01,
+            ..Default::default()
+        },
+        ContactLaws::uniform(1, ContactLaw::with_penalty(1.0)),
+    );
+    c.set_bonded(4, &[[3, 2]]);
+    c.update_detection(&x, &tris);
+    assert!(c.couples().is_empty(), "{:?}", c.couples());
+    c.set_bonded(4, &[]);
+    assert!(c.update_detection(&x, &tris));
+    assert_eq!(c.couples(), &[[2, 3]]);
+}
+
+#[test]
+fn far_outlier_does_not_blow_up_memory_and_stays_exact() {
+    // One triangle 1e12 m away: the cell count is capped, the result is still exact.
+    let (mut x, tris, _) = cloud(9, 300, 10.0, 2.0, 0.0, 0);
+    for k in 0..3 {
+        x[k][0] += 1e12;
+    }
+    check_all(&x, &tris, &[], 0.05);
+}
+
+#[test]
+fn refresh_criterion_never_misses_a_contact() {
+    // Random walk of a cloud; couples are only redetected when a node moved b/2. At every
+    // step every pair whose bounding circles touch now (b = 0) must be among the couples.
+    let (mut x, tris, _) = cloud(11, 600, 15.0, 2.0, 0.0, 0);
+    let mut rng = Rng(12);
+    let vel: Vec<[f64; 2]> = (0..x.len() / 3)
+        .map(|_| [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)])
+        .collect();
+    let mut c = Contact::new(
+        ContactSettings {
+            buffer: 0.2,
+            ..Default::default()
+        },
+        ContactLaws::uniform(1, ContactLaw::with_penalty(1.0)),
+    );
+    let mut circles = BoundingCircles::default();
+    let mut redetections = 0;
+    for _step in 0..200 {
+        for (t, v) in vel.iter().enumerate() {
+            for k in 0..3 {
+                x[3 * t + k][0] += 0.013 * v[0];
+                x[3 * t + k][1] += 0.013 * v[1];
+            }
+        }
+        redetections += c.update_detection(&x, &tris) as usize;
+        circles.update(&x, &tris);
+        let now = brute_force_couples(&circles, 0.0, |_, _| false);
+        for p in &now {
+            assert!(c.couples().binary_search(p).is_ok(), "missed {p:?}");
+        }
+    }
+    // Max speed sqrt(2) * 0.013 per step: refresh about every 0.1/0.018 = 5 steps.
+    assert!(redetections > 20 && redetections < 100, "{redetections}");
+}
