@@ -1,0 +1,91 @@
+//! Throughput of the joint-force pass (joints per second) on 1 and 2 threads, on an exploded
+//! structured mesh of 100 000 triangles (about 150 000 joints) with random node perturbations:
+//! `prepeak` (up to 0.2 o_p: every joint before its peak, the bulk of a loaded specimen) and
+//! `softening` (up to 3 o_p: most joints softening, in mixed mode).
+#![allow(missing_docs)]
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use fdem_fracture::*;
+
+fn bench(c: &mut Criterion) {
+    let mesh = common::exploded_grid(250, 200, 0.005, 0.005);
+    let mat = JointMaterialInput {
+        tensile_strength: 5e6,
+        cohesion: 10e6,
+        friction_angle_deg: 30.0,
+        fracture_energy_i: 50.0,
+        fracture_energy_ii: 250.0,
+        penalty_normal: 3e12,
+        penalty_tangential: 3e12,
+    };
+    let set = JointSet::new(&mesh.joints, &[mat], mesh.x.len(), 1.0).unwrap();
+    let o_p = 2.0 * 0.005 * 5e6 / 3e12;
+    let mut g = c.benchmark_group("joint_force_pass");
+    g.throughput(Throughput::Elements(set.len() as u64));
+    g.sample_size(20);
+    for (name, amp) in [("prepeak", 0.2 * o_p), ("softening", 3.0 * o_p)] {
+        let mut rng = common::Lcg(7);
+        let x: Vec<[f64; 2]> = mesh
+            .x
+            .iter()
+            .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
+            .collect();
+        let state = JointState::new(&set, &x);
+        let mut scratch = JointScratch::new(set.len());
+        let mut f = vec![[0.0; 2]; x.len()];
+        // CPU time per joint on one thread (user + system time of the process from
+        // /proc/self/stat): less sensitive than wall time to other jobs sharing the cores
+        if let Some(t0) = cpu_seconds() {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let reps = 100;
+            pool.install(|| {
+                for _ in 0..reps {
+                    accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+                }
+            });
+            if let Some(t1) = cpu_seconds() {
+                let ns = (t1 - t0) * 1e9 / (reps * set.len()) as f64;
+                println!(
+                    "{name}: {ns:.1} CPU-ns per joint on 1 thread ({:.1} M joints per CPU-second)",
+                    1e3 / ns
+                );
+            }
+        }
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            g.bench_function(
+                format!("{name}_{}_joints_{threads}_threads", set.len()),
+                |b| {
+                    b.iter(|| {
+                        pool.install(|| {
+                            accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f)
+                        })
+                    })
+                },
+            );
+        }
+    }
+    g.finish();
+}
+
+/// utime + stime of this process in seconds (Linux), if readable.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // fields 14 and 15 of stat (utime, stime) are at 11 and 12 after the command name
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,193 @@
+//! The joint-force pass over all joints and the end-of-step commit.
+//!
+//! Both evaluate every intact joint in parallel (rayon) into a per-joint buffer owned by the
+//! caller ([`JointScratch`]), then work through the buffer serially in joint order: forces are
+//! scattered into the node array, history and events are updated. Results are bit-identical
+//! whatever the number of threads, and nothing is allocated per step (except when an event is
+//! pushed to the caller's vector).
+
+use rayon::prelude::*;
+
+use crate::events::{FractureEvent, FractureMode};
+use crate::joint::{JointEval, evaluate, evaluate_forces};
+use crate::set::{JointId, JointSet};
+use crate::state::JointState;
+
+/// Joints per rayon task: below this, splitting costs more than it gains.
+const MIN_CHUNK: usize = 512;
+
+/// Per-joint scratch of the pass, owned by the stepping code.
+#[derive(Debug, Clone, Default)]
+pub struct JointScratch {
+    forces: Vec<[[f64; 2]; 4]>,
+    evals: Vec<JointEval>,
+}
+
+impl JointScratch {
+    /// Scratch for `n_joints` joints.
+    pub fn new(n_joints: usize) -> Self {
+        JointScratch {
+            forces: vec![[[0.0; 2]; 4]; n_joints],
+            evals: vec![JointEval::default(); n_joints],
+        }
+    }
+
+    /// The full evaluations of the last commit (zero for broken joints).
+    pub fn evals(&self) -> &[JointEval] {
+        &self.evals
+    }
+
+    /// The nodal forces (P, Q, R, S) of the last force pass (zero for broken joints).
+    pub fn forces(&self) -> &[[[f64; 2]; 4]] {
+        &self.forces
+    }
+}
+
+#[inline]
+fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> JointEval {
+    if !state.intact[j] {
+        return JointEval::default();
+    }
+    evaluate(
+        &set.materials[set.material[j] as usize],
+        &set.consts[j],
+        &set.gather(j, x),
+        state.damage[j],
+        state.history[j].mode_mix,
+        set.thickness,
+    )
+}
+
+fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
+    assert_eq!(
+        x.len(),
+        set.n_nodes,
+        "positions must have one entry per node"
+    );
+    assert_eq!(
+        state.damage.len(),
+        set.len(),
+        "state belongs to another joint set"
+    );
+}
+
+/// Adds the forces of every intact joint at positions `x` to `f` (one entry per node). Reads
+/// the committed history only: call it at every force evaluation, trial stages included.
+pub fn accumulate_joint_forces(
+    set: &JointSet,
+    state: &JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+    f: &mut [[f64; 2]],
+) {
+    assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
+    check_sizes(set, state, x);
+    scratch.forces.resize(set.len(), [[0.0; 2]; 4]);
+    scratch
+        .forces
+        .par_iter_mut()
+        .with_min_len(MIN_CHUNK)
+        .enumerate()
+        .for_each(|(j, out)| {
+            *out = if state.intact[j] {
+                evaluate_forces(
+                    &set.materials[set.material[j] as usize],
+                    &set.consts[j],
+                    &set.gather(j, x),
+                    state.damage[j],
+                    set.thickness,
+                )
+            } else {
+                [[0.0; 2]; 4]
+            };
+        });
+    // gather per node over its (joint, slot) list in joint order: parallel and deterministic
+    let forces = &scratch.forces;
+    let (offsets, slots) = (&set.node_offsets, &set.node_slots);
+    f.par_iter_mut()
+        .with_min_len(4 * MIN_CHUNK)
+        .enumerate()
+        .for_each(|(i, fi)| {
+            for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
+                let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+                fi[0] += fe[0];
+                fi[1] += fe[1];
+            }
+        });
+}
+
+/// End-of-step commit at the step's final positions `x` and time `time`: damage grows to its
+/// trial value (it never heals), the work done in the step is added with the trapezoidal rule,
+/// stored and dissipated energy are updated, and joints whose two points reached `D = 1`
+/// break. One [`FractureEvent`] per new break is pushed to `events`, in joint order. Returns
+/// the number of joints that broke.
+pub fn commit_joints(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    time: f64,
+    scratch: &mut JointScratch,
+    events: &mut Vec<FractureEvent>,
+) -> usize {
+    check_sizes(set, state, x);
+    scratch.evals.resize(set.len(), JointEval::default());
+    let st: &JointState = state;
+    scratch
+        .evals
+        .par_iter_mut()
+        .with_min_len(MIN_CHUNK)
+        .enumerate()
+        .for_each(|(j, out)| *out = eval_joint(set, st, x, j));
+    state
+        .history
+        .par_iter_mut()
+        .with_min_len(MIN_CHUNK)
+        .zip(state.damage.par_iter_mut())
+        .zip(scratch.evals.par_iter())
+        .zip(state.intact.par_iter())
+        .for_each(|(((h, d), e), &intact)| {
+            if !intact {
+                return;
+            }
+            let mut dw = 0.0;
+            for k in 0..2 {
+                let (a, b) = (&h.last[4 * k..4 * k + 4], &e.local[4 * k..4 * k + 4]);
+                dw += 0.5 * (a[0] + b[0]) * (b[2] - a[2]) + 0.5 * (a[1] + b[1]) * (b[3] - a[3]);
+            }
+            h.work += dw;
+            h.dissipated += dw - (e.stored - h.stored);
+            h.stored = e.stored;
+            *d = e.damage;
+            h.mode_mix = e.mode_mix;
+            h.last = e.local;
+        });
+    let mut n_new = 0;
+    for (j, h) in state.history.iter_mut().enumerate() {
+        let d = state.damage[j];
+        if state.intact[j] && d[0] >= 1.0 && d[1] >= 1.0 {
+            state.intact[j] = false;
+            h.broken_at = Some(time);
+            let p = set.gather(j, x);
+            let mix = h.mode_mix();
+            events.push(FractureEvent {
+                joint: JointId(j as u32),
+                triangles: set.triangles[j],
+                time,
+                position: [
+                    0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
+                    0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]),
+                ],
+                mode: FractureMode::from_mix(mix),
+                mode_mix: mix,
+                energy_released: h.dissipated,
+                stored_at_break: h.stored,
+            });
+            state.released_at_break += h.stored;
+            h.stored = 0.0;
+            h.last = [0.0; 8];
+            state.n_broken += 1;
+            n_new += 1;
+        }
+    }
+    n_new
+}

@@ -1,0 +1,149 @@
+//! The joint set: plain, validated data of every joint (node ids, triangles, reference
+//! length, material) with the per-joint constants derived once.
+
+use crate::error::FractureError;
+use crate::material::{JointConsts, JointMaterial, JointMaterialInput};
+
+/// Index of a joint in its [`JointSet`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct JointId(pub u32);
+
+/// One joint as the mesh gives it: edge P->Q of triangle T1 bonded to edge R->S of triangle
+/// T2, with P = S and Q = R in the reference state (so `nn` points from T1 to T2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Joint {
+    /// Node ids P, Q, R, S.
+    pub nodes: [u32; 4],
+    /// Triangle ids T1 (owner of P, Q) and T2 (owner of R, S), reported when the joint breaks.
+    pub triangles: [u32; 2],
+    /// Reference edge length `h` (m): the joint's stiffness is `p/h`.
+    pub ref_length: f64,
+    /// Index into the material list.
+    pub material: u32,
+}
+
+/// Every joint of a scene, validated, as structure-of-arrays.
+#[derive(Debug, Clone)]
+pub struct JointSet {
+    /// Node ids P, Q, R, S per joint.
+    pub nodes: Vec<[u32; 4]>,
+    /// Triangles T1, T2 per joint.
+    pub triangles: Vec<[u32; 2]>,
+    /// Reference edge length `h` per joint (m).
+    pub ref_length: Vec<f64>,
+    /// Material index per joint.
+    pub material: Vec<u32>,
+    /// Derived constants per joint (stiffness, peak opening, softening width, ...).
+    pub consts: Vec<JointConsts>,
+    /// The validated materials.
+    pub materials: Vec<JointMaterial>,
+    /// Out-of-plane thickness `t` (m); 1 for plane strain.
+    pub thickness: f64,
+    /// Number of nodes the ids refer to.
+    pub n_nodes: usize,
+    /// Node-to-joint map (CSR): the slots of node `i` are
+    /// `node_slots[node_offsets[i]..node_offsets[i + 1]]`.
+    pub node_offsets: Vec<u32>,
+    /// `4 j + k` for node k (P, Q, R, S) of joint j, in increasing order per node.
+    pub node_slots: Vec<u32>,
+}
+
+impl JointSet {
+    /// Validates the materials and the joints (node and material ids in range, positive
+    /// lengths, fracture energies above the pre-peak work on every edge) and derives the
+    /// peak and critical openings.
+    pub fn new(
+        joints: &[Joint],
+        materials: &[JointMaterialInput],
+        n_nodes: usize,
+        thickness: f64,
+    ) -> Result<Self, FractureError> {
+        if !(thickness.is_finite() && thickness > 0.0) {
+            return Err(FractureError::BadThickness(thickness));
+        }
+        let materials = materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| m.validate(i as u32))
+            .collect::<Result<Vec<_>, _>>()?;
+        let n = joints.len();
+        let mut set = JointSet {
+            nodes: Vec::with_capacity(n),
+            triangles: Vec::with_capacity(n),
+            ref_length: Vec::with_capacity(n),
+            material: Vec::with_capacity(n),
+            consts: Vec::with_capacity(n),
+            materials,
+            thickness,
+            n_nodes,
+            node_offsets: Vec::new(),
+            node_slots: Vec::new(),
+        };
+        for (j, jt) in joints.iter().enumerate() {
+            let joint = j as u32;
+            for &node in &jt.nodes {
+                if node as usize >= n_nodes {
+                    return Err(FractureError::NodeOutOfRange {
+                        joint,
+                        node,
+                        n_nodes,
+                    });
+                }
+            }
+            let Some(mat) = set.materials.get(jt.material as usize) else {
+                return Err(FractureError::MaterialOutOfRange {
+                    joint,
+                    material: jt.material,
+                    n_materials: set.materials.len(),
+                });
+            };
+            let h = jt.ref_length;
+            if !(h.is_finite() && h > 0.0) {
+                return Err(FractureError::BadLength { joint, h });
+            }
+            mat.check_edge(joint, jt.material, h)?;
+            set.nodes.push(jt.nodes);
+            set.triangles.push(jt.triangles);
+            set.ref_length.push(h);
+            set.material.push(jt.material);
+            set.consts.push(mat.consts(h));
+        }
+        // CSR node -> joint slots, counting sort (slots stay in increasing order per node)
+        let mut offsets = vec![0u32; n_nodes + 1];
+        for nodes in &set.nodes {
+            for &nd in nodes {
+                offsets[nd as usize + 1] += 1;
+            }
+        }
+        for i in 0..n_nodes {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut slots = vec![0u32; 4 * n];
+        for (j, nodes) in set.nodes.iter().enumerate() {
+            for (k, &nd) in nodes.iter().enumerate() {
+                slots[fill[nd as usize] as usize] = (4 * j + k) as u32;
+                fill[nd as usize] += 1;
+            }
+        }
+        set.node_offsets = offsets;
+        set.node_slots = slots;
+        Ok(set)
+    }
+
+    /// Number of joints.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// True when there are no joints.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Positions of joint `j`'s nodes P, Q, R, S.
+    #[inline]
+    pub fn gather(&self, j: usize, x: &[[f64; 2]]) -> [[f64; 2]; 4] {
+        self.nodes[j].map(|n| x[n as usize])
+    }
+}

@@ -1,0 +1,226 @@
+//! The joint-force pass over a whole exploded mesh: conservation of linear and angular
+//! momentum, serial-parallel bit parity, extremes, and the time-step bound.
+
+mod common;
+
+use common::{Exploded, Lcg, exploded_grid};
+use fdem_fracture::*;
+
+fn material(p: f64) -> JointMaterialInput {
+    JointMaterialInput {
+        tensile_strength: 5e6,
+        cohesion: 8e6,
+        friction_angle_deg: 30.0,
+        fracture_energy_i: 50.0,
+        fracture_energy_ii: 200.0,
+        penalty_normal: p,
+        penalty_tangential: p,
+    }
+}
+
+/// Perturbs every node by up to `amp` in each direction.
+fn perturbed(mesh: &Exploded, amp: f64, seed: u64) -> Vec<[f64; 2]> {
+    let mut rng = Lcg(seed);
+    mesh.x
+        .iter()
+        .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
+        .collect()
+}
+
+#[test]
+fn joint_forces_conserve_linear_and_angular_momentum() {
+    let mesh = exploded_grid(12, 10, 0.01, 0.008);
+    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+    // openings and slips up to 3e-5 m: most joints beyond their peak (o_p = 3.3e-7 m), many
+    // in mixed mode, some in compression
+    let x = perturbed(&mesh, 1.5e-5, 3);
+    let state = JointState::new(&set, &x);
+    let mut scratch = JointScratch::new(set.len());
+    let mut f = vec![[0.0; 2]; x.len()];
+    accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+    let (mut fx, mut fy, mut tq, mut fmax) = (0.0, 0.0, 0.0, 0.0f64);
+    let c = [0.06, 0.04]; // torque about the mesh centre
+    for (p, fi) in x.iter().zip(&f) {
+        fx += fi[0];
+        fy += fi[1];
+        tq += (p[0] - c[0]) * fi[1] - (p[1] - c[1]) * fi[0];
+        fmax = fmax.max(fi[0].abs()).max(fi[1].abs());
+    }
+    assert!(
+        fmax > 1e3,
+        "the test must load the joints: max |f| = {fmax}"
+    );
+    // round-off bounds: 1e-12 of max|f| (times the mesh size 0.12 m for the torque)
+    assert!(
+        fx.abs() < 1e-12 * fmax && fy.abs() < 1e-12 * fmax,
+        "sum f = ({fx}, {fy})"
+    );
+    assert!(
+        tq.abs() < 1e-12 * fmax * 0.12,
+        "sum x x f = {tq}, max|f| = {fmax}"
+    );
+    let damaged = (0..set.len())
+        .filter(|&j| state.joint_damage(j) > 0.0)
+        .count();
+    assert!(
+        damaged > set.len() / 4,
+        "only {damaged} of {} joints damaged",
+        set.len()
+    );
+}
+
+/// Forces, damage, histories and events after a run.
+type Outcome = (
+    Vec<[f64; 2]>,
+    Vec<[f64; 2]>,
+    Vec<JointHistory>,
+    Vec<FractureEvent>,
+);
+
+/// Runs 30 load steps (forces + commit) and returns the forces, histories and events.
+fn run(threads: usize) -> Outcome {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mesh = exploded_grid(60, 40, 0.005, 0.005);
+        let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+        let mut state = JointState::new(&set, &mesh.x);
+        let mut scratch = JointScratch::new(set.len());
+        let mut f = vec![[0.0; 2]; mesh.x.len()];
+        let mut events = Vec::new();
+        let dx = perturbed(&mesh, 1e-6, 11);
+        for step in 1..=30 {
+            let s = step as f64;
+            let x: Vec<[f64; 2]> = mesh
+                .x
+                .iter()
+                .zip(&dx)
+                .map(|(p, d)| [p[0] + s * (d[0] + 1e-4 * p[0]), p[1] + s * d[1]])
+                .collect();
+            f.iter_mut().for_each(|v| *v = [0.0; 2]);
+            accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+            commit_joints(&set, &mut state, &x, s * 1e-6, &mut scratch, &mut events);
+        }
+        (f, state.damage, state.history, events)
+    })
+}
+
+#[test]
+fn serial_and_parallel_passes_are_bit_identical() {
+    let (f1, d1, h1, e1) = run(1);
+    let (f2, d2, h2, e2) = run(2);
+    assert!(!e1.is_empty(), "the test must break joints");
+    let bits = |v: &[[f64; 2]]| {
+        v.iter()
+            .flat_map(|p| p.map(f64::to_bits))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        bits(&f1),
+        bits(&f2),
+        "forces differ between 1 and 2 threads"
+    );
+    assert_eq!(bits(&d1), bits(&d2), "damage differs");
+    assert_eq!(h1, h2, "histories differ");
+    assert_eq!(e1, e2, "events differ");
+}
+
+#[test]
+fn stiff_penalty_and_sudden_large_motion_stay_finite() {
+    // p = 1000 E for E = 30 GPa; a sudden opening of 10 cm, a crushing closure and a slide of
+    // 1 m in one step on 1 cm joints
+    let mesh = exploded_grid(6, 4, 0.01, 0.01);
+    let set = JointSet::new(&mesh.joints, &[material(3e13)], mesh.x.len(), 1.0).unwrap();
+    let mut state = JointState::new(&set, &mesh.x);
+    let mut scratch = JointScratch::new(set.len());
+    let mut events = Vec::new();
+    let mut rng = Lcg(5);
+    for (step, amp) in [0.1, 1.0, 0.01].into_iter().enumerate() {
+        let x: Vec<[f64; 2]> = mesh
+            .x
+            .iter()
+            .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
+            .collect();
+        let mut f = vec![[0.0; 2]; x.len()];
+        accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+        assert!(
+            f.iter().flatten().all(|v| v.is_finite()),
+            "non-finite force at step {step}"
+        );
+        commit_joints(&set, &mut state, &x, step as f64, &mut scratch, &mut events);
+        let e = state.energy();
+        assert!(e.work.is_finite() && e.stored.is_finite() && e.dissipated.is_finite());
+    }
+    // damage stays in [0, 1] and broken joints are exactly those with D = 1 at both points
+    for j in 0..set.len() {
+        let d = state.damage[j];
+        assert!(
+            d.iter().all(|v| (0.0..=1.0).contains(v)),
+            "joint {j}: {d:?}"
+        );
+        assert_eq!(!state.intact[j], d == [1.0, 1.0], "joint {j}: {d:?}");
+    }
+    assert!(
+        state.n_broken > set.len() / 2,
+        "{} of {} broken",
+        state.n_broken,
+        set.len()
+    );
+    assert_eq!(state.n_broken, events.len());
+}
+
+#[test]
+fn time_step_bound_covers_the_largest_joint_frequency() {
+    // a 3 x 2 exploded mesh, joints only: largest eigenvalue of M^-1 K by power iteration on
+    // the symmetric M^-1/2 K M^-1/2, K from central differences of the forces at rest
+    let mesh = exploded_grid(3, 2, 0.01, 0.01);
+    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+    let state = JointState::new(&set, &mesh.x);
+    let mut scratch = JointScratch::new(set.len());
+    let rho: f64 = 2500.0;
+    let mass: Vec<f64> = vec![rho * 0.5e-4 / 3.0; mesh.x.len()];
+    let n = 2 * mesh.x.len();
+    let force = |u: &[f64], scratch: &mut JointScratch| {
+        let x: Vec<[f64; 2]> = mesh
+            .x
+            .iter()
+            .enumerate()
+            .map(|(i, p)| [p[0] + u[2 * i], p[1] + u[2 * i + 1]])
+            .collect();
+        let mut f = vec![[0.0; 2]; x.len()];
+        accumulate_joint_forces(&set, &state, &x, scratch, &mut f);
+        f.as_flattened().to_vec()
+    };
+    let mut v: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+    let mut lambda = 0.0;
+    for _ in 0..3000 {
+        let norm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        v.iter_mut().for_each(|a| *a /= norm);
+        // K w with w = M^-1/2 v, then M^-1/2
+        let eps = 1e-12;
+        let up: Vec<f64> = (0..n).map(|i| eps * v[i] / mass[i / 2].sqrt()).collect();
+        let um: Vec<f64> = up.iter().map(|a| -a).collect();
+        let (fp, fm) = (force(&up, &mut scratch), force(&um, &mut scratch));
+        let kv: Vec<f64> = (0..n)
+            .map(|i| -(fp[i] - fm[i]) / (2.0 * eps) / mass[i / 2].sqrt())
+            .collect();
+        lambda = v.iter().zip(&kv).map(|(a, b)| a * b).sum::<f64>();
+        v = kv;
+    }
+    let bound = joint_omega_sq_bound(&set, &state, &mass);
+    // rigorous bound, and not loose by more than 2.5x on this mesh
+    assert!(
+        lambda <= bound * (1.0 + 1e-6),
+        "omega^2 = {lambda:e} above the bound {bound:e}"
+    );
+    assert!(
+        bound < 2.5 * lambda,
+        "bound {bound:e} too loose for omega^2 = {lambda:e}"
+    );
+    println!(
+        "joints: omega_max^2 = {lambda:e}, bound = {bound:e}, ratio {:.3}",
+        bound / lambda
+    );
+}
