@@ -513,7 +513,7 @@ impl ForceContribution for ContactStage {
         }
         r.detections = self.contact.n_detections();
         if let Some(w) = &mut self.csv
-            && self.steps % self.csv_every == 0
+            && self.steps.is_multiple_of(self.csv_every)
         {
             let mut line = format!("{t:.9e}");
             for k in 0..self.motion.len() {
