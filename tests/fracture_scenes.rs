@@ -7,6 +7,19 @@
 
 mod common;
 
+#[path = "../src/plot.rs"]
+#[allow(dead_code, missing_docs)]
+mod plot;
+
+/// The binary's atomic write, which `plot.rs` calls (temporary file, then rename).
+fn write_atomically(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".part");
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)?;
+    Ok(())
+}
+
 fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
@@ -61,6 +74,32 @@ fn brazilian_disc_splits_along_loaded_diameter_at_tensile_strength_with_closed_e
         residual / work,
         o.summary.stages
     );
+    // FDEM_DOCS_IMG=1: draw the load-displacement curve into docs/img/.
+    if std::env::var_os("FDEM_DOCS_IMG").is_some() {
+        let points = rows
+            .iter()
+            .map(|row| {
+                (
+                    -2e3 * row[ucol].parse::<f64>().unwrap(),
+                    -1e-3 * row[col].parse::<f64>().unwrap(),
+                )
+            })
+            .collect();
+        let p = plot::Plot {
+            title: "Brazilian disc, D = 50 mm, t = 10 mm, ft = 3 MPa: platen load".into(),
+            x_label: "platen closure [mm]".into(),
+            y_label: "load P [kN]".into(),
+            x_scale: plot::Scale::Linear,
+            y_scale: plot::Scale::Linear,
+            series: vec![plot::Series {
+                name: "fdem (h = R/12, 2 x 0.02 m/s)".into(),
+                points,
+            }],
+            y_range: None,
+        };
+        p.write(&common::root().join("docs/img/brazilian-disc-fracture-load"))
+            .unwrap();
+    }
     // Splits along the loaded (vertical) diameter.
     assert!(xs.len() >= 10, "only {} joints broke", xs.len());
     assert!(
