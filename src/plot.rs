@@ -57,6 +57,9 @@ pub struct Plot {
     pub series: Vec<Series>,
     /// Optional fixed vertical range (else fitted to the data).
     pub y_range: Option<(f64, f64)>,
+    /// Draw each series as a line through its points (true) or as markers only (false,
+    /// for scattered data such as timings).
+    pub lines: bool,
 }
 
 const SIZE: (u32, u32) = (1000, 700);
@@ -208,13 +211,22 @@ impl Plot {
                 .copied()
                 .filter(|p| self.usable(p))
                 .collect();
+            let legend = move |(x, y): (i32, i32)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
+            };
+            if !self.lines {
+                chart
+                    .draw_series(pts.iter().map(|p| Circle::new(*p, 2, colour.filled())))
+                    .map_err(err)?
+                    .label(s.name.as_str())
+                    .legend(legend);
+                continue;
+            }
             chart
                 .draw_series(LineSeries::new(pts.iter().copied(), colour.stroke_width(2)))
                 .map_err(err)?
                 .label(s.name.as_str())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3))
-                });
+                .legend(legend);
             if pts.len() <= 60 {
                 chart
                     .draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled())))

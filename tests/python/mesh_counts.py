@@ -36,7 +36,7 @@ def counts(path):
 def recorded():
     """Reads the table `("file", nodes, triangles, "name:dim:count,...")` from meshes.rs."""
     src = open(os.path.join(ROOT, "crates/mesh/tests/meshes.rs")).read()
-    rows = re.findall(r'\("([\w.-]+\.msh)",\s*(\d+),\s*(\d+),\s*"([^"]*)"\)', src)
+    rows = re.findall(r'\(\s*"([\w.-]+\.msh)",\s*(\d+),\s*(\d+),\s*"([^"]*)",?\s*\)', src)
     return {r[0]: (int(r[1]), int(r[2]), r[3]) for r in rows}
 
 

@@ -17,9 +17,9 @@ pub struct TriData {
     pub material: u32,
     /// Reference inverse edge matrix `G0^-1`, row-major.
     pub ginv: Mat2,
-    /// Reference area `A0` [m^2].
+    /// Reference area `A0` (m^2).
     pub area0: f64,
-    /// Viscosity `eta = 2 xi h sqrt(E rho)` [Pa s].
+    /// Viscosity `eta = 2 xi h sqrt(E rho)` (Pa s).
     pub eta: f64,
 }
 
@@ -28,13 +28,13 @@ pub struct TriData {
 pub struct MaterialConsts {
     /// Elastic law.
     pub law: ElasticLaw,
-    /// Shear modulus [Pa].
+    /// Shear modulus (Pa).
     pub mu: f64,
-    /// 2D Lame modulus lam* [Pa].
+    /// 2D Lame modulus lam* (Pa).
     pub lam: f64,
-    /// Half the thickness, `t/2` [m].
+    /// Half the thickness, `t/2` (m).
     pub half_t: f64,
-    /// Density [kg/m^3].
+    /// Density (kg/m^3).
     pub rho: f64,
     /// The material as given.
     pub material: Material,
@@ -48,7 +48,7 @@ pub struct Elements {
     pub tris: Vec<TriData>,
     /// Material constants by material index.
     pub materials: Vec<MaterialConsts>,
-    /// Element size `h = 2 A0 / longest reference edge` [m].
+    /// Element size `h = 2 A0 / longest reference edge` (m).
     pub size: Vec<f64>,
     /// Number of nodes.
     pub n_nodes: usize,
@@ -58,6 +58,13 @@ pub struct Elements {
     pub gather_offsets: Vec<u32>,
     /// Slots `3 t + a` (triangle t, corner a) of each node, in increasing order.
     pub gather_slots: Vec<u32>,
+    /// Nodes per block of the owner-computes kernel (the last block may be shorter).
+    pub block_nodes: usize,
+    /// CSR offsets of the block -> triangle lists (length `n_blocks + 1`).
+    pub block_offsets: Vec<u32>,
+    /// Triangles with at least one node in each block, in increasing order (a triangle whose
+    /// nodes lie in two or three blocks is listed, and evaluated, in each).
+    pub block_tris: Vec<u32>,
 }
 
 impl Elements {
@@ -98,6 +105,17 @@ impl Elements {
             })
             .collect();
         let n_nodes = x0.len();
+        if tri_material.len() != triangles.len() {
+            return Err(MeshError::Parse {
+                path: "<elements>".into(),
+                line: 0,
+                message: format!(
+                    "{} material indices for {} triangles",
+                    tri_material.len(),
+                    triangles.len()
+                ),
+            });
+        }
         let mut tris = Vec::with_capacity(triangles.len());
         let mut size = Vec::with_capacity(triangles.len());
         for (t, (&tri, &mi)) in triangles.iter().zip(tri_material).enumerate() {
@@ -151,6 +169,37 @@ impl Elements {
             }
         }
         let viscous = tris.iter().any(|t| t.eta > 0.0);
+        // Node blocks for the owner-computes kernel: a size that depends on the mesh only.
+        let block_nodes = (n_nodes / 32).max(1024);
+        let n_blocks = n_nodes.div_ceil(block_nodes);
+        let mut block_offsets = vec![0u32; n_blocks + 1];
+        let blocks_of = |td: &TriData| {
+            let mut b = td.nodes.map(|n| n as usize / block_nodes);
+            b.sort_unstable();
+            b
+        };
+        for td in &tris {
+            let b = blocks_of(td);
+            for k in 0..3 {
+                if k == 0 || b[k] != b[k - 1] {
+                    block_offsets[b[k] + 1] += 1;
+                }
+            }
+        }
+        for i in 0..n_blocks {
+            block_offsets[i + 1] += block_offsets[i];
+        }
+        let mut fill = block_offsets.clone();
+        let mut block_tris = vec![0u32; block_offsets[n_blocks] as usize];
+        for (t, td) in tris.iter().enumerate() {
+            let b = blocks_of(td);
+            for k in 0..3 {
+                if k == 0 || b[k] != b[k - 1] {
+                    block_tris[fill[b[k]] as usize] = t as u32;
+                    fill[b[k]] += 1;
+                }
+            }
+        }
         Ok(Elements {
             tris,
             materials: consts,
@@ -159,6 +208,9 @@ impl Elements {
             viscous,
             gather_offsets: offsets,
             gather_slots: slots,
+            block_nodes,
+            block_offsets,
+            block_tris,
         })
     }
 
@@ -172,7 +224,7 @@ impl Elements {
         self.tris.is_empty()
     }
 
-    /// Lumped nodal masses `m_a = sum over triangles of rho A0 t / 3` [kg].
+    /// Lumped nodal masses `m_a = sum over triangles of rho A0 t / 3` (kg).
     pub fn lumped_masses(&self) -> Vec<f64> {
         let mut m = vec![0.0; self.n_nodes];
         for td in &self.tris {

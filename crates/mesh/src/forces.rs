@@ -1,11 +1,20 @@
 //! The internal-force kernel and its exact directional derivative.
 //!
-//! Two passes, both parallel with rayon and both independent of the number of threads:
-//! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
-//! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum to
-//!    the force array.
+//! Two kernels, both parallel and both independent of the number of threads.
+//! [`Elements::internal_forces_owner`] is "owner computes": the node array is cut into fixed blocks
+//! of consecutive nodes, and one rayon task per block evaluates every triangle that has a node
+//! in the block (in increasing triangle order) and adds the forces of the corners that lie in
+//! the block. Each node thus receives its triangles' forces in increasing triangle order, a
+//! fixed order whatever the number of threads, so the result is identical bit for bit. The
+//! triangles that straddle two blocks (a few per cent with a locality-preserving numbering)
+//! are evaluated twice; there is no per-triangle buffer and no second pass.
 //!
-//! No allocation per call: the buffer lives in a [`ForceScratch`] made once by the caller.
+//! [`Elements::internal_forces_buffered`] (the one [`Elements::internal_forces`] uses, faster
+//! per core on the development machine) has two passes:
+//! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
+//! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum.
+//!
+//! Neither allocates per call (the buffer lives in a [`ForceScratch`] made once).
 
 use crate::elements::{Elements, MaterialConsts, TriData};
 use crate::material::ElasticLaw;
@@ -82,10 +91,69 @@ impl Elements {
     /// Adds the internal nodal forces (elastic + viscous) at positions `x` and velocities `v`
     /// to `f`: `f_a += -(t/2) sigma rot(x_c - x_b)` for each triangle.
     ///
-    /// Parallel (rayon), bit-identical for any number of threads, no allocation. `v` is read
-    /// only if some triangle has damping. Panics if the slices are shorter than the node count
+    /// Parallel (rayon), bit-identical for any number of threads, no allocation: each triangle
+    /// writes its three forces into `scratch`, then each node sums its slots in a fixed order
+    /// ([`Elements::internal_forces_buffered`]). `v` is read only if some triangle has damping. Panics if the slices are shorter than the node count
     /// or `scratch` was made for other elements (programming errors, not input errors).
     pub fn internal_forces(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+    ) {
+        self.internal_forces_buffered(x, v, f, scratch);
+    }
+
+    /// The owner-computes variant of [`Elements::internal_forces`] (node blocks, one pass, no
+    /// buffer, a few per cent of triangles evaluated twice); same result up to round-off and
+    /// also independent of the thread count. Kept for comparison: it moves fewer bytes but
+    /// measured slower per core on the development machine (docs/mesh.md).
+    pub fn internal_forces_owner(&self, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        if self.viscous {
+            assert!(v.len() >= self.n_nodes);
+            self.owner_computes(f, |td| tri_force::<true>(td, &self.materials, x, v));
+        } else {
+            self.owner_computes(f, |td| tri_force::<false>(td, &self.materials, x, v));
+        }
+    }
+
+    /// Runs `force` on each block's triangles and adds the forces of the corners in the block.
+    #[inline(always)]
+    fn owner_computes<K>(&self, f: &mut [[f64; 2]], force: K)
+    where
+        K: Fn(&TriData) -> [[f64; 2]; 3] + Sync,
+    {
+        assert!(f.len() >= self.n_nodes);
+        let bn = self.block_nodes;
+        let off = &self.block_offsets;
+        let list = &self.block_tris;
+        let tris = &self.tris;
+        f[..self.n_nodes]
+            .par_chunks_mut(bn)
+            .enumerate()
+            .for_each(|(b, fb)| {
+                let base = (b * bn) as u32;
+                let len = fb.len() as u32;
+                for &t in &list[off[b] as usize..off[b + 1] as usize] {
+                    let td = &tris[t as usize];
+                    let ft = force(td);
+                    for a in 0..3 {
+                        let i = td.nodes[a].wrapping_sub(base);
+                        if i < len {
+                            let p = &mut fb[i as usize];
+                            p[0] += ft[a][0];
+                            p[1] += ft[a][1];
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The two-pass kernel behind [`Elements::internal_forces`]: per-triangle forces into the
+    /// buffer of `scratch` (parallel over triangles), then a parallel per-node gather over the
+    /// fixed node -> slot list.
+    pub fn internal_forces_buffered(
         &self,
         x: &[[f64; 2]],
         v: &[[f64; 2]],

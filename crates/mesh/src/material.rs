@@ -53,16 +53,16 @@ pub struct Material {
     /// Plane stress or strain. Default plane strain.
     #[serde(default)]
     pub plane: PlaneKind,
-    /// Young's modulus E [Pa].
+    /// Young's modulus E (Pa).
     pub youngs_modulus: f64,
-    /// Poisson's ratio nu [-], in [0, 0.5) (negative down to -1 allowed).
+    /// Poisson's ratio nu (-), in [0, 0.5) (negative down to -1 allowed).
     pub poisson_ratio: f64,
-    /// Density rho [kg/m^3].
+    /// Density rho (kg/m^3).
     pub density: f64,
-    /// Out-of-plane thickness t [m]. Default 1.
+    /// Out-of-plane thickness t (m). Default 1.
     #[serde(default = "one")]
     pub thickness: f64,
-    /// Damping ratio xi [-] of the viscous stress (`eta = 2 xi h sqrt(E rho)`). Default 0.
+    /// Damping ratio xi (-) of the viscous stress (`eta = 2 xi h sqrt(E rho)`). Default 0.
     #[serde(default)]
     pub damping_ratio: f64,
 }
@@ -85,12 +85,12 @@ impl Material {
         }
     }
 
-    /// Shear modulus `mu = E/(2(1+nu))` [Pa].
+    /// Shear modulus `mu = E/(2(1+nu))` (Pa).
     pub fn mu(&self) -> f64 {
         self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
     }
 
-    /// The 2D Lame modulus `lam*` of plane strain or plane stress [Pa].
+    /// The 2D Lame modulus `lam*` of plane strain or plane stress (Pa).
     pub fn lambda(&self) -> f64 {
         let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
         match self.plane {
@@ -99,7 +99,7 @@ impl Material {
         }
     }
 
-    /// P-wave speed of the 2D medium, `sqrt((lam* + 2 mu)/rho)` [m/s].
+    /// P-wave speed of the 2D medium, `sqrt((lam* + 2 mu)/rho)` (m/s).
     pub fn p_wave_speed(&self) -> f64 {
         ((self.lambda() + 2.0 * self.mu()) / self.density).sqrt()
     }

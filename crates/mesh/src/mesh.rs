@@ -48,7 +48,7 @@ pub struct MeshEdge {
 /// edge has at most two triangles.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Mesh {
-    /// Reference node positions [m].
+    /// Reference node positions (m).
     pub nodes: Vec<[f64; 2]>,
     /// Triangles as node indices, counter-clockwise.
     pub triangles: Vec<[u32; 3]>,

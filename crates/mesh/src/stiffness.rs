@@ -64,7 +64,7 @@ impl Elements {
     }
 }
 
-/// Solves `K u = f` with prescribed values `u[dof] = value` for the DOFs in `prescribed`
+/// Solves `K u = f` with prescribed values `u(dof) = value` for the DOFs in `prescribed`
 /// (sparse Cholesky of the free block; `f` at prescribed DOFs is ignored). Returns `u` of
 /// length `K.nrows()`. Errors if the free block is not positive definite (a mechanism: too few
 /// supports) or a DOF is out of range.

@@ -14,7 +14,7 @@ use crate::triangle::{det, edge_matrix, elastic_stress_zz, energy_density, mul};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Cauchy stress of a triangle [Pa], tension positive, with the out-of-plane component.
+/// Cauchy stress of a triangle (Pa), tension positive, with the out-of-plane component.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Stress {
     /// sigma_xx.
@@ -35,7 +35,7 @@ impl Stress {
         [c + r, c - r]
     }
 
-    /// Angle [rad] from the x axis to the direction of the larger principal stress `s1`.
+    /// Angle (rad) from the x axis to the direction of the larger principal stress `s1`.
     pub fn principal_angle(&self) -> f64 {
         0.5 * (2.0 * self.xy).atan2(self.xx - self.yy)
     }
@@ -86,7 +86,7 @@ impl Elements {
         mul(edge_matrix(p0, p1, p2), td.ginv)
     }
 
-    /// Strain energy of triangle `t` [J]: `A0 t W(F)` (see
+    /// Strain energy of triangle `t` (J): `A0 t W(F)` (see
     /// [`crate::triangle::energy_density`]).
     pub fn element_energy(&self, t: TriId, x: &[[f64; 2]]) -> f64 {
         let td = &self.tris[t.idx()];
@@ -95,14 +95,14 @@ impl Elements {
         td.area0 * 2.0 * c.half_t * energy_density(c.law, c.mu, c.lam, f)
     }
 
-    /// Total strain energy [J], summed in triangle order (deterministic).
+    /// Total strain energy (J), summed in triangle order (deterministic).
     pub fn strain_energy(&self, x: &[[f64; 2]]) -> f64 {
         (0..self.tris.len())
             .map(|t| self.element_energy(TriId(t as u32), x))
             .sum()
     }
 
-    /// Upper bound [rad/s] on the highest natural frequency of triangle `t` with lumped mass,
+    /// Upper bound (rad/s) on the highest natural frequency of triangle `t` with lumped mass,
     /// at positions `x`: `sqrt(3 c_p^2 (l0^2 + l1^2 + l2^2)) / (2 A)`.
     pub fn frequency_bound(&self, t: TriId, x: &[[f64; 2]]) -> f64 {
         let td = &self.tris[t.idx()];
@@ -117,7 +117,7 @@ impl Elements {
         (3.0 * cp2 * l2).sqrt() / a2
     }
 
-    /// The largest [`Elements::frequency_bound`] over all triangles [rad/s]; the central
+    /// The largest [`Elements::frequency_bound`] over all triangles (rad/s); the central
     /// difference step is stable for `dt <= 2 / omega_max`.
     pub fn max_frequency_bound(&self, x: &[[f64; 2]]) -> f64 {
         (0..self.tris.len())

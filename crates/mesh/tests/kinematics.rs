@@ -288,6 +288,34 @@ fn forces_identical_for_any_thread_count() {
     }
     // Sanity: the forces are not trivially zero.
     assert!(f1.iter().any(|p| p[0].abs() > 1.0));
+    // The buffered two-pass kernel: also thread-independent, and equal to round-off.
+    let runb = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut f = vec![[0.0; 2]; x.len()];
+                el.internal_forces_buffered(&x, &v, &mut f, &mut ForceScratch::new(&el));
+                f
+            })
+    };
+    let b1 = runb(1);
+    let b2 = runb(2);
+    assert!(
+        b1.iter()
+            .zip(&b2)
+            .all(|(a, b)| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits())
+    );
+    let scale = f1
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max);
+    assert!(
+        f1.iter().zip(&b1).all(
+            |(a, b)| (a[0] - b[0]).abs() < 1e-13 * scale && (a[1] - b[1]).abs() < 1e-13 * scale
+        )
+    );
 }
 
 /// Net force and net torque of the internal forces vanish (sigma symmetric): to 1e-12 of

@@ -58,15 +58,15 @@ const MESHIO_COUNTS: &[(&str, usize, usize, &str)] = &[
     ),
     (
         "plate-with-hole.msh",
-        2514,
-        4794,
-        "bottom:1:49,right:1:20,top:1:20,left:1:49,hole:1:94,body:2:4794",
+        3590,
+        6875,
+        "bottom:1:54,right:1:20,top:1:20,left:1:54,hole:1:155,body:2:6875",
     ),
     (
         "thick-cylinder.msh",
-        2379,
-        4563,
-        "bottom:1:29,outer:1:90,left:1:29,inner:1:45,body:2:4563",
+        5124,
+        9891,
+        "bottom:1:41,outer:1:79,left:1:41,inner:1:194,body:2:9891",
     ),
 ];
 

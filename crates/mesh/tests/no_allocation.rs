@@ -47,6 +47,7 @@ fn force_kernels_do_not_allocate() {
         for _ in 0..10 {
             pool.install(|| el.internal_forces(&x, &v, &mut f, &mut s));
             pool.install(|| el.force_derivative(&x, &v, &v, &mut f, &mut s));
+            pool.install(|| el.internal_forces_owner(&x, &v, &mut f));
         }
         let c = region.change();
         assert_eq!(c.allocations, 0, "{threads} threads: {c:?}");

@@ -23,7 +23,7 @@ use crate::model::{self, Model};
 use crate::output::{Collection, FrameData, HistoryWriter, frame, vtu, write_atomic};
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 use crate::static_solve;
-use crate::system::{SceneSystem, StageTimers};
+use crate::system::{ForceContribution, SceneSystem, StageTimers};
 
 /// A scene with its meshes and model, ready to run.
 pub struct Loaded {
@@ -49,6 +49,10 @@ pub struct Loaded {
     pub dt: f64,
     /// Number of steps (0 for static).
     pub n_steps: u64,
+    /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
+    /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
+    /// time step for their frequency bound.
+    pub contributions: Vec<Box<dyn ForceContribution>>,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -149,6 +153,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         dt_limit,
         dt,
         n_steps,
+        contributions: Vec::new(),
     })
 }
 
@@ -158,6 +163,26 @@ pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
 }
 
 impl Loaded {
+    /// Adds a force contribution (contact, joints). The highest frequency becomes
+    /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
+    /// with it (an explicit `time_step` above the new limit is then lowered to it).
+    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) {
+        let wc = c.frequency_bound();
+        self.contributions.push(c);
+        if wc > 0.0 && self.scene.analysis != Analysis::Static {
+            self.omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
+            self.dt_limit = stable_step(self.scheme, self.omega_max, self.z_high);
+            let h = match self.scene.integrator.time_step {
+                TimeStep::Auto => self.scene.integrator.safety * self.dt_limit,
+                TimeStep::Fixed(h) => h.min(self.dt_limit),
+            };
+            let duration = self.scene.duration.unwrap_or(0.0);
+            let n = (duration / h).ceil().max(1.0);
+            self.dt = duration / n;
+            self.n_steps = n as u64;
+        }
+    }
+
     /// A short description: meshes, model size, analysis, time step.
     pub fn describe(&self) -> String {
         let mut s = String::new();
@@ -359,15 +384,24 @@ pub struct Summary {
 impl Summary {
     /// A few lines for the terminal.
     pub fn describe(&self) -> String {
-        let mut s = format!(
-            "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
-            self.steps,
-            self.time_step,
-            self.scheme,
-            self.force_evaluations,
-            self.wall_time,
-            self.element_steps_per_second
-        );
+        let mut s = if self.analysis == "static" {
+            format!(
+                "static solve (sparse Cholesky, {} DOFs) in {:.3} s, {:.2} s wall\n",
+                2 * self.nodes,
+                self.timers.internal_forces,
+                self.wall_time
+            )
+        } else {
+            format!(
+                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
+                self.steps,
+                self.time_step,
+                self.scheme,
+                self.force_evaluations,
+                self.wall_time,
+                self.element_steps_per_second
+            )
+        };
         let t = &self.timers;
         let _ = writeln!(
             s,
@@ -444,12 +478,15 @@ impl Writer {
             .points
             .iter()
             .chain(&data.velocity)
-            .all(|p| p[0].is_finite() && p[1].is_finite());
+            .chain(&data.force)
+            .all(|p| p[0].is_finite() && p[1].is_finite())
+            && data.stress.iter().flatten().all(|s| s.is_finite())
+            && data.energy_density.iter().all(|e| e.is_finite());
         if !check_finite {
             return Err(RunError::Unstable {
                 step: 0,
                 time: data.time,
-                message: "non-finite node positions or velocities in an output frame".into(),
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)".into(),
             });
         }
         let name = format!("frame_{:04}.vtu", self.frames);
@@ -718,6 +755,7 @@ fn dynamic(
     let model = l.model.clone();
     let elements = l.elements.clone();
     let mut sys = SceneSystem::new(model, elements, alpha);
+    sys.contributions = std::mem::take(&mut l.contributions);
     let every = l
         .scene
         .histories
@@ -980,6 +1018,7 @@ fn dynamic(
         &sys.force,
         &reaction,
     );
+    l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {
         summary,
         last_frame,

@@ -61,7 +61,7 @@ pub struct StageReport {
 /// Wall time spent per stage [s].
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct StageTimers {
-    /// Internal (element) forces.
+    /// Internal (element) forces; for the static analysis, the assembly and sparse solve.
     pub internal_forces: f64,
     /// External loads and gravity.
     pub external_loads: f64,
@@ -207,6 +207,11 @@ impl SecondOrderSystem for SceneSystem {
         {
             *ai = f * im;
         }
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        // Element viscosity, mass-proportional damping, or a contribution (friction) read v.
+        self.elements.viscous || self.alpha > 0.0 || !self.contributions.is_empty()
     }
 
     fn prescribed_dofs(&self) -> &[usize] {

@@ -23,8 +23,12 @@
 //! at each call. One force per step (the end-of-step force is reused, FSAL); second order;
 //! stable for `h omega < 2`.
 //!
-//! Velocity passed to `a` for damping: the half-step velocity `v_{n+1/2}` (the only
-//! explicit estimate at `t_{n+1}`); at start-up or after [`Integrator::invalidate`], `v_n`.
+//! Velocity passed to `a` for damping: at start-up (or after [`Integrator::invalidate`])
+//! `v_n`; for the force at `x_{n+1}`, `v_{n+1/2} + h/2 a_n`, which differs from `v_{n+1}`
+//! by `O(h^2)` and keeps the scheme second order with damping (the half-step velocity
+//! alone, as in the seed's form, makes it first order: test `damping.rs`). Systems
+//! without velocity-dependent forces skip that pass
+//! ([`SecondOrderSystem::velocity_dependent`]).
 //!
 //! Memory traffic per DOF-step: one fused kick-drift pass (reads `v, x, a`, writes `v, x`)
 //! and one kick pass (reads `v, a`, writes `v`): 8 arrays of 8 bytes = 64 B.
@@ -62,7 +66,7 @@ impl Integrator for CentralDifference {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, 0.5 * h, h);
         c.constrain(system, t1, x, v);
-        c.eval(system, t1, x, v);
+        c.eval_lead(system, t1, x, v, 0.5 * h);
         kernels::kick(v, &c.a, 0.5 * h);
         c.constrain(system, t1, x, v);
         c.finish(system, state, t1, true);

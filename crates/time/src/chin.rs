@@ -10,7 +10,9 @@
 //! ```
 //!
 //! with `G = 2 M^-1 J M^-1 f` ([`SecondOrderSystem::force_gradient`]).
-//! Velocity passed to `a` for damping: the velocity after the preceding kick (`v1`, `v2`).
+//! Velocity passed to `a` for damping: the velocity after the preceding kick extrapolated
+//! to the stage time with the latest acceleration, `v1 + h/3 a(x)` and `v2 + h/6 a(x1)`
+//! (second order with damping; see `SecondOrderSystem`).
 //! Memory traffic per DOF-step: fused kick-drift (5 arrays), fused gradient-kick-drift
 //! (6 arrays), kick (3 arrays): 14 x 8 = 112 B, plus the gradient product.
 
@@ -53,12 +55,12 @@ impl Integrator for Chin {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, h / 6.0, 0.5 * h);
         c.constrain(system, th, x, v);
-        c.eval(system, th, x, v);
+        c.eval_lead(system, th, x, v, h / 3.0);
         c.gradient(system, th, x, v, &mut self.g, &mut self.work);
         let w = 2.0 * h / 3.0;
         kernels::kick2_drift(v, x, &c.a, &self.g, w, w * h * h / 48.0, 0.5 * h);
         c.constrain(system, t1, x, v);
-        c.eval(system, t1, x, v);
+        c.eval_lead(system, t1, x, v, h / 6.0);
         kernels::kick(v, &c.a, h / 6.0);
         c.constrain(system, t1, x, v);
         c.finish(system, state, t1, true);

@@ -13,7 +13,10 @@
 //!
 //! The stage times `t + d1 h ~ t + 1.35 h` and `t + (d1 + d2) h ~ t - 0.35 h` lie outside
 //! the step; the system's prescribed motion and time-dependent loads are evaluated there.
-//! Velocity passed to `a` for damping: the velocity after the preceding kick.
+//! Velocity passed to `a` for damping: the velocity after the preceding kick extrapolated
+//! to the stage's position time with the latest acceleration, `v_k + (tau_x - tau_v) h a`
+//! with `tau_x = d1, d1 + d2, 1` and `tau_v = c1, c1 + c2, c1 + c2 + c3` (second order with
+//! damping; see `SecondOrderSystem`).
 //! Memory traffic per DOF-step: three fused kick-drift passes and one kick: 18 x 8 = 144 B.
 
 use crate::integrator::Core;
@@ -69,13 +72,13 @@ impl Integrator for ForestRuth {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, c1 * h, d1 * h);
         c.constrain(system, ta, x, v);
-        c.eval(system, ta, x, v);
+        c.eval_lead(system, ta, x, v, (d1 - c1) * h);
         kernels::kick_drift(v, x, &c.a, c2 * h, d2 * h);
         c.constrain(system, tb, x, v);
-        c.eval(system, tb, x, v);
+        c.eval_lead(system, tb, x, v, (d1 + d2 - c1 - c2) * h);
         kernels::kick_drift(v, x, &c.a, c3 * h, d3 * h);
         c.constrain(system, t1, x, v);
-        c.eval(system, t1, x, v);
+        c.eval_lead(system, t1, x, v, (1.0 - c1 - c2 - c3) * h);
         kernels::kick(v, &c.a, c4 * h);
         c.constrain(system, t1, x, v);
         c.finish(system, state, t1, true);

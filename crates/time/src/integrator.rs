@@ -58,6 +58,9 @@ pub struct Counters {
 /// time it was computed at; if anything else changes the forces between two steps
 /// (positions edited by hand, a new contact list, changed material state), call
 /// [`invalidate`](Self::invalidate) and the next step re-evaluates it (one extra force).
+/// The cached force at the accepted state is evaluated before
+/// [`SecondOrderSystem::end_of_step`] commits history; a consistent model gives the same
+/// force at the same state after the commit, otherwise call `invalidate` there too.
 pub trait Integrator: Send {
     /// Which scheme this is.
     fn kind(&self) -> SchemeKind;
@@ -104,6 +107,10 @@ pub(crate) struct Core {
     /// Time at which `a` holds the acceleration of the current state, if it does.
     pub a_time: Option<f64>,
     pub counters: Counters,
+    /// Whether `a` holds an acceleration of this run (for velocity extrapolation).
+    pub a_live: bool,
+    /// Extrapolated velocities passed to velocity-dependent forces.
+    v_est: Vec<f64>,
     prescribed: Vec<usize>,
     px: Vec<f64>,
     pv: Vec<f64>,
@@ -115,6 +122,8 @@ impl Core {
             a: vec![0.0; n],
             a_time: None,
             counters: Counters::default(),
+            a_live: false,
+            v_est: vec![0.0; n],
             prescribed: Vec::new(),
             px: Vec::new(),
             pv: Vec::new(),
@@ -182,6 +191,31 @@ impl Core {
             self.a[i] = 0.0;
         }
         self.counters.forces += 1;
+        self.a_live = true;
+    }
+
+    /// Like [`eval`](Self::eval) at a stage whose position time leads the velocity
+    /// variable's time by `lead` (s): a velocity-dependent system gets
+    /// `v + lead a_last` (an `O(h^2)` estimate of the velocity at the stage time).
+    pub fn eval_lead(
+        &mut self,
+        system: &mut dyn SecondOrderSystem,
+        t: f64,
+        x: &[f64],
+        v: &[f64],
+        lead: f64,
+    ) {
+        if lead != 0.0 && self.a_live && system.velocity_dependent() {
+            crate::kernels::axpy_into(&mut self.v_est, v, lead, &self.a);
+            for &i in &self.prescribed {
+                self.v_est[i] = v[i];
+            }
+            let v_est = std::mem::take(&mut self.v_est);
+            self.eval(system, t, x, &v_est);
+            self.v_est = v_est;
+        } else {
+            self.eval(system, t, x, v);
+        }
     }
 
     /// `g = G(x)` given `self.a = a(t, x, v)`.

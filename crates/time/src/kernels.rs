@@ -1,6 +1,7 @@
 //! The element-wise update loops that every scheme is made of.
 //!
-//! Each loop is element-wise (no reduction except [`max_abs`], whose `max` is exact), so
+//! Each loop is element-wise (no reduction except the `max` of the finite-difference
+//! gradient, which is exact), so
 //! the results are bit for bit the same whatever the number of threads or the chunking.
 //! Above [`PAR_MIN_DOFS`] the loops run on rayon in chunks of [`CHUNK`] DOFs.
 

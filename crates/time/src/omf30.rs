@@ -10,7 +10,9 @@
 //! v' = v2 + lambda h a(t + h, x', v2)
 //! ```
 //!
-//! Velocity passed to `a` for damping: the velocity after the preceding kick (`v1`, `v2`).
+//! Velocity passed to `a` for damping: the velocity after the preceding kick extrapolated
+//! to the stage time with the latest acceleration, `v1 + (1/2 - lambda) h a(x)` and
+//! `v2 + lambda h a(x1)` (second order with damping; see `SecondOrderSystem`).
 //! Memory traffic per DOF-step: two fused kick-drift passes (5 arrays each) and one kick
 //! (3 arrays): 13 x 8 = 104 B.
 
@@ -58,10 +60,10 @@ impl Integrator for Omf30 {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, l * h, 0.5 * h);
         c.constrain(system, th, x, v);
-        c.eval(system, th, x, v);
+        c.eval_lead(system, th, x, v, (0.5 - l) * h);
         kernels::kick_drift(v, x, &c.a, (1.0 - 2.0 * l) * h, 0.5 * h);
         c.constrain(system, t1, x, v);
-        c.eval(system, t1, x, v);
+        c.eval_lead(system, t1, x, v, l * h);
         kernels::kick(v, &c.a, l * h);
         c.constrain(system, t1, x, v);
         c.finish(system, state, t1, true);

@@ -21,8 +21,11 @@
 //!
 //! with `G = 2 M^-1 J M^-1 f` ([`SecondOrderSystem::force_gradient`]). Stage times:
 //! `t + rho h`, `t + (rho + theta) h`, `t + h/2`, `t + (1 - rho - theta) h`, `t + (1 - rho) h`.
-//! Velocity passed to `a` for damping: the velocity before the kick that uses it
-//! (`v`, `v1`, `v2`, `v3`, `v4`).
+//! Velocity passed to `a` for damping: the velocity before the kick that uses the force
+//! (`v`, `v1`, ..., `v4`) extrapolated to the stage's position time with the latest
+//! acceleration (for the first stage, the last one of the previous step; none on the very
+//! first step): leads `rho`, `rho + theta - vth`, `1/2 - vth - lambda`,
+//! `lambda + vth - rho - theta`, `vth - rho` times `h` (second order with damping).
 //! Memory traffic per DOF-step: one drift (3 arrays), three fused kick-drifts (5 each) and
 //! two fused gradient-kick-drifts (6 each): 30 x 8 = 240 B, plus the gradient products.
 
@@ -86,21 +89,21 @@ impl Integrator for Omf32 {
         let State { x, v, .. } = state;
         kernels::drift(x, v, rho * h);
         c.constrain(system, times[0], x, v);
-        c.eval(system, times[0], x, v);
+        c.eval_lead(system, times[0], x, v, rho * h);
         kernels::kick_drift(v, x, &c.a, vth * h, th * h);
         c.constrain(system, times[1], x, v);
-        c.eval(system, times[1], x, v);
+        c.eval_lead(system, times[1], x, v, (rho + th - vth) * h);
         c.gradient(system, times[1], x, v, &mut self.g, &mut self.work);
         kernels::kick2_drift(v, x, &c.a, &self.g, lam * h, xi * h * h * h, s * h);
         c.constrain(system, times[2], x, v);
-        c.eval(system, times[2], x, v);
+        c.eval_lead(system, times[2], x, v, (0.5 - vth - lam) * h);
         kernels::kick_drift(v, x, &c.a, mid * h, s * h);
         c.constrain(system, times[3], x, v);
-        c.eval(system, times[3], x, v);
+        c.eval_lead(system, times[3], x, v, (lam + vth - rho - th) * h);
         c.gradient(system, times[3], x, v, &mut self.g, &mut self.work);
         kernels::kick2_drift(v, x, &c.a, &self.g, lam * h, xi * h * h * h, th * h);
         c.constrain(system, times[4], x, v);
-        c.eval(system, times[4], x, v);
+        c.eval_lead(system, times[4], x, v, (vth - rho) * h);
         kernels::kick_drift(v, x, &c.a, vth * h, rho * h);
         c.constrain(system, times[5], x, v);
         c.finish(system, state, times[5], false);
@@ -116,5 +119,6 @@ impl Integrator for Omf32 {
 
     fn invalidate(&mut self) {
         self.core.a_time = None;
+        self.core.a_live = false;
     }
 }

@@ -42,11 +42,10 @@ fn gear_operator<const Q: usize>(h: f64) -> DMatrix<f64> {
         scheme.set_scaled_derivatives(0.0, h, &e[2..]);
         let mut state = State::new(0.0, vec![e[0]], vec![e[1]]);
         scheme.step(&mut sys, &mut state, h);
-        let (r, _) = scheme.scaled_derivatives();
         t[(0, j)] = state.x[0];
         t[(1, j)] = state.v[0];
         for k in 2..dim {
-            t[(k, j)] = r[k - 2];
+            t[(k, j)] = scheme.scaled_derivative(0, k);
         }
     }
     t

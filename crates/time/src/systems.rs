@@ -56,9 +56,22 @@ impl SecondOrderSystem for Oscillator {
 
     fn acceleration(&mut self, _t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
         let (w2, c) = (self.omega * self.omega, self.damping);
-        for ((a, x), v) in a.iter_mut().zip(x).zip(v) {
-            *a = -w2 * x - c * v;
+        if c == 0.0 {
+            // One streaming pass (read x, write a): the cheapest possible force.
+            crate::kernels::zip_mr(a, x, |a, x| {
+                for (a, x) in a.iter_mut().zip(x) {
+                    *a = -w2 * x;
+                }
+            });
+        } else {
+            for ((a, x), v) in a.iter_mut().zip(x).zip(v) {
+                *a = -w2 * x - c * v;
+            }
         }
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        self.damping != 0.0
     }
 
     fn has_exact_gradient(&self) -> bool {
@@ -76,9 +89,11 @@ impl SecondOrderSystem for Oscillator {
     ) {
         if self.exact_gradient {
             let w2 = self.omega * self.omega;
-            for (g, a) in g.iter_mut().zip(a) {
-                *g = -2.0 * w2 * a;
-            }
+            crate::kernels::zip_mr(g, a, |g, a| {
+                for (g, a) in g.iter_mut().zip(a) {
+                    *g = -2.0 * w2 * a;
+                }
+            });
         } else {
             crate::finite_difference_gradient(self, t, x, v, a, g, work);
         }
@@ -171,6 +186,10 @@ impl SecondOrderSystem for LinearChain {
 
     fn acceleration(&mut self, _t: f64, x: &[f64], _v: &[f64], a: &mut [f64]) {
         self.stencil(x, a);
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        false
     }
 
     fn has_exact_gradient(&self) -> bool {

@@ -54,3 +54,28 @@ impl Collection {
         self.entries.is_empty()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collection_on_disk_is_complete_after_every_frame() {
+        let dir = std::env::temp_dir().join(format!("fdem-pvd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("results.pvd");
+        let mut c = Collection::new(&p);
+        for (i, t) in [0.0, 1.5e-3].iter().enumerate() {
+            c.push(*t, &format!("frame_{i:04}.vtu")).unwrap();
+            let text = std::fs::read_to_string(&p).unwrap();
+            assert!(text.trim_end().ends_with("</VTKFile>"));
+            assert_eq!(text.matches("<DataSet ").count(), i + 1);
+        }
+        assert!(
+            std::fs::read_to_string(&p)
+                .unwrap()
+                .contains("timestep=\"1.5e-3\"")
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,44 @@
+#!/usr/bin/env python3
+"""Plots docs/img/mesh-lame.png and docs/img/mesh-kirsch.png from the CSV files written by
+`cargo run --release -p fdem-mesh --example validation_data -- DIR` (reads DIR, default /tmp)."""
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+d = sys.argv[1] if len(sys.argv) > 1 else "/tmp"
+here = os.path.dirname(os.path.abspath(__file__))
+
+# Lame: p = 1 MPa, ri = 1, ro = 2
+lame = np.loadtxt(os.path.join(d, "lame.csv"), delimiter=",", skiprows=1)
+r = np.linspace(1, 2, 200)
+A, B = 1.0 / 3.0, 4.0 / 3.0
+fig, ax = plt.subplots(figsize=(6, 4))
+ax.plot(lame[:, 0], lame[:, 1] / 1e6, ".", ms=1.5, color="tab:blue", label="hoop, CST centroids")
+ax.plot(lame[:, 0], lame[:, 2] / 1e6, ".", ms=1.5, color="tab:orange", label="radial, CST centroids")
+ax.plot(r, A + B / r**2, "k-", lw=1, label="Lame exact")
+ax.plot(r, A - B / r**2, "k--", lw=1)
+ax.set_xlabel("r [m]")
+ax.set_ylabel("stress / p")
+ax.set_title("thick-cylinder.msh, plane strain, inner pressure p")
+ax.legend()
+fig.tight_layout()
+fig.savefig(os.path.join(here, "mesh-lame.png"), dpi=110)
+
+# Kirsch: a = 10 mm, s0 = 1 MPa, along x = 0 (theta = 90 deg): s_xx = s0/2 (2 + q + 3 q^2)
+k = np.loadtxt(os.path.join(d, "kirsch.csv"), delimiter=",", skiprows=1)
+y = np.linspace(0.01, 0.1, 400)
+q = (0.01 / y) ** 2
+fig, ax = plt.subplots(figsize=(6, 4))
+ax.plot(k[:, 0] / 0.01, k[:, 1] / 1e6, "o", ms=2.5, label="CST centroids with x < 1 mm")
+ax.plot(y / 0.01, 0.5 * (2 + q + 3 * q**2), "k-", lw=1, label="Kirsch (infinite plate)")
+ax.set_xlabel("y / a on x = 0")
+ax.set_ylabel("sigma_xx / s0")
+ax.set_title("plate-with-hole.msh, plane stress, remote tension s0")
+ax.legend()
+fig.tight_layout()
+fig.savefig(os.path.join(here, "mesh-kirsch.png"), dpi=110)
