@@ -96,6 +96,7 @@ fn brazilian_disc_splits_along_loaded_diameter_at_tensile_strength_with_closed_e
                 points,
             }],
             y_range: None,
+            lines: true,
         };
         p.write(&common::root().join("docs/img/brazilian-disc-fracture-load"))
             .unwrap();
