@@ -57,22 +57,24 @@ pub struct Loaded {
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
-    let scene = Scene::from_file(file)?;
+    let mut scene = Scene::from_file(file)?;
     let dir = file.parent().unwrap_or(Path::new("."));
     let mut meshes = Vec::new();
     let mut inputs = Vec::new();
-    for (i, b) in scene.bodies.iter().enumerate() {
-        let path = dir.join(&b.mesh);
+    for i in 0..scene.bodies.len() {
+        let path = dir.join(&scene.bodies[i].mesh);
         let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
             file: file.to_path_buf(),
             path: format!("bodies[{i}].mesh"),
             mesh: path.clone(),
             message,
         })?;
+        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, mesh)?;
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
     let model = model::build(&scene, file, &inputs)?;
+    crate::stages::validate(&scene, file)?;
     for (i, p) in scene.histories.probes.iter().enumerate() {
         if let Probe::Displacement(g) | Probe::Velocity(g) | Probe::Reaction(g) = p {
             model.find_group(
@@ -101,7 +103,12 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
             message: format!("unknown scheme '{}'", scene.integrator.scheme),
             fix: format!("use one of {}", SchemeKind::valid_names()),
         })?;
-    let omega_max = elements.max_frequency_bound(&model.x0);
+    let omega_max = crate::stages::omega_max(
+        &scene,
+        &model,
+        file,
+        elements.max_frequency_bound(&model.x0),
+    )?;
     let z_visc = (0..elements.len())
         .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
         .fold(0.0, f64::max);
@@ -318,9 +325,15 @@ pub struct Energies {
     pub external_work: f64,
     /// Work of the supports at prescribed-velocity DOFs.
     pub support_work: f64,
-    /// `external_work + support_work - kinetic - strain`: energy dissipated by damping, plus
-    /// the integration error.
+    /// `external_work + support_work + boundary_work - kinetic - strain - stored_contact_joints
+    /// - dissipated_contact_joints`: energy dissipated by damping, plus the integration error.
     pub dissipated_or_error: f64,
+    /// Energy stored by contact and joints (contact potential, friction springs, joints) [J].
+    pub stored_contact_joints: f64,
+    /// Energy dissipated by friction slip and fracture [J].
+    pub dissipated_contact_joints: f64,
+    /// Work of moving rigid walls (platens) on the bodies [J].
+    pub boundary_work: f64,
 }
 
 /// The run summary (also written as `summary.json`).
@@ -364,6 +377,8 @@ pub struct Summary {
     pub max_displacement: f64,
     /// Threads used.
     pub threads: usize,
+    /// Details of the optional stages (contact, joints), by name.
+    pub stages: serde_json::Value,
 }
 
 impl Summary {
@@ -741,6 +756,18 @@ fn dynamic(
     let elements = l.elements.clone();
     let mut sys = SceneSystem::new(model, elements, alpha);
     sys.contributions = std::mem::take(&mut l.contributions);
+    let every = l
+        .scene
+        .histories
+        .every
+        .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64;
+    crate::stages::attach(&l.scene, &l.file, &mut sys, l.dt, &options.out_dir, every).map_err(
+        |e| RunError::Unstable {
+            step: 0,
+            time: 0.0,
+            message: e.to_string(),
+        },
+    )?;
     let n = sys.model.n_nodes();
     let mut x0 = sys.model.x0.as_flattened().to_vec();
     let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -860,6 +887,16 @@ fn dynamic(
             }
         }
         if step % check_every == 0 || step == n_steps {
+            if let Some(message) = crate::stages::first_error(&sys) {
+                let _ = writer.summary(&partial_summary(
+                    l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+                ));
+                return Err(RunError::Unstable {
+                    step,
+                    time: state.t,
+                    message,
+                });
+            }
             if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
                 let _ = writer.summary(&partial_summary(
                     l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
@@ -945,8 +982,18 @@ fn dynamic(
     energy.kinetic = kinetic;
     energy.strain = sys.elements.strain_energy(state.x_nodes());
     energy.external_work += gravity_work(&sys.model, &state.x, &grav0);
-    energy.dissipated_or_error =
-        energy.external_work + energy.support_work - energy.kinetic - energy.strain;
+    let (stage_report, stage_details) = crate::stages::reports(&sys, state.x_nodes());
+    energy.stored_contact_joints = stage_report.stored;
+    energy.dissipated_contact_joints = stage_report.dissipated;
+    energy.boundary_work = stage_report.boundary_work;
+    energy.dissipated_or_error = energy.external_work + energy.support_work + energy.boundary_work
+        - energy.kinetic
+        - energy.strain
+        - energy.stored_contact_joints
+        - energy.dissipated_contact_joints;
+    for c in &mut sys.contributions {
+        c.finish();
+    }
     if let Some(hh) = &hist {
         hh.writer.flush().map_err(|e| RunError::Output {
             file: options.out_dir.join("histories.csv"),
@@ -959,6 +1006,7 @@ fn dynamic(
     summary.converged = converged;
     summary.relative_residual = rel_res;
     summary.force_evaluations = integ.counters().forces;
+    summary.stages = stage_details;
     writer.summary(&summary)?;
     let reaction = sys.reactions();
     let last_frame = make_frame(
@@ -1042,5 +1090,6 @@ fn partial_summary(
         relative_residual: None,
         max_displacement: max_u,
         threads: rayon::current_num_threads(),
+        stages: serde_json::Value::Null,
     }
 }

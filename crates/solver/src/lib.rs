@@ -11,13 +11,16 @@
 //! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain).
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
+pub mod contact_stage;
 pub mod driver;
 pub mod error;
+pub mod fracture_stage;
 pub mod mesh_adapter;
 pub mod model;
 pub mod output;
 pub mod scene;
 pub mod schemes;
+pub mod stages;
 pub mod static_solve;
 pub mod system;
 

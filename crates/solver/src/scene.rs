@@ -47,6 +47,12 @@ pub struct Scene {
     /// History probes written to `histories.csv`.
     #[serde(default)]
     pub histories: Histories,
+    /// Contact between bodies and with rigid walls (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<crate::contact_stage::ContactSection>,
+    /// Fracturing regions and the joint material (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture: Option<crate::fracture_stage::FractureSection>,
 }
 
 /// The kind of analysis.

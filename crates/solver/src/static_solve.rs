@@ -125,12 +125,14 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
             external_work: ext,
             support_work: sup,
             dissipated_or_error: ext + sup - strain,
+            ..Default::default()
         },
         frames: 0,
         converged: None,
         relative_residual: None,
         max_displacement: max_u,
         threads: rayon::current_num_threads(),
+        stages: serde_json::Value::Null,
     };
     Ok((frame, summary))
 }

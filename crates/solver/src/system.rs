@@ -31,6 +31,31 @@ pub trait ForceContribution: Send {
     fn frequency_bound(&self) -> f64 {
         0.0
     }
+    /// Energies and state of this term at positions `x`, for the run summary (default: none).
+    fn report(&self, _x: &[[f64; 2]]) -> StageReport {
+        StageReport::default()
+    }
+    /// An error that should stop the run, checked every 100 steps (default none).
+    fn error(&self) -> Option<String> {
+        None
+    }
+    /// Called once after the last step (flush files; default: nothing).
+    fn finish(&mut self) {}
+}
+
+/// What a [`ForceContribution`] reports to the run summary.
+#[derive(Debug, Clone, Default)]
+pub struct StageReport {
+    /// Energy stored by the term (contact potential, joint strain, friction springs) [J].
+    pub stored: f64,
+    /// Energy dissipated by the term (friction slip, fracture) [J].
+    pub dissipated: f64,
+    /// Work done on the bodies by boundaries the term moves (platens) [J].
+    pub boundary_work: f64,
+    /// An error that should stop the run (e.g. too deep a penetration).
+    pub error: Option<String>,
+    /// Free-form details for `summary.json`.
+    pub details: serde_json::Value,
 }
 
 /// Wall time spent per stage [s].

@@ -1,0 +1,565 @@
+//! The contact stage: the scene's `"contact"` section and the contact crate as a
+//! [`ForceContribution`] of the composition.
+//!
+//! Each step (every force evaluation) it moves the rigid walls to `x_w(t) = x_w0 + v_w r(t)`
+//! (`r` the ramp integral), refreshes detection when the buffer may be used up
+//! (`Contact::update_detection`), computes the potential contact forces with friction
+//! (`f = p ∫ (grad phi_c - grad phi_t) dA`, Coulomb with tangential penalty, see
+//! docs/contact.md) and adds them. The friction history is committed in the end-of-step hook
+//! only, so multi-stage integrators can evaluate forces any number of times per step.
+//!
+//! Laws are per pair of **bodies** (each body is usually one material): the per-triangle label
+//! handed to the contact crate is the triangle's body index. Forces from the contact crate are
+//! per unit thickness, so every penalty is multiplied by the bodies' thickness (the larger of
+//! the two; walls use the largest thickness of the scene).
+//!
+//! Stable time step (fdem-theory.md section 6.3): contact adds to the element bound
+//! `omega_c^2 = max_e 3 p (2 / H_e) l_e (2 / A_e) / rho_e` (a triangle pair of two equal
+//! triangles: `3 p (1/H_1 + 1/H_2)` in place of the joint's `p/h`, `H_e` the smallest altitude,
+//! `l_e` the longest edge), and `omega_max^2 = omega_el^2 + omega_c^2`.
+
+use std::io::Write;
+use std::path::Path;
+use std::sync::{Arc, Mutex};
+
+use fdem_contact::{Contact, ContactLaw, ContactLaws, ContactSettings, RigidPlane};
+use serde::{Deserialize, Serialize};
+
+use crate::error::SceneError;
+use crate::model::{Model, ramp_factor, ramp_integral};
+use crate::scene::Scene;
+use crate::system::{ForceContribution, StageReport};
+
+/// The scene's `"contact"` section. Present and `enabled` (default true): contact between all
+/// bodies (and between separate pieces of one body, e.g. crack faces), and with the walls.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// Contact switched on (default true).
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    /// The law between every pair of bodies not listed in `pairs`.
+    #[serde(default)]
+    pub default: LawSpec,
+    /// Laws for particular pairs of bodies (by body name; a body with itself is allowed).
+    #[serde(default)]
+    pub pairs: Vec<PairSpec>,
+    /// Rigid walls, floors and moving platens.
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    /// Detection buffer [m] (default 0: 0.2 times the mean triangle radius).
+    #[serde(default)]
+    pub buffer: f64,
+    /// Largest allowed `phi = 3 d / H` on a contact before the run stops as too deep a
+    /// penetration (default 0.5).
+    #[serde(default = "default_max_phi")]
+    pub max_phi: f64,
+}
+
+fn yes() -> bool {
+    true
+}
+fn default_max_phi() -> f64 {
+    0.5
+}
+fn default_factor() -> f64 {
+    ContactLaw::DEFAULT_PENALTY_FACTOR
+}
+
+/// One contact law.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawSpec {
+    /// Normal penalty `p` [Pa] (default: `penalty_factor` times the larger Young's modulus of
+    /// the two bodies).
+    #[serde(default)]
+    pub penalty: Option<f64>,
+    /// Penalty as a multiple of Young's modulus when `penalty` is not given (default 10).
+    #[serde(default = "default_factor")]
+    pub penalty_factor: f64,
+    /// Coulomb friction coefficient (default 0).
+    #[serde(default)]
+    pub friction: f64,
+    /// Tangential penalty `k_t` [Pa] (default: the normal penalty).
+    #[serde(default)]
+    pub tangential_penalty: Option<f64>,
+    /// Normal contact damping [Pa s/m] (default 0).
+    #[serde(default)]
+    pub damping: f64,
+}
+
+impl Default for LawSpec {
+    fn default() -> Self {
+        Self {
+            penalty: None,
+            penalty_factor: default_factor(),
+            friction: 0.0,
+            tangential_penalty: None,
+            damping: 0.0,
+        }
+    }
+}
+
+impl LawSpec {
+    /// The law per unit thickness times `thickness`, with Young's modulus `e` for defaults.
+    fn law(&self, e: f64, thickness: f64) -> ContactLaw {
+        let p = self.penalty.unwrap_or(self.penalty_factor * e);
+        ContactLaw {
+            penalty: p * thickness,
+            mu: self.friction,
+            kt: self.tangential_penalty.unwrap_or(p) * thickness,
+            damping: self.damping * thickness,
+            enabled: true,
+        }
+    }
+}
+
+/// A contact law for one pair of bodies.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    /// The two body names.
+    pub bodies: [String; 2],
+    /// The law.
+    #[serde(default)]
+    pub law: LawSpec,
+    /// Set false to switch contact off between these bodies (default true).
+    #[serde(default = "yes")]
+    pub enabled: bool,
+}
+
+/// A rigid wall (half-space): the solid lies behind the line through `point`, `normal` points
+/// into the free side. With a `velocity` it is a platen moving as `point + velocity r(t)`.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    /// Name (in `walls.csv`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A point of the wall at t = 0 [m].
+    pub point: [f64; 2],
+    /// Outward normal (normalised here).
+    pub normal: [f64; 2],
+    /// Prescribed velocity [m/s] (default at rest).
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Ramp time of the velocity [s] (default 0: a step).
+    #[serde(default)]
+    pub ramp: f64,
+    /// The wall's contact law (penalty default: `penalty_factor` times the largest Young's
+    /// modulus of the scene).
+    #[serde(default)]
+    pub law: LawSpec,
+}
+
+impl ContactSection {
+    /// Checks names and values; `file` names the scene in errors.
+    pub fn validate(&self, scene: &Scene, file: &Path) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path,
+            message,
+            fix: fix.into(),
+        };
+        let check_law = |path: String, l: &LawSpec| -> Result<(), SceneError> {
+            if let Some(p) = l.penalty
+                && (p.is_nan() || p <= 0.0)
+            {
+                return Err(bad(
+                    format!("{path}.penalty"),
+                    format!("penalty {p} must be > 0"),
+                    "give a positive penalty [Pa], e.g. 10 times Young's modulus",
+                ));
+            }
+            if l.penalty_factor.is_nan() || l.penalty_factor <= 0.0 {
+                return Err(bad(
+                    format!("{path}.penalty_factor"),
+                    "must be > 0".into(),
+                    "use e.g. 10",
+                ));
+            }
+            if l.friction.is_nan() || l.friction < 0.0 {
+                return Err(bad(
+                    format!("{path}.friction"),
+                    "must be >= 0".into(),
+                    "use a Coulomb coefficient such as 0.5",
+                ));
+            }
+            if let Some(k) = l.tangential_penalty
+                && (k.is_nan() || k <= 0.0)
+            {
+                return Err(bad(
+                    format!("{path}.tangential_penalty"),
+                    "must be > 0".into(),
+                    "leave it out to use the normal penalty",
+                ));
+            }
+            if l.damping.is_nan() || l.damping < 0.0 {
+                return Err(bad(
+                    format!("{path}.damping"),
+                    "must be >= 0".into(),
+                    "use 0",
+                ));
+            }
+            Ok(())
+        };
+        check_law("contact.default".into(), &self.default)?;
+        for (i, p) in self.pairs.iter().enumerate() {
+            check_law(format!("contact.pairs[{i}].law"), &p.law)?;
+            for b in &p.bodies {
+                if !scene.bodies.iter().any(|x| x.name.as_deref() == Some(b)) {
+                    return Err(bad(
+                        format!("contact.pairs[{i}].bodies"),
+                        format!("no body is named '{b}'"),
+                        "name the bodies in their \"name\" fields",
+                    ));
+                }
+            }
+        }
+        for (i, w) in self.walls.iter().enumerate() {
+            check_law(format!("contact.walls[{i}].law"), &w.law)?;
+            let n = (w.normal[0].powi(2) + w.normal[1].powi(2)).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err(bad(
+                    format!("contact.walls[{i}].normal"),
+                    "the normal must be a nonzero vector".into(),
+                    "give the outward normal, e.g. [0, 1] for a floor",
+                ));
+            }
+        }
+        if !(self.max_phi > 0.0 && self.max_phi <= 1.0) {
+            return Err(bad(
+                "contact.max_phi".into(),
+                "must be in (0, 1]".into(),
+                "use 0.5",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Largest Young's modulus and thickness of each body.
+fn body_props(model: &Model, n_bodies: usize) -> Vec<(f64, f64)> {
+    let mut out = vec![(0.0f64, 0.0f64); n_bodies];
+    for (t, &b) in model.tri_body.iter().enumerate() {
+        let (spec, th) = &model.materials[model.tri_material[t] as usize];
+        let o = &mut out[b as usize];
+        o.0 = o.0.max(spec.young);
+        o.1 = o.1.max(*th);
+    }
+    out
+}
+
+/// The contact laws of a scene, per pair of bodies (thickness included).
+pub fn laws(section: &ContactSection, scene: &Scene, model: &Model) -> ContactLaws {
+    let nb = scene.bodies.len();
+    let props = body_props(model, nb);
+    let mut laws = ContactLaws::uniform(nb, ContactLaw::disabled());
+    for i in 0..nb {
+        for j in i..nb {
+            let e = props[i].0.max(props[j].0);
+            let th = props[i].1.max(props[j].1);
+            laws.set(i, j, section.default.law(e, th));
+        }
+    }
+    let index = |name: &str| {
+        scene
+            .bodies
+            .iter()
+            .position(|b| b.name.as_deref() == Some(name))
+            .unwrap_or(0)
+    };
+    for p in &section.pairs {
+        let (i, j) = (index(&p.bodies[0]), index(&p.bodies[1]));
+        let e = props[i].0.max(props[j].0);
+        let th = props[i].1.max(props[j].1);
+        let law = if p.enabled {
+            p.law.law(e, th)
+        } else {
+            ContactLaw::disabled()
+        };
+        laws.set(i, j, law);
+    }
+    laws
+}
+
+/// The contact term of the frequency bound [rad/s] (module docs), 0 without contact.
+pub fn omega_contact(scene: &Scene, model: &Model) -> f64 {
+    let Some(section) = scene.contact.as_ref().filter(|c| c.enabled) else {
+        return 0.0;
+    };
+    let props = body_props(model, scene.bodies.len());
+    let mut p_max = vec![0.0f64; scene.bodies.len()];
+    let laws = laws(section, scene, model);
+    for (i, pm) in p_max.iter_mut().enumerate() {
+        for j in 0..scene.bodies.len() {
+            let l = laws.get(i as u32, j as u32);
+            if l.enabled {
+                *pm = pm.max(l.penalty.max(l.kt) / props[i].1.max(props[j].1));
+            }
+        }
+        for w in &section.walls {
+            let l = w
+                .law
+                .law(props.iter().map(|p| p.0).fold(0.0, f64::max), 1.0);
+            *pm = pm.max(l.penalty.max(l.kt));
+        }
+    }
+    let mut w2 = 0.0f64;
+    for (e, t) in model.triangles.iter().enumerate() {
+        let [a, b, c] = t.map(|i| model.x0[i as usize]);
+        let area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).abs();
+        let len = |p: [f64; 2], q: [f64; 2]| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+        let lmax = len(a, b).max(len(b, c)).max(len(c, a));
+        let h_min = 2.0 * area / lmax;
+        let rho = model.materials[model.tri_material[e] as usize].0.density;
+        let p = p_max[model.tri_body[e] as usize];
+        w2 = w2.max(3.0 * p * (2.0 / h_min) * lmax * (2.0 / area) / rho);
+    }
+    w2.sqrt()
+}
+
+/// What the contact stage shares with the driver and the tests.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ContactReport {
+    /// Largest `phi = 3 d / H` seen over the run (d/H = phi/3).
+    pub max_phi: f64,
+    /// Largest overlap depth over the run relative to the altitude of the triangle, `phi/3`.
+    pub max_depth_over_altitude: f64,
+    /// Detections done.
+    pub detections: u64,
+    /// Active couples (normal force > 0) at the last evaluation.
+    pub active_couples: usize,
+    /// Work done on the bodies by the moving walls [J].
+    pub wall_work: f64,
+    /// Current force of each wall on the bodies [N].
+    pub wall_force: Vec<[f64; 2]>,
+    /// Current displacement of each wall [m].
+    pub wall_displacement: Vec<[f64; 2]>,
+    /// First error (penetration too deep), if any.
+    pub error: Option<String>,
+}
+
+struct WallMotion {
+    point0: [f64; 2],
+    velocity: [f64; 2],
+    ramp: f64,
+}
+
+/// The contact stage (a [`ForceContribution`]).
+pub struct ContactStage {
+    contact: Contact,
+    tris: Vec<[u32; 3]>,
+    labels: Vec<u32>,
+    dt: f64,
+    motion: Vec<WallMotion>,
+    reactions: Vec<[f64; 2]>,
+    prev_force: Vec<[f64; 2]>,
+    prev_disp: Vec<[f64; 2]>,
+    /// Bonded triangle pairs (intact joints), refreshed by the fracture stage.
+    pub bonded: Option<Arc<Mutex<BondedPairs>>>,
+    bonded_version: u64,
+    report: Arc<Mutex<ContactReport>>,
+    csv: Option<std::io::BufWriter<std::fs::File>>,
+    csv_every: u64,
+    steps: u64,
+}
+
+/// Triangle pairs bonded by intact joints, with a version counter bumped when joints break.
+#[derive(Debug, Clone, Default)]
+pub struct BondedPairs {
+    /// The pairs.
+    pub pairs: Vec<[u32; 2]>,
+    /// Bumped whenever `pairs` changes.
+    pub version: u64,
+}
+
+impl ContactStage {
+    /// Builds the stage for a scene with an enabled contact section; `dt` is the step,
+    /// `out_dir` receives `walls.csv` (every `csv_every` steps) when there are walls.
+    pub fn new(
+        scene: &Scene,
+        model: &Model,
+        dt: f64,
+        out_dir: Option<&Path>,
+        csv_every: u64,
+    ) -> Option<(Self, Arc<Mutex<ContactReport>>)> {
+        let section = scene.contact.as_ref().filter(|c| c.enabled)?;
+        let laws = laws(section, scene, model);
+        let settings = ContactSettings {
+            buffer: section.buffer,
+            max_phi: section.max_phi,
+            ..ContactSettings::default()
+        };
+        let mut contact = Contact::new(settings, laws);
+        let props = body_props(model, scene.bodies.len());
+        let e_max = props.iter().map(|p| p.0).fold(0.0, f64::max);
+        let th_max = props.iter().map(|p| p.1).fold(0.0, f64::max);
+        let mut motion = Vec::new();
+        for w in &section.walls {
+            contact
+                .walls
+                .push(RigidPlane::new(w.point, w.normal, w.law.law(e_max, th_max)));
+            motion.push(WallMotion {
+                point0: w.point,
+                velocity: w.velocity,
+                ramp: w.ramp,
+            });
+        }
+        let nw = section.walls.len();
+        let report = Arc::new(Mutex::new(ContactReport {
+            wall_force: vec![[0.0; 2]; nw],
+            wall_displacement: vec![[0.0; 2]; nw],
+            ..Default::default()
+        }));
+        let csv = if nw > 0 {
+            out_dir.and_then(|d| {
+                let f = std::fs::File::create(d.join("walls.csv")).ok()?;
+                let mut w = std::io::BufWriter::new(f);
+                let mut head = String::from("time");
+                for (i, s) in section.walls.iter().enumerate() {
+                    let n = s.name.clone().unwrap_or_else(|| format!("wall{i}"));
+                    head.push_str(&format!(",u_x[{n}],u_y[{n}],force_x[{n}],force_y[{n}]"));
+                }
+                writeln!(w, "{head}").ok()?;
+                Some(w)
+            })
+        } else {
+            None
+        };
+        let stage = Self {
+            contact,
+            tris: model.triangles.clone(),
+            labels: model.tri_body.clone(),
+            dt,
+            motion,
+            reactions: vec![[0.0; 2]; nw],
+            prev_force: vec![[0.0; 2]; nw],
+            prev_disp: vec![[0.0; 2]; nw],
+            bonded: None,
+            bonded_version: u64::MAX,
+            report: report.clone(),
+            csv,
+            csv_every: csv_every.max(1),
+            steps: 0,
+        };
+        Some((stage, report))
+    }
+
+    fn place_walls(&mut self, t: f64) {
+        for (w, m) in self.contact.walls.iter_mut().zip(&self.motion) {
+            let r = ramp_integral(t, m.ramp);
+            let s = ramp_factor(t, m.ramp);
+            w.point = [
+                m.point0[0] + m.velocity[0] * r,
+                m.point0[1] + m.velocity[1] * r,
+            ];
+            w.velocity = [m.velocity[0] * s, m.velocity[1] * s];
+        }
+    }
+}
+
+impl ForceContribution for ContactStage {
+    fn name(&self) -> &str {
+        "contact"
+    }
+
+    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        if let Some(b) = &self.bonded {
+            let b = b.lock().unwrap_or_else(|e| e.into_inner());
+            if b.version != self.bonded_version {
+                self.contact.set_bonded(self.tris.len(), &b.pairs);
+                self.bonded_version = b.version;
+            }
+        }
+        self.place_walls(t);
+        self.contact.update_detection(x, &self.tris);
+        let stats = self
+            .contact
+            .compute_forces(x, v, &self.tris, &self.labels, self.dt);
+        self.contact.add_forces(&self.tris, f);
+        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        if stats.max_phi > r.max_phi {
+            r.max_phi = stats.max_phi;
+            r.max_depth_over_altitude = stats.max_phi / 3.0;
+        }
+        if r.error.is_none()
+            && let Err(e) = stats.check(self.contact.settings.max_phi)
+        {
+            r.error = Some(format!("at t = {t:e} s: {e}"));
+        }
+        r.active_couples = stats.n_active + stats.n_wall_active;
+    }
+
+    fn end_of_step(&mut self, t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {
+        self.contact.commit();
+        self.steps += 1;
+        // Work of the moving walls on the bodies (trapezoid rule on the walls' displacement).
+        self.contact.wall_reactions(&mut self.reactions);
+        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        for (k, m) in self.motion.iter().enumerate() {
+            // Force of the wall on the bodies: minus the reaction on the wall; per unit
+            // thickness already scaled by the thickness in the laws.
+            let f = [-self.reactions[k][0], -self.reactions[k][1]];
+            let s = ramp_integral(t, m.ramp);
+            let u = [m.velocity[0] * s, m.velocity[1] * s];
+            for c in 0..2 {
+                r.wall_work += 0.5 * (self.prev_force[k][c] + f[c]) * (u[c] - self.prev_disp[k][c]);
+            }
+            self.prev_force[k] = f;
+            self.prev_disp[k] = u;
+            r.wall_force[k] = f;
+            r.wall_displacement[k] = u;
+        }
+        r.detections = self.contact.n_detections();
+        if let Some(w) = &mut self.csv
+            && self.steps.is_multiple_of(self.csv_every)
+        {
+            let mut line = format!("{t:.9e}");
+            for k in 0..self.motion.len() {
+                let (u, f) = (r.wall_displacement[k], r.wall_force[k]);
+                line.push_str(&format!(
+                    ",{:.9e},{:.9e},{:.9e},{:.9e}",
+                    u[0], u[1], f[0], f[1]
+                ));
+            }
+            let _ = writeln!(w, "{line}");
+        }
+    }
+
+    fn error(&self) -> Option<String> {
+        self.report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .error
+            .clone()
+    }
+
+    fn report(&self, x: &[[f64; 2]]) -> StageReport {
+        let e = self.contact.energy(x, &self.tris, &self.labels);
+        let r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        StageReport {
+            stored: e.potential + e.friction_stored,
+            dissipated: e.friction_dissipated,
+            boundary_work: r.wall_work,
+            error: r.error.clone(),
+            details: serde_json::json!({
+                "contact_potential": e.potential,
+                "friction_stored": e.friction_stored,
+                "friction_dissipated": e.friction_dissipated,
+                "wall_work": r.wall_work,
+                "max_phi": r.max_phi,
+                "max_depth_over_altitude": r.max_depth_over_altitude,
+                "detections": r.detections,
+                "active_couples": r.active_couples,
+                "wall_force": r.wall_force,
+            }),
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(w) = &mut self.csv {
+            let _ = w.flush();
+        }
+    }
+}

@@ -1,0 +1,336 @@
+//! The joint (fracture) stage: the scene's `"fracture"` section, the mesh crate's explode of
+//! the fracturing regions at load time, and the fracture crate's joints as a
+//! [`ForceContribution`].
+//!
+//! Each force evaluation adds the forces of the intact joints (Munjiza's combined single and
+//! smeared crack model, docs/fracture.md); the end-of-step hook commits damage
+//! (`commit_joints`: damage never heals, energies booked, joints with both points at `D = 1`
+//! break). A broken joint's two triangles leave the contact stage's bonded list (passed as
+//! data through [`crate::contact_stage::BondedPairs`]), so its faces become contact couples;
+//! intact-joint pairs are never contact couples. Each break is a row of `fractures.csv`
+//! (time, position, mode, energy released).
+//!
+//! Time step: `omega^2 += omega_j^2` with the fracture crate's Gershgorin bound
+//! (`joint_omega_sq_bound`, about `3 (p/h) l (1/A_1 + 1/A_2)/rho`).
+
+use std::io::Write;
+use std::path::Path;
+use std::sync::{Arc, Mutex};
+
+use fdem_fracture::{
+    FractureEvent, Joint, JointMaterialInput, JointScratch, JointSet, JointState,
+    accumulate_joint_forces, commit_joints, joint_omega_sq_bound,
+};
+use fdem_mesh::Mesh;
+use serde::{Deserialize, Serialize};
+
+use crate::contact_stage::BondedPairs;
+use crate::error::SceneError;
+use crate::model::Model;
+use crate::scene::Scene;
+use crate::system::{ForceContribution, StageReport};
+
+/// The scene's `"fracture"` section.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FractureSection {
+    /// The fracturing regions: each names a body (optional when there is one) and its
+    /// surface groups to explode (all triangles of the body when `groups` is left out).
+    pub regions: Vec<Region>,
+    /// The joint material (SI units): tensile_strength, cohesion, friction_angle_deg,
+    /// fracture_energy_i, fracture_energy_ii, penalty_normal, penalty_tangential.
+    pub material: JointMaterialInput,
+    /// The joints found at load time, per body (filled by [`explode_body`]).
+    #[serde(skip)]
+    pub joints: Vec<(usize, Vec<Joint>)>,
+}
+
+/// A fracturing region.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Region {
+    /// Body name (needed when the scene has several bodies).
+    #[serde(default)]
+    pub body: Option<String>,
+    /// Surface groups to explode (default: the whole body).
+    #[serde(default)]
+    pub groups: Option<Vec<String>>,
+}
+
+/// Explodes body `bi`'s mesh if a fracturing region names it, recording its joints (local
+/// node and triangle ids) in the scene; returns the mesh the body uses.
+pub fn explode_body(
+    scene: &mut Scene,
+    file: &Path,
+    bi: usize,
+    mesh: Mesh,
+) -> Result<Mesh, SceneError> {
+    let n_bodies = scene.bodies.len();
+    let body_name = scene.bodies[bi].name.clone();
+    let Some(section) = scene.fracture.as_mut() else {
+        return Ok(mesh);
+    };
+    let mut groups: Option<Option<Vec<String>>> = None;
+    for (ri, r) in section.regions.iter().enumerate() {
+        let hit = match &r.body {
+            Some(b) => body_name.as_deref() == Some(b.as_str()),
+            None => {
+                if n_bodies > 1 {
+                    return Err(SceneError::Invalid {
+                        file: file.to_path_buf(),
+                        path: format!("fracture.regions[{ri}].body"),
+                        message: "the scene has several bodies".into(),
+                        fix: "name the body of the fracturing region".into(),
+                    });
+                }
+                true
+            }
+        };
+        if hit {
+            groups = Some(r.groups.clone());
+        }
+    }
+    let Some(groups) = groups else {
+        return Ok(mesh);
+    };
+    let names: Option<Vec<&str>> = groups
+        .as_ref()
+        .map(|g| g.iter().map(|s| s.as_str()).collect());
+    let ex = fdem_mesh::explode(&mesh, names.as_deref()).map_err(|e| SceneError::Invalid {
+        file: file.to_path_buf(),
+        path: "fracture.regions".into(),
+        message: e.to_string(),
+        fix: "name surface groups of the body's mesh".into(),
+    })?;
+    let joints = ex
+        .internal_edges
+        .iter()
+        .map(|e| {
+            let n = e.nodes.map(|n| n.0);
+            let (p, q) = (ex.mesh.nodes[n[0] as usize], ex.mesh.nodes[n[1] as usize]);
+            Joint {
+                nodes: n,
+                triangles: e.tris.map(|t| t.0),
+                ref_length: ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt(),
+                material: 0,
+            }
+        })
+        .collect();
+    section.joints.push((bi, joints));
+    Ok(ex.mesh)
+}
+
+/// All joints in the model's numbering.
+fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joint> {
+    let mut out = Vec::new();
+    for (bi, joints) in &section.joints {
+        let node_base = model.body_nodes[*bi].start;
+        let tri_base = model
+            .tri_body
+            .iter()
+            .position(|&b| b as usize == *bi)
+            .unwrap_or(0) as u32;
+        out.extend(joints.iter().map(|j| Joint {
+            nodes: j.nodes.map(|n| n + node_base),
+            triangles: j.triangles.map(|t| t + tri_base),
+            ..*j
+        }));
+    }
+    out
+}
+
+/// Builds the joint set of a scene (thickness: that of the first fracturing body).
+pub fn joint_set(
+    scene: &Scene,
+    model: &Model,
+    file: &Path,
+) -> Result<Option<JointSet>, SceneError> {
+    let Some(section) = &scene.fracture else {
+        return Ok(None);
+    };
+    let joints = global_joints(section, model);
+    if joints.is_empty() {
+        return Ok(None);
+    }
+    let th = section
+        .joints
+        .first()
+        .map_or(1.0, |(bi, _)| scene.bodies[*bi].thickness);
+    JointSet::new(&joints, &[section.material], model.n_nodes(), th)
+        .map(Some)
+        .map_err(|e| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: "fracture.material".into(),
+            message: e.to_string(),
+            fix: "see the message: raise the penalty or the fracture energy, or refine the mesh"
+                .into(),
+        })
+}
+
+/// The joints' term of the frequency bound [rad/s].
+pub fn omega_joints(set: &JointSet, model: &Model) -> f64 {
+    let state = JointState::new(set, &model.x0);
+    joint_omega_sq_bound(set, &state, &model.mass).sqrt()
+}
+
+/// What the joint stage shares with the driver and the tests.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct FractureReport {
+    /// Joints.
+    pub joints: usize,
+    /// Broken joints.
+    pub broken: usize,
+    /// Every fracture event so far: (time, x, y, mode, energy released).
+    pub events: Vec<(f64, f64, f64, String, f64)>,
+}
+
+/// The joint stage (a [`ForceContribution`]).
+pub struct FractureStage {
+    set: JointSet,
+    state: JointState,
+    scratch: JointScratch,
+    events: Vec<FractureEvent>,
+    bonded: Arc<Mutex<BondedPairs>>,
+    report: Arc<Mutex<FractureReport>>,
+    csv: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl FractureStage {
+    /// The stage over `set` at the reference positions of `model`; `fractures.csv` goes to
+    /// `out_dir`. Returns the bonded pairs for the contact stage and the shared report.
+    pub fn new(
+        set: JointSet,
+        model: &Model,
+        out_dir: Option<&Path>,
+    ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
+        let state = JointState::new(&set, &model.x0);
+        let scratch = JointScratch::new(set.len());
+        let bonded = Arc::new(Mutex::new(BondedPairs {
+            pairs: set.triangles.clone(),
+            version: 0,
+        }));
+        let report = Arc::new(Mutex::new(FractureReport {
+            joints: set.len(),
+            ..Default::default()
+        }));
+        let csv = out_dir.and_then(|d| {
+            let f = std::fs::File::create(d.join("fractures.csv")).ok()?;
+            let mut w = std::io::BufWriter::new(f);
+            writeln!(w, "time,x,y,mode,mode_mix,energy_released,joint").ok()?;
+            Some(w)
+        });
+        (
+            Self {
+                set,
+                state,
+                scratch,
+                events: Vec::new(),
+                bonded: bonded.clone(),
+                report: report.clone(),
+                csv,
+            },
+            bonded,
+            report,
+        )
+    }
+
+    /// Joint `j`'s damage (mean of its points), broken flag and time of failure.
+    pub fn joint_fields(&self) -> (Vec<f64>, Vec<bool>, Vec<f64>) {
+        let d = (0..self.set.len())
+            .map(|j| self.state.joint_damage(j))
+            .collect();
+        let b = self.state.intact.iter().map(|i| !i).collect();
+        let t = self
+            .state
+            .history
+            .iter()
+            .map(|h| h.broken_at.unwrap_or(-1.0))
+            .collect();
+        (d, b, t)
+    }
+}
+
+impl ForceContribution for FractureStage {
+    fn name(&self) -> &str {
+        "fracture"
+    }
+
+    fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
+    }
+
+    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
+        self.events.clear();
+        let n = commit_joints(
+            &self.set,
+            &mut self.state,
+            x,
+            t,
+            &mut self.scratch,
+            &mut self.events,
+        );
+        if n == 0 {
+            return;
+        }
+        {
+            let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
+            b.pairs = self
+                .set
+                .triangles
+                .iter()
+                .zip(&self.state.intact)
+                .filter(|(_, i)| **i)
+                .map(|(p, _)| *p)
+                .collect();
+            b.version += 1;
+        }
+        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        r.broken = self.state.n_broken;
+        for e in &self.events {
+            r.events.push((
+                e.time,
+                e.position[0],
+                e.position[1],
+                e.mode.as_str().to_string(),
+                e.energy_released,
+            ));
+            if let Some(w) = &mut self.csv {
+                let _ = writeln!(
+                    w,
+                    "{:.9e},{:.9e},{:.9e},{},{:.4},{:.9e},{}",
+                    e.time,
+                    e.position[0],
+                    e.position[1],
+                    e.mode.as_str(),
+                    e.mode_mix,
+                    e.energy_released,
+                    e.joint.0
+                );
+            }
+        }
+    }
+
+    fn report(&self, _x: &[[f64; 2]]) -> StageReport {
+        let e = self.state.energy();
+        StageReport {
+            stored: e.stored - e.stored_initial,
+            dissipated: e.dissipated + e.released_at_break,
+            boundary_work: 0.0,
+            error: None,
+            details: serde_json::json!({
+                "joints": self.set.len(),
+                "broken": self.state.n_broken,
+                "stored": e.stored,
+                "dissipated": e.dissipated,
+                "released_at_break": e.released_at_break,
+                "work": e.work,
+            }),
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(w) = &mut self.csv {
+            let _ = w.flush();
+        }
+    }
+}

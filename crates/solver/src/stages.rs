@@ -1,0 +1,80 @@
+//! Optional stages of the composition (contact, joints): validation of their scene sections,
+//! their term of the frequency bound, and attaching them to a [`SceneSystem`]. A scene without
+//! these sections gets none of them and pays nothing.
+
+use std::path::Path;
+
+use crate::error::SceneError;
+use crate::model::Model;
+use crate::scene::Scene;
+use crate::system::{SceneSystem, StageReport};
+
+/// Checks the optional sections of a scene.
+pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
+    if let Some(c) = &scene.contact {
+        c.validate(scene, file)?;
+    }
+    Ok(())
+}
+
+/// The highest frequency bound with the optional stages:
+/// `omega^2 = omega_el^2 + omega_contact^2 + omega_joints^2` (fdem-theory.md section 6.3).
+/// Also validates the joints (fracture energies against the pre-peak work on every edge).
+pub fn omega_max(
+    scene: &Scene,
+    model: &Model,
+    file: &Path,
+    omega_el: f64,
+) -> Result<f64, SceneError> {
+    let wc = crate::contact_stage::omega_contact(scene, model);
+    let wj = match crate::fracture_stage::joint_set(scene, model, file)? {
+        Some(set) => crate::fracture_stage::omega_joints(&set, model),
+        None => 0.0,
+    };
+    Ok((omega_el * omega_el + wc * wc + wj * wj).sqrt())
+}
+
+/// Attaches the stages a scene needs to `sys` (time step `dt`, histories every `every` steps
+/// into `out_dir`): joints first, then contact (which excludes the intact joints' pairs).
+pub fn attach(
+    scene: &Scene,
+    file: &Path,
+    sys: &mut SceneSystem,
+    dt: f64,
+    out_dir: &Path,
+    every: u64,
+) -> Result<(), SceneError> {
+    let mut bonded = None;
+    if let Some(set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
+        let (stage, b, _) =
+            crate::fracture_stage::FractureStage::new(set, &sys.model, Some(out_dir));
+        bonded = Some(b);
+        sys.contributions.push(Box::new(stage));
+    }
+    if let Some((mut stage, _)) =
+        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, Some(out_dir), every)
+    {
+        stage.bonded = bonded;
+        sys.contributions.push(Box::new(stage));
+    }
+    Ok(())
+}
+
+/// The first error a stage reports (e.g. too deep a penetration), if any.
+pub fn first_error(sys: &SceneSystem) -> Option<String> {
+    sys.contributions.iter().find_map(|c| c.error())
+}
+
+/// The stages' reports at positions `x`, summed, and their details by name.
+pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::Value) {
+    let mut total = StageReport::default();
+    let mut details = serde_json::Map::new();
+    for c in &sys.contributions {
+        let r = c.report(x);
+        total.stored += r.stored;
+        total.dissipated += r.dissipated;
+        total.boundary_work += r.boundary_work;
+        details.insert(c.name().to_string(), r.details);
+    }
+    (total, serde_json::Value::Object(details))
+}
