@@ -56,3 +56,21 @@ fn head_on_disc_collision_conserves_momentum_and_energy_with_small_overlap() {
     // vibration left in the discs).
     assert!((k1 / k0 - 1.0).abs() < 0.02, "K1/K0 = {}", k1 / k0);
 }
+
+/// Regression: running the same loaded scene twice attached the contact stage a second time
+/// (the stages went back into the loaded scene with its own contributions), doubling the
+/// contact force. The second run must equal the first bit for bit.
+#[test]
+fn running_a_loaded_scene_twice_attaches_its_stages_once() {
+    let scene = common::edited_example("disc-collision.json", "disc-collision-twice", |_| {});
+    let mut l = driver::load(&scene).unwrap();
+    let out = scene.parent().unwrap().join("out");
+    let options = fdem_solver::driver::RunOptions {
+        out_dir: out,
+        raw: false,
+    };
+    let first = driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap();
+    let second = driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap();
+    assert_eq!(first.last_frame.velocity, second.last_frame.velocity);
+    assert_eq!(first.summary.energy.kinetic, second.summary.energy.kinetic);
+}

@@ -756,6 +756,9 @@ fn dynamic(
     let elements = l.elements.clone();
     let mut sys = SceneSystem::new(model, elements, alpha);
     sys.contributions = std::mem::take(&mut l.contributions);
+    // The scene's own contributions; the contact and fracture stages attached below are
+    // per run, so only these go back to `l` (a second run attaches fresh stages).
+    let n_own = sys.contributions.len();
     let every = l
         .scene
         .histories
@@ -1018,6 +1021,7 @@ fn dynamic(
         &sys.force,
         &reaction,
     );
+    sys.contributions.truncate(n_own);
     l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {
         summary,
