@@ -369,15 +369,24 @@ pub struct Summary {
 impl Summary {
     /// A few lines for the terminal.
     pub fn describe(&self) -> String {
-        let mut s = format!(
-            "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
-            self.steps,
-            self.time_step,
-            self.scheme,
-            self.force_evaluations,
-            self.wall_time,
-            self.element_steps_per_second
-        );
+        let mut s = if self.analysis == "static" {
+            format!(
+                "static solve (sparse Cholesky, {} DOFs) in {:.3} s, {:.2} s wall\n",
+                2 * self.nodes,
+                self.timers.internal_forces,
+                self.wall_time
+            )
+        } else {
+            format!(
+                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
+                self.steps,
+                self.time_step,
+                self.scheme,
+                self.force_evaluations,
+                self.wall_time,
+                self.element_steps_per_second
+            )
+        };
         let t = &self.timers;
         let _ = writeln!(
             s,
@@ -454,12 +463,15 @@ impl Writer {
             .points
             .iter()
             .chain(&data.velocity)
-            .all(|p| p[0].is_finite() && p[1].is_finite());
+            .chain(&data.force)
+            .all(|p| p[0].is_finite() && p[1].is_finite())
+            && data.stress.iter().flatten().all(|s| s.is_finite())
+            && data.energy_density.iter().all(|e| e.is_finite());
         if !check_finite {
             return Err(RunError::Unstable {
                 step: 0,
                 time: data.time,
-                message: "non-finite node positions or velocities in an output frame".into(),
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)".into(),
             });
         }
         let name = format!("frame_{:04}.vtu", self.frames);

@@ -36,7 +36,7 @@ pub trait ForceContribution: Send {
 /// Wall time spent per stage [s].
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct StageTimers {
-    /// Internal (element) forces.
+    /// Internal (element) forces; for the static analysis, the assembly and sparse solve.
     pub internal_forces: f64,
     /// External loads and gravity.
     pub external_loads: f64,
@@ -182,6 +182,11 @@ impl SecondOrderSystem for SceneSystem {
         {
             *ai = f * im;
         }
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        // Element viscosity, mass-proportional damping, or a contribution (friction) read v.
+        self.elements.viscous || self.alpha > 0.0 || !self.contributions.is_empty()
     }
 
     fn prescribed_dofs(&self) -> &[usize] {

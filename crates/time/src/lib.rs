@@ -7,7 +7,9 @@
 //! once per accepted step in [`SecondOrderSystem::end_of_step`].
 //!
 //! An [`Integrator`] advances a [`State`] (`t`, `x`, `v`, velocities synchronised with
-//! positions) by one step `h`. The schemes (one file each, coefficients in each file's docs):
+//! positions) by one step `h`. Velocity-dependent forces get the velocity extrapolated to
+//! each stage's time (`v + (tau_x - tau_v) h a_last`), which keeps every scheme second
+//! order with viscous damping (the lagged velocity would make the splittings first order). The schemes (one file each, coefficients in each file's docs):
 //!
 //! | scheme | type | forces + gradients / step | order of x (measured) | limit `h omega` (computed) |
 //! |---|---|---|---|---|

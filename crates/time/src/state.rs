@@ -30,6 +30,14 @@ impl State {
         Self { t, x, v }
     }
 
+    /// A state from 2D node arrays (DOF `2i` is x of node `i`, `2i + 1` its y).
+    ///
+    /// # Panics
+    /// If `x` and `v` hold different numbers of nodes.
+    pub fn from_nodes(t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) -> Self {
+        Self::new(t, x.as_flattened().to_vec(), v.as_flattened().to_vec())
+    }
+
     /// `n` DOFs at rest at the origin, time 0.
     pub fn zeros(n: usize) -> Self {
         Self {
@@ -75,5 +83,8 @@ mod tests {
         assert_eq!(s.x_nodes(), &[[1.0, 2.0], [3.0, 4.0]]);
         s.v_nodes_mut()[1][0] = 5.0;
         assert_eq!(s.v[2], 5.0);
+        let r = State::from_nodes(1.0, s.x_nodes(), s.v_nodes());
+        assert_eq!(r.x, s.x);
+        assert_eq!(r.v, s.v);
     }
 }

@@ -71,7 +71,11 @@ mod tests {
             assert!(text.trim_end().ends_with("</VTKFile>"));
             assert_eq!(text.matches("<DataSet ").count(), i + 1);
         }
-        assert!(std::fs::read_to_string(&p).unwrap().contains("timestep=\"1.5e-3\""));
+        assert!(
+            std::fs::read_to_string(&p)
+                .unwrap()
+                .contains("timestep=\"1.5e-3\"")
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
