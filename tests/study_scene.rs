@@ -1,0 +1,116 @@
+//! `fdem study scene` end to end on a tiny bar (40 x 2 cells, pressure step): it writes the CSV,
+//! the JSON and the charts without NaN, and for each scheme the predicted stable step is not
+//! above the observed one and at most a factor 2 below it (observed: the largest stable fraction
+//! of the predicted step, found to the resolution of the probe ladder 1.05, 1.1, 1.2, ...);
+//! the factor 2 is not asserted for the weakly unstable PC-4, PC-5 and OMF32 (see below).
+
+use std::process::Command;
+
+#[test]
+fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
+    let dir = std::env::temp_dir().join(format!("fdem-study-scene-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (nx, ny, lx, ly) = (40usize, 2usize, 1.0, 0.05);
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut nodes = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            nodes.push([lx * i as f64 / nx as f64, ly * j as f64 / ny as f64]);
+        }
+    }
+    let mut tris = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let edges = |p: Vec<u32>| -> Vec<[u32; 2]> { p.windows(2).map(|w| [w[0], w[1]]).collect() };
+    let mesh = serde_json::json!({
+        "nodes": nodes, "triangles": tris,
+        "groups": [
+            {"name": "bar", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()},
+            {"name": "left", "dim": 1, "edges": edges((0..=ny).map(|j| id(0, j)).collect())},
+            {"name": "right", "dim": 1, "edges": edges((0..=ny).map(|j| id(nx, j)).collect())}
+        ]
+    });
+    std::fs::write(dir.join("bar.json"), mesh.to_string()).unwrap();
+    let scene = serde_json::json!({
+        "analysis": "dynamic",
+        "bodies": [{ "mesh": "bar.json", "materials": { "bar": { "young": 200e9, "poisson": 0.0, "density": 8000.0 } } }],
+        "boundary_conditions": [ { "pressure": { "group": "left", "value": 1e6 } } ],
+        "duration": 3e-4,
+        "histories": { "every": 1, "probes": [ { "displacement": { "group": "right" } } ] }
+    });
+    std::fs::write(dir.join("tiny.json"), scene.to_string()).unwrap();
+    std::fs::write(
+        dir.join("tiny.study.json"),
+        r#"{"reference": {"bar-arrival": {"probe": "u_x[right]", "length": 1.0, "wave_speed": 5000.0, "particle_velocity": 0.025}}}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+        .args(["study", "scene"])
+        .arg(dir.join("tiny.json"))
+        .arg("--out")
+        .arg(&out)
+        .args(["--fractions", "0.5,0.99,1.01"])
+        .output()
+        .expect("fdem runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "runs.csv",
+        "study.json",
+        "work_precision.png",
+        "work_precision.svg",
+        "error_vs_step.png",
+        "error_vs_step.svg",
+        "energy_vs_step.png",
+    ] {
+        let m = std::fs::metadata(out.join(f)).unwrap_or_else(|_| panic!("{f} missing"));
+        assert!(m.len() > 100, "{f} is empty");
+    }
+    let csv = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    assert!(
+        !csv.to_lowercase().contains("nan") && !csv.contains("inf"),
+        "NaN in runs.csv"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("study.json")).unwrap()).unwrap();
+    let limits = v["limits"].as_array().unwrap();
+    assert_eq!(limits.len(), 8);
+    let mut bad = Vec::new();
+    for l in limits {
+        let name = l["scheme"].as_str().unwrap();
+        let lo = l["observed_at_least"].as_f64().unwrap();
+        let hi = l["observed_below"].as_f64();
+        eprintln!("{name:<20} observed stable step in [{lo}, {hi:?}) x predicted");
+        // predicted <= observed: the runs at 0.5, 0.99 and 1.01 of the prediction are stable
+        if lo < 0.99 {
+            bad.push(format!(
+                "{name}: unstable at or below the predicted step ({lo})"
+            ));
+        }
+        // observed <= 2 x predicted: an unstable run found at or below 2 x the prediction.
+        // Not asserted for PC-4, PC-5 and OMF32: past their first limit their spectral radius
+        // stays within a few % of 1 (docs/time-integration.md: PC-4 is stable again on
+        // [1.056, 1.1065], OMF32 on [3.16, 5.69]), too weak a growth to show in a 300 us run
+        // of ~100-600 steps; measured here: PC-4 still stable at 3, PC-5 in [2.5, 3), OMF32
+        // in [2, 2.5) x predicted (docs/speed-vs-accuracy.md).
+        let weak = matches!(name, "pc4" | "pc5" | "omf32");
+        if !weak && !hi.is_some_and(|h| h <= 2.0) {
+            bad.push(format!("{name}: still stable at 2 x predicted ({hi:?})"));
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
+    // the analytical error is measured for stable runs: arrival within 5 % on this coarse bar
+    let runs = v["runs"].as_array().unwrap();
+    let worst = runs
+        .iter()
+        .filter(|r| r["stable"].as_bool() == Some(true))
+        .map(|r| r["error_analytical"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    eprintln!("largest arrival-time error of the stable runs: {worst:.3e}");
+    assert!(worst < 0.05, "arrival error {worst}");
+}
