@@ -15,6 +15,18 @@ const MESHIO_COUNTS: &[(&str, usize, usize, &str)] = &[
         "bottom:1:25,right:1:50,top:1:25,left:1:50,body:2:2936",
     ),
     (
+        "disc-fracture.msh",
+        469,
+        864,
+        "top:0:1,bottom:0:1,center:0:1,rim:1:72,body:2:864",
+    ),
+    (
+        "disc-small.msh",
+        217,
+        384,
+        "top:0:1,bottom:0:1,center:0:1,rim:1:48,body:2:384",
+    ),
+    (
         "brazilian-disc.msh",
         9838,
         19298,
