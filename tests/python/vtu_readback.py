@@ -34,7 +34,7 @@ def expected(raw):
     s = np.asarray(raw["stress"], dtype=float)
     z = np.zeros(len(s))
     tensor = np.column_stack([s[:, 0], s[:, 2], z, s[:, 2], s[:, 1], z, z, z, s[:, 3]])
-    return {
+    e = {
         "points": vec3(raw["points"]),
         "cells": np.asarray(raw["triangles"], dtype=np.int64),
         "point": {k: vec3(raw[k]) for k in ["displacement", "velocity", "force", "reaction"]},
@@ -47,6 +47,12 @@ def expected(raw):
             "body": np.asarray(raw["body"]),
         },
     }
+    # Arrays of the force contributions (contact_force, contact_active), only when present.
+    for k, v in raw.get("extra_point_vectors", []):
+        e["point"][k] = vec3(v)
+    for k, v in raw.get("extra_cell_scalars", []):
+        e["cell"][k] = np.asarray(v, dtype=float)
+    return e
 
 
 def same(a, b):

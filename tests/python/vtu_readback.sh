@@ -10,4 +10,5 @@ out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
 cargo run --quiet -- run examples/bar-pulse.json --out "$out/bar" --raw >/dev/null 2>&1
 cargo run --quiet -- run examples/brazilian-disc-elastic.json --out "$out/disc" --raw >/dev/null 2>&1
-.venv/bin/python tests/python/vtu_readback.py "$out/bar" "$out/disc"
+cargo run --quiet -- run examples/disc-collision.json --out "$out/contact" --raw >/dev/null 2>&1
+.venv/bin/python tests/python/vtu_readback.py "$out/bar" "$out/disc" "$out/contact"

@@ -27,6 +27,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
 use crate::model::{Model, ramp_factor, ramp_integral};
+use crate::output::FrameData;
 use crate::scene::Scene;
 use crate::system::{ForceContribution, StageReport};
 
@@ -489,6 +490,40 @@ impl ForceContribution for ContactStage {
             r.error = Some(format!("at t = {t:e} s: {e}"));
         }
         r.active_couples = stats.n_active + stats.n_wall_active;
+    }
+
+    /// `contact_force` on the points: the total contact force (normal + friction + damping,
+    /// couples and walls) of the last force pass [N]; `contact_active` on the cells: 1 where
+    /// the triangle is in at least one couple or wall contact with a positive normal load.
+    fn frame_fields(&self, x: &[[f64; 2]], frame: &mut FrameData) {
+        let mut f = vec![[0.0; 2]; x.len()];
+        self.contact.add_forces(&self.tris, &mut f);
+        let mut active = vec![0.0; self.tris.len()];
+        for (r, c) in self
+            .contact
+            .couple_results()
+            .iter()
+            .zip(self.contact.couples())
+        {
+            if r.active && r.fn_total > 0.0 {
+                active[c[0] as usize] = 1.0;
+                active[c[1] as usize] = 1.0;
+            }
+        }
+        for (r, c) in self
+            .contact
+            .wall_results()
+            .iter()
+            .zip(self.contact.wall_pairs())
+        {
+            if r.fn_total > 0.0 {
+                active[c[1] as usize] = 1.0;
+            }
+        }
+        frame.extra_point_vectors.push(("contact_force".into(), f));
+        frame
+            .extra_cell_scalars
+            .push(("contact_active".into(), active));
     }
 
     fn end_of_step(&mut self, t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {

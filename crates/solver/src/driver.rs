@@ -576,6 +576,8 @@ pub fn frame_from_parts(
         energy_density,
         material: model.tri_material.iter().map(|&m| m as i32).collect(),
         body: model.tri_body.iter().map(|&b| b as i32).collect(),
+        extra_point_vectors: Vec::new(),
+        extra_cell_scalars: Vec::new(),
     }
 }
 
@@ -835,7 +837,7 @@ fn dynamic(
             fdem_time::SecondOrderSystem::acceleration(sys, state.t, &state.x, &state.v, &mut a);
             sys.timers = saved;
             let reaction = sys.reactions();
-            let fr = make_frame(
+            let mut fr = make_frame(
                 &sys.model,
                 &sys.elements,
                 state.t,
@@ -844,6 +846,9 @@ fn dynamic(
                 &sys.force,
                 &reaction,
             );
+            for c in &sys.contributions {
+                c.frame_fields(state.x_nodes(), &mut fr);
+            }
             writer.frame(&fr)?;
             sys.timers.output += s.elapsed().as_secs_f64();
             Ok(())
@@ -1012,7 +1017,7 @@ fn dynamic(
     summary.stages = stage_details;
     writer.summary(&summary)?;
     let reaction = sys.reactions();
-    let last_frame = make_frame(
+    let mut last_frame = make_frame(
         &sys.model,
         &sys.elements,
         state.t,
@@ -1021,6 +1026,9 @@ fn dynamic(
         &sys.force,
         &reaction,
     );
+    for c in &sys.contributions {
+        c.frame_fields(state.x_nodes(), &mut last_frame);
+    }
     sys.contributions.truncate(n_own);
     l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {

@@ -17,6 +17,7 @@ use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
 
 use crate::model::{Model, ramp_factor, ramp_integral};
+use crate::output::FrameData;
 
 /// A force term beyond the elements and the loads (contact, joints, ...), plugged into
 /// [`SceneSystem::contributions`]. An empty list costs nothing.
@@ -39,6 +40,10 @@ pub trait ForceContribution: Send {
     fn error(&self) -> Option<String> {
         None
     }
+    /// Adds this term's arrays to an output frame (`frame.extra_point_vectors`,
+    /// `frame.extra_cell_scalars`) from its last force evaluation at positions `x`
+    /// (default: nothing, so a scene without the term writes no such arrays).
+    fn frame_fields(&self, _x: &[[f64; 2]], _frame: &mut FrameData) {}
     /// Called once after the last step (flush files; default: nothing).
     fn finish(&mut self) {}
 }

@@ -31,6 +31,14 @@ pub struct FrameData {
     pub material: Vec<i32>,
     /// Body id per triangle.
     pub body: Vec<i32>,
+    /// Further point vectors from the force contributions (`contact_force` [N] when the scene
+    /// has contact), written after `reaction`; empty (and absent from the files) otherwise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub extra_point_vectors: Vec<(String, Vec<[f64; 2]>)>,
+    /// Further cell scalars from the force contributions (`contact_active`, 0 or 1, when the
+    /// scene has contact), written after `body`; empty (and absent from the files) otherwise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub extra_cell_scalars: Vec<(String, Vec<f64>)>,
 }
 
 /// In-plane principal stresses (s1 >= s2) of (sxx, syy, sxy).

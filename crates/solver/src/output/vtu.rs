@@ -3,7 +3,8 @@
 //! Point arrays: `displacement`, `velocity`, `force`, `reaction` (3 components, z = 0).
 //! Cell arrays: `stress` (full 3x3 tensor, 9 components, row major, so ParaView's tensor
 //! filters apply), `principal_stress` (s1, s2), `von_mises`, `strain_energy_density`,
-//! `material`, `body`. zlib is read by meshio, VTK and ParaView (lz4 is not read by meshio).
+//! `material`, `body`. Then the frame's extra arrays from the force contributions, e.g.
+//! `contact_force` (points, 3 components) and `contact_active` (cells) with contact. zlib is read by meshio, VTK and ParaView (lz4 is not read by meshio).
 
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, Piece,
@@ -44,6 +45,19 @@ pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
         .flat_map(|s| [s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]])
         .collect();
     let principal: Vec<f64> = frame.principal.iter().flat_map(|p| *p).collect();
+    let mut point = vec![
+        array(
+            "displacement",
+            ElementType::Vectors,
+            vec3(&frame.displacement),
+        ),
+        array("velocity", ElementType::Vectors, vec3(&frame.velocity)),
+        array("force", ElementType::Vectors, vec3(&frame.force)),
+        array("reaction", ElementType::Vectors, vec3(&frame.reaction)),
+    ];
+    for (name, v) in &frame.extra_point_vectors {
+        point.push(array(name, ElementType::Vectors, vec3(v)));
+    }
     let piece = UnstructuredGridPiece {
         points: vec3(&frame.points).into(),
         cells: Cells {
@@ -54,17 +68,8 @@ pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
             types: vec![CellType::Triangle; n_cells],
         },
         data: Attributes {
-            point: vec![
-                array(
-                    "displacement",
-                    ElementType::Vectors,
-                    vec3(&frame.displacement),
-                ),
-                array("velocity", ElementType::Vectors, vec3(&frame.velocity)),
-                array("force", ElementType::Vectors, vec3(&frame.force)),
-                array("reaction", ElementType::Vectors, vec3(&frame.reaction)),
-            ],
-            cell: vec![
+            point,
+            cell: [
                 array("stress", ElementType::Tensors, stress9),
                 array("principal_stress", ElementType::Generic(2), principal),
                 array(
@@ -87,7 +92,15 @@ pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
                     elem: ElementType::Generic(1),
                     data: frame.body.clone().into(),
                 }),
-            ],
+            ]
+            .into_iter()
+            .chain(
+                frame
+                    .extra_cell_scalars
+                    .iter()
+                    .map(|(name, v)| array(name, ElementType::Generic(1), v.clone())),
+            )
+            .collect(),
         },
     };
     let vtk = Vtk {
@@ -133,6 +146,7 @@ mod tests {
             energy_density: vec![6.0],
             material: vec![1],
             body: vec![0],
+            ..Default::default()
         };
         let bytes = encode(&frame, 6).unwrap();
         let text = String::from_utf8(bytes.clone()).unwrap();
