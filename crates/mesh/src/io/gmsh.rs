@@ -266,8 +266,28 @@ pub(crate) fn read_gmsh(bytes: &[u8], path: &str) -> Result<RawMesh, MeshError> 
     }
 }
 
+/// A line where a section should start that neither reader knows: a section of its own
+/// (`$Comments`, `$Periodic`, ...) is skipped whole; anything else is an error that shows it.
+fn other_section(c: &mut Cursor, s: &str) -> Result<(), MeshError> {
+    if s.starts_with('$') && !s.starts_with("$End") && s.len() > 1 {
+        c.skip_section(s)
+    } else {
+        Err(c.err(format!(
+            "expected a section such as $Nodes, found \"{}\"",
+            s.chars().take(40).collect::<String>()
+        )))
+    }
+}
+
+/// The end of a file: the mesh, once both `$Nodes` and `$Elements` were read.
+fn finish_file(c: &Cursor, b: Builder, seen_both: bool) -> Result<RawMesh, MeshError> {
+    if !seen_both {
+        return Err(c.err("the file has no $Nodes or no $Elements section (truncated?)"));
+    }
+    Ok(b.finish(c.path))
+}
+
 fn read41(mut c: Cursor, binary: bool) -> Result<RawMesh, MeshError> {
-    let path = c.path.to_string();
     let mut b = Builder::default();
     // (dim, entity tag) -> physical tags
     let mut ent_phys: HashMap<(u8, i64), Vec<i64>> = HashMap::new();
@@ -366,29 +386,13 @@ fn read41(mut c: Cursor, binary: bool) -> Result<RawMesh, MeshError> {
                 c.expect("$EndElements")?;
                 seen_elements = true;
             }
-            s if s.starts_with('$') && !s.starts_with("$End") && s.len() > 1 => {
-                c.skip_section(s)?
-            }
-            s => {
-                return Err(c.err(format!(
-                    "expected a section such as $Nodes, found \"{}\"",
-                    s.chars().take(40).collect::<String>()
-                )));
-            }
+            s => other_section(&mut c, s)?,
         }
     }
-    if !seen_nodes || !seen_elements {
-        return Err(MeshError::Parse {
-            path,
-            line: c.line(),
-            message: "the file has no $Nodes or no $Elements section (truncated?)".into(),
-        });
-    }
-    Ok(b.finish(c.path))
+    finish_file(&c, b, seen_nodes && seen_elements)
 }
 
 fn read22(mut c: Cursor) -> Result<RawMesh, MeshError> {
-    let path = c.path.to_string();
     let mut b = Builder::default();
     let (mut seen_nodes, mut seen_elements) = (false, false);
     while !c.at_end() {
@@ -431,23 +435,8 @@ fn read22(mut c: Cursor) -> Result<RawMesh, MeshError> {
                 c.expect("$EndElements")?;
                 seen_elements = true;
             }
-            s if s.starts_with('$') && !s.starts_with("$End") && s.len() > 1 => {
-                c.skip_section(s)?
-            }
-            s => {
-                return Err(c.err(format!(
-                    "expected a section such as $Nodes, found \"{}\"",
-                    s.chars().take(40).collect::<String>()
-                )));
-            }
+            s => other_section(&mut c, s)?,
         }
     }
-    if !seen_nodes || !seen_elements {
-        return Err(MeshError::Parse {
-            path,
-            line: c.line(),
-            message: "the file has no $Nodes or no $Elements section (truncated?)".into(),
-        });
-    }
-    Ok(b.finish(c.path))
+    finish_file(&c, b, seen_nodes && seen_elements)
 }
