@@ -72,15 +72,5 @@ impl Integrator for CentralDifference {
         c.finish(system, state, t1, true);
     }
 
-    fn counters(&self) -> Counters {
-        self.core.counters
-    }
-
-    fn reset_counters(&mut self) {
-        self.core.counters = Counters::default();
-    }
-
-    fn invalidate(&mut self) {
-        self.core.a_time = None;
-    }
+    core_bookkeeping!();
 }

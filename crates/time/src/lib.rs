@@ -49,6 +49,28 @@
 //! assert_eq!(scheme.counters().forces, 1 + 3 * 100);
 //! ```
 
+/// The bookkeeping every scheme delegates to its `Core` (inside `impl Integrator`): the
+/// evaluation counters and, unless the scheme keeps more history of its own (`keep_invalidate`:
+/// it writes its own `invalidate`), dropping the cached force of the last step.
+macro_rules! core_bookkeeping {
+    () => {
+        core_bookkeeping!(keep_invalidate);
+
+        fn invalidate(&mut self) {
+            self.core.a_time = None;
+        }
+    };
+    (keep_invalidate) => {
+        fn counters(&self) -> Counters {
+            self.core.counters
+        }
+
+        fn reset_counters(&mut self) {
+            self.core.counters = Counters::default();
+        }
+    };
+}
+
 mod central_difference;
 mod chin;
 mod forest_ruth;

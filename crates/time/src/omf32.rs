@@ -109,13 +109,7 @@ impl Integrator for Omf32 {
         c.finish(system, state, times[5], false);
     }
 
-    fn counters(&self) -> Counters {
-        self.core.counters
-    }
-
-    fn reset_counters(&mut self) {
-        self.core.counters = Counters::default();
-    }
+    core_bookkeeping!(keep_invalidate);
 
     fn invalidate(&mut self) {
         self.core.a_time = None;

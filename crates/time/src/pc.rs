@@ -319,13 +319,7 @@ impl<const Q: usize> Integrator for GearPc<Q> {
         self.core.finish(system, state, t1, false);
     }
 
-    fn counters(&self) -> Counters {
-        self.core.counters
-    }
-
-    fn reset_counters(&mut self) {
-        self.core.counters = Counters::default();
-    }
+    core_bookkeeping!(keep_invalidate);
 
     fn invalidate(&mut self) {
         self.core.a_time = None;
