@@ -88,19 +88,24 @@ pub fn couple_force_into(
         lump_edge_force(&mut out.normal, e, ld, scale(n, -fn_));
         if law.mu > 0.0 || law.damping > 0.0 {
             let vr = edge_relative_velocity(v, e, ld);
+            // Positive v_n: E's edge moves deeper into T. Bounded by the edge's normal force
+            // both ways: never tensile in total, and no ploughing by edges that slide along a
+            // surface they barely touch.
+            let fd = if law.damping > 0.0 {
+                let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
+                lump_edge_force(&mut out.damping, e, ld, scale(n, -fd));
+                fd
+            } else {
+                0.0
+            };
             if law.mu > 0.0 {
-                let up = coulomb_update(ft_old[e], fn_, dot(vr, s), dt, law.mu, law.kt);
+                // Coulomb bounds the tangential force by the whole normal force of the edge,
+                // potential plus damping (docs/contact.md section 3).
+                let up = coulomb_update(ft_old[e], fn_ + fd, dot(vr, s), dt, law.mu, law.kt);
                 out.ft[e] = up.ft;
                 out.dissipation += up.dissipation;
                 out.slipping += up.slipping as u8;
                 lump_edge_force(&mut out.friction, e, ld, scale(s, up.ft));
-            }
-            if law.damping > 0.0 {
-                // Positive v_n: E's edge moves deeper into T. Bounded by the edge's normal
-                // force both ways: never tensile in total, and no ploughing by edges that
-                // slide along a surface they barely touch.
-                let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
-                lump_edge_force(&mut out.damping, e, ld, scale(n, -fd));
             }
         }
     }
@@ -158,16 +163,20 @@ pub fn wall_force(
         for k in 0..3 {
             vr = add(vr, scale(vt[k], -ld.lam[k]));
         }
+        let fd = if law.damping > 0.0 {
+            let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
+            apply(&mut out.damping, scale(n, -fd));
+            fd
+        } else {
+            0.0
+        };
         if law.mu > 0.0 {
-            let up = coulomb_update(ft_old, fn_, dot(vr, s), dt, law.mu, law.kt);
+            // Bounded by the whole normal force, potential plus damping (as for triangles).
+            let up = coulomb_update(ft_old, fn_ + fd, dot(vr, s), dt, law.mu, law.kt);
             out.ft = up.ft;
             out.dissipation = up.dissipation;
             out.slipping = up.slipping;
             apply(&mut out.friction, scale(s, up.ft));
-        }
-        if law.damping > 0.0 {
-            let fd = (law.damping * ld.len_in * dot(vr, n)).clamp(-fn_, fn_);
-            apply(&mut out.damping, scale(n, -fd));
         }
     }
     out

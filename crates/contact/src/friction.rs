@@ -6,9 +6,14 @@
 //! ```text
 //! s_E = (B - A)/l,   v_t = ((1 - sbar) v_A + sbar v_B - sum_k lam_k v_k) . s_E
 //! Ft* = Ft_old - k_t v_t dt
-//! |Ft*| > mu Fn:  Ft = mu Fn sign(Ft*)   (slip; dissipation += Ft (Ft* - Ft)/k_t)
+//! |Ft*| > mu N:   Ft = mu N sign(Ft*)    (slip; dissipation += Ft (Ft* - Ft)/k_t)
 //! otherwise       Ft = Ft*               (stick)
 //! ```
+//!
+//! `N = Fn + f_d` is the edge's whole normal force, potential plus contact damping (the
+//! caller passes it as `fn_`): only that sum is fixed by the normal balance, and with the
+//! potential part alone a chattering sliding contact gets the wrong mean friction
+//! (docs/contact.md section 3).
 //!
 //! `Ft s_E` is applied with the same consistent weights as the normal force. `Ft_old` is the
 //! committed value of the end of the previous step: force evaluations (including the trial
@@ -26,11 +31,12 @@ pub struct FrictionUpdate {
     pub ft: f64,
     /// Energy dissipated by slip in this update, `Ft (Ft* - Ft)/k_t` \[J/m\].
     pub dissipation: f64,
-    /// True when the edge slips (`|Ft*| > mu Fn`).
+    /// True when the edge slips (`|Ft*| > mu N`).
     pub slipping: bool,
 }
 
-/// Coulomb return mapping: trial `Ft* = ft_old - kt v_t dt`, then the cap `mu fn_`.
+/// Coulomb return mapping: trial `Ft* = ft_old - kt v_t dt`, then the cap `mu fn_` (`fn_`: the
+/// edge's whole normal force N).
 #[inline]
 pub fn coulomb_update(
     ft_old: f64,

@@ -13,6 +13,7 @@ pub struct ContactLaw {
     /// Normal contact damping `c` \[Pa s/m\]: a dashpot per unit length of edge inside the other
     /// triangle, acting on the normal relative velocity, bounded by the edge's normal force
     /// (`|f_d| <= p Q`: never tensile in total, no ploughing by a barely touching edge).
+    /// Friction is bounded by `mu (p Q + f_d)`, the whole normal force.
     /// 0 = none. [`ContactLaw::damping_for_ratio`] gives a value from a damping ratio.
     pub damping: f64,
     /// Contact switched on for this pair of materials.

@@ -15,7 +15,8 @@
 //!   ([`potential_tri_tri`]).
 //! * Energy `W = p int_{c∩t} (phi_c + phi_t) dA` (exact potential for rigid relative motion);
 //!   flat overlap of depth d: traction `3 p d (1/H_c + 1/H_t)`.
-//! * Friction per (couple, edge): `Ft* = Ft_old - k_t v_t dt`, capped at `mu Fn`
+//! * Friction per (couple, edge): `Ft* = Ft_old - k_t v_t dt`, capped at `mu (Fn + f_d)`
+//!   (potential plus damping normal force)
 //!   ([`friction`]); history committed at the end of the step ([`Contact::commit`]).
 //! * Rigid plane: a target of infinite altitude, `f_T = p int_{plane∩T} phi_T ds n` ([`walls`]).
 //! * Detection: NBS binning with bounding circles and buffer b, refreshed when a node has

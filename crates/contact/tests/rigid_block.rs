@@ -179,6 +179,11 @@ fn block_slides_down_incline_with_coulomb_acceleration_on_plane_and_on_ground_tr
     let expect = G * (theta.sin() - mu * theta.cos());
     for ground in [false, true] {
         let (a, _, e) = incline(theta, mu, ground, 1.0);
+        eprintln!(
+            "ground={ground}: a = {a:.5} ({:+.2e}), slip dissipation {:.1} J/m",
+            a / expect - 1.0,
+            e.friction_dissipated
+        );
         assert!(
             ((a - expect) / expect).abs() < 0.01,
             "ground={ground}: a = {a}, expected {expect}"
@@ -203,6 +208,7 @@ fn block_sticks_on_incline_when_mu_exceeds_tan_theta() {
     for ground in [false, true] {
         let (_, creep, _) = incline(theta, 0.7, ground, 1.0);
         let elastic = RHO * L * L * G * theta.sin() / P;
+        eprintln!("ground={ground}: creep {creep:.3e} m, elastic slip {elastic:.3e} m");
         assert!(
             creep < 2.0 * elastic,
             "ground={ground}: creep {creep} vs elastic slip {elastic}"
