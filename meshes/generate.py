@@ -23,6 +23,7 @@ GEOS = [
     "long-bar",
     "notched-beam",
     "block",
+    "hertz-disc",
 ]
 # (suffix, MshFileVersion, Binary)
 VARIANTS = {"cantilever-coarse": [("-bin", 4.1, 1), ("-v22", 2.2, 0)]}

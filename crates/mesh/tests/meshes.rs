@@ -27,6 +27,12 @@ const MESHIO_COUNTS: &[(&str, usize, usize, &str)] = &[
         "top:0:1,bottom:0:1,center:0:1,rim:1:48,body:2:384",
     ),
     (
+        "hertz-disc.msh",
+        3351,
+        6526,
+        "bottom:0:1,top:0:1,center:0:1,rim:1:174,body:2:6526",
+    ),
+    (
         "brazilian-disc.msh",
         9838,
         19298,
