@@ -5,7 +5,7 @@
 use crate::friction::{coulomb_update, edge_relative_velocity};
 use crate::geom::{V2, add, dot, scale};
 use crate::laws::ContactLaw;
-use crate::potential_tri_tri::{edge_frame, lump_edge_force, pair_loads};
+use crate::potential_tri_tri::{PairLoads, edge_frame, lump_edge_force, pair_loads};
 use crate::walls::RigidPlane;
 
 /// Forces of one triangle-triangle couple on its 6 nodes (0..3 = first, 3..6 = second
@@ -21,6 +21,9 @@ pub struct CoupleForce {
     pub friction: [V2; 6],
     /// Damping forces \[N/m\].
     pub damping: [V2; 6],
+    /// Sum of the three families, `normal + friction + damping` \[N/m\] (what the scatter
+    /// reads).
+    pub total: [V2; 6],
     /// Trial tangential force per couple edge (0..3 edges of the first, 3..6 of the second).
     pub ft: [f64; 6],
     /// Trial slip dissipation of this step \[J/m\].
@@ -60,15 +63,43 @@ pub fn couple_force_into(
     dt: f64,
     law: &ContactLaw,
 ) {
+    let xc = [x[0], x[1], x[2]];
+    let xt = [x[3], x[4], x[5]];
+    match pair_loads(&xc, &xt) {
+        Some(loads) => couple_force_from_loads(out, &xc, &xt, &loads, v, ft_old, dt, law),
+        None => {
+            *out = CoupleForce {
+                active: true,
+                invalid: true,
+                ..Default::default()
+            }
+        }
+    }
+}
+
+/// True when no edge of the couple carries a load (the triangles do not overlap).
+#[inline(always)]
+pub(crate) fn loads_empty(loads: &PairLoads) -> bool {
+    loads.edges.iter().all(|l| l.q <= 0.0)
+}
+
+/// The forces of a couple from its edge loads ([`pair_loads`]): normal, friction and
+/// damping per edge, lumped onto the 6 nodes; written whole into `out`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub(crate) fn couple_force_from_loads(
+    out: &mut CoupleForce,
+    xc: &[V2; 3],
+    xt: &[V2; 3],
+    loads: &PairLoads,
+    v: &[V2; 6],
+    ft_old: &[f64; 6],
+    dt: f64,
+    law: &ContactLaw,
+) {
     *out = CoupleForce {
         active: true,
         ..Default::default()
-    };
-    let xc = [x[0], x[1], x[2]];
-    let xt = [x[3], x[4], x[5]];
-    let Some(loads) = pair_loads(&xc, &xt) else {
-        out.invalid = true;
-        return;
     };
     let p = law.penalty;
     for e in 0..6 {
@@ -108,6 +139,9 @@ pub fn couple_force_into(
                 lump_edge_force(&mut out.friction, e, ld, scale(s, up.ft));
             }
         }
+    }
+    for k in 0..6 {
+        out.total[k] = add(add(out.normal[k], out.friction[k]), out.damping[k]);
     }
 }
 

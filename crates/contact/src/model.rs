@@ -12,18 +12,26 @@
 //! The force pass evaluates every couple in parallel (rayon) into a per-couple buffer and
 //! scatters serially in couple order, so the result is bit-identical for any thread count;
 //! once the buffers have grown to the largest couple count, a step allocates nothing.
+//!
+//! Layout for speed: the vertices and vertex box of every triangle are gathered once per pass
+//! into a table (`tri_x`, `tri_box`), so a couple reads two contiguous records instead of six
+//! scattered nodes, and is rejected on its boxes before any other work. One byte per couple
+//! (`flags`) says whether its result slot holds a force; only couples that overlap write
+//! their slot, and the statistics and the scatter read only flagged slots. A couple that was
+//! not flagged before and stays without force touches nothing but its flag (its trial
+//! friction is then already zero).
 
 use rayon::prelude::*;
 
 use crate::bounding::BoundingCircles;
 use crate::broad_parry::ParryBroadPhase;
-use crate::couple::{CoupleForce, WallForce, couple_force_into, wall_force};
+use crate::couple::{CoupleForce, WallForce, couple_force_from_loads, loads_empty, wall_force};
 use crate::exclusions::Exclusions;
 use crate::friction::stored_energy;
 use crate::geom::{V2, add, dot, norm, sub};
 use crate::laws::{BroadPhase, ContactLaws, ContactSettings};
 use crate::nbs::Nbs;
-use crate::potential_tri_tri::pair_energy;
+use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
 
 /// Errors found at the contact check point.
@@ -152,6 +160,11 @@ pub struct Contact {
     ft: Vec<[f64; 6]>,
     ft_trial: Vec<[f64; 6]>,
     results: Vec<CoupleForce>,
+    /// Per couple: 1 when its `results` slot may hold a force (or an invalid report).
+    flags: Vec<u8>,
+    /// Per triangle, this pass: vertices and vertex box `[xmin, xmax, ymin, ymax]`.
+    tri_x: Vec<[V2; 3]>,
+    tri_box: Vec<[f64; 4]>,
     wall_pairs: Vec<[u32; 2]>,
     wall_ft: Vec<f64>,
     wall_ft_trial: Vec<f64>,
@@ -184,6 +197,9 @@ impl Contact {
             ft: Vec::new(),
             ft_trial: Vec::new(),
             results: Vec::new(),
+            flags: Vec::new(),
+            tri_x: Vec::new(),
+            tri_box: Vec::new(),
             wall_pairs: Vec::new(),
             wall_ft: Vec::new(),
             wall_ft_trial: Vec::new(),
@@ -311,6 +327,9 @@ impl Contact {
         self.scratch_couples = found;
         self.ft_trial.clear();
         self.ft_trial.extend_from_slice(&self.ft);
+        // Every slot is stale for the new list: the next pass rewrites each one.
+        self.flags.clear();
+        self.flags.resize(self.couples.len(), 1);
 
         // Plane candidates: bounding circle within the buffer of the plane.
         let mut found = std::mem::take(&mut self.scratch_couples);
@@ -367,25 +386,74 @@ impl Contact {
         let laws = &self.laws;
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
         let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
-        self.results
-            .resize(self.couples.len(), CoupleForce::default());
+        // Vertices and boxes of every triangle, once.
+        self.tri_x.resize(tris.len(), [[0.0; 2]; 3]);
+        self.tri_box.resize(tris.len(), [0.0; 4]);
+        self.tri_x
+            .par_iter_mut()
+            .zip(self.tri_box.par_iter_mut())
+            .zip(tris.par_iter())
+            .with_min_len(4096)
+            .for_each(|((tx, tb), t)| {
+                *tx = t.map(|n| x[n as usize]);
+                *tb = [
+                    tx[0][0].min(tx[1][0]).min(tx[2][0]),
+                    tx[0][0].max(tx[1][0]).max(tx[2][0]),
+                    tx[0][1].min(tx[1][1]).min(tx[2][1]),
+                    tx[0][1].max(tx[1][1]).max(tx[2][1]),
+                ];
+            });
+        let (tri_x, tri_box) = (&self.tri_x, &self.tri_box);
+        let nc = self.couples.len();
+        self.results.resize(nc, CoupleForce::default());
+        self.flags.resize(nc, 1);
         self.results
             .par_iter_mut()
+            .zip(self.flags.par_iter_mut())
             .zip(self.ft_trial.par_iter_mut())
             .zip(self.couples.par_iter().zip(self.ft.par_iter()))
             .with_min_len(512)
-            .for_each(|((res, ftt), (c, ft_old))| {
-                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-                let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+            .for_each(|(((res, flag), ftt), (c, ft_old))| {
+                let (i, j) = (c[0] as usize, c[1] as usize);
                 let law = laws.get(mat(c[0]), mat(c[1]));
-                let xs = nodes.map(|n| x[n as usize]);
-                if !law.enabled || law.penalty <= 0.0 || boxes_apart(&xs) {
-                    res.active = false;
+                let (bi, bj) = (&tri_box[i], &tri_box[j]);
+                let apart = bi[1] < bj[0] || bj[1] < bi[0] || bi[3] < bj[2] || bj[3] < bi[2];
+                let loads = if !law.enabled || law.penalty <= 0.0 || apart {
+                    None
+                } else {
+                    match pair_loads(&tri_x[i], &tri_x[j]) {
+                        Some(l) if loads_empty(&l) => None,
+                        Some(l) => Some(Some(l)),
+                        None => Some(None), // invalid triangle
+                    }
+                };
+                let Some(loads) = loads else {
+                    // No force. Only a slot that may hold one is cleared; otherwise the slot
+                    // and the trial friction (then already 0) are left alone.
+                    if *flag != 0 {
+                        *flag = 0;
+                        res.active = false;
+                        *ftt = [0.0; 6];
+                    }
+                    return;
+                };
+                *flag = 1;
+                let Some(loads) = loads else {
+                    *res = CoupleForce {
+                        active: true,
+                        invalid: true,
+                        ..Default::default()
+                    };
                     *ftt = [0.0; 6];
                     return;
-                }
-                let vs = nodes.map(vel);
-                couple_force_into(res, &xs, &vs, ft_old, dt, law);
+                };
+                let vs = if law.mu > 0.0 || law.damping > 0.0 {
+                    let (ti, tj) = (&tris[i], &tris[j]);
+                    [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]].map(vel)
+                } else {
+                    [[0.0; 2]; 6]
+                };
+                couple_force_from_loads(res, &tri_x[i], &tri_x[j], &loads, &vs, ft_old, dt, law);
                 *ftt = res.ft;
             });
         let walls = &self.walls;
@@ -409,7 +477,7 @@ impl Contact {
                     *ftt = 0.0;
                     return;
                 }
-                let xs = t.map(|n| x[n as usize]);
+                let xs = tri_x[c[1] as usize];
                 let vs = t.map(vel);
                 *res = wall_force(plane, &xs, &vs, *ft_old, dt);
                 *ftt = res.ft;
@@ -419,7 +487,13 @@ impl Contact {
             n_couples: self.couples.len(),
             ..Default::default()
         };
-        for (r, c) in self.results.iter().zip(&self.couples) {
+        for ((r, c), _) in self
+            .results
+            .iter()
+            .zip(&self.couples)
+            .zip(&self.flags)
+            .filter(|(_, f)| **f != 0)
+        {
             if !r.active {
                 continue;
             }
@@ -453,16 +527,21 @@ impl Contact {
     /// Adds all contact forces (normal + friction + damping) of the last pass to `f`, in
     /// couple order (deterministic).
     pub fn add_forces(&self, tris: &[[u32; 3]], f: &mut [V2]) {
-        for (r, c) in self.results.iter().zip(&self.couples) {
+        for ((r, c), _) in self
+            .results
+            .iter()
+            .zip(&self.couples)
+            .zip(&self.flags)
+            .filter(|(_, f)| **f != 0)
+        {
             if !r.active || r.fn_total == 0.0 {
                 continue;
             }
             let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
             let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
             for k in 0..6 {
-                let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
                 let n = nodes[k] as usize;
-                f[n] = add(f[n], g);
+                f[n] = add(f[n], r.total[k]);
             }
         }
         for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
@@ -487,7 +566,13 @@ impl Contact {
             Family::Friction => r.friction,
             Family::Damping => r.damping,
         };
-        for (r, c) in self.results.iter().zip(&self.couples) {
+        for ((r, c), _) in self
+            .results
+            .iter()
+            .zip(&self.couples)
+            .zip(&self.flags)
+            .filter(|(_, f)| **f != 0)
+        {
             if !r.active || r.fn_total == 0.0 {
                 continue;
             }
@@ -583,12 +668,4 @@ impl Contact {
             .map(|(a, b)| norm(sub(*a, *b)))
             .fold(0.0, f64::max)
     }
-}
-
-/// True when the vertex boxes of the two triangles of a couple are disjoint (no overlap).
-#[inline(always)]
-fn boxes_apart(x: &[V2; 6]) -> bool {
-    let lo = |a: usize, d: usize| x[a][d].min(x[a + 1][d]).min(x[a + 2][d]);
-    let hi = |a: usize, d: usize| x[a][d].max(x[a + 1][d]).max(x[a + 2][d]);
-    hi(0, 0) < lo(3, 0) || hi(3, 0) < lo(0, 0) || hi(0, 1) < lo(3, 1) || hi(3, 1) < lo(0, 1)
 }

@@ -113,10 +113,14 @@ pub fn edge_load(a: V2, b: V2, t: &TriPotential) -> EdgeLoad {
 /// (shared by the two edges meeting at a vertex).
 #[inline]
 pub fn edge_load_bary(l: f64, la: [f64; 3], lb: [f64; 3]) -> EdgeLoad {
+    edge_load_with(|| l, la, lb)
+}
+
+/// [`edge_load_bary`] with the edge length computed only when the edge meets T (most edges
+/// of the candidate couples do not: their square root is saved).
+#[inline(always)]
+fn edge_load_with(len: impl FnOnce() -> f64, la: [f64; 3], lb: [f64; 3]) -> EdgeLoad {
     let mut out = EdgeLoad::default();
-    if l.is_nan() || l <= 0.0 {
-        return out;
-    }
     let dl = [lb[0] - la[0], lb[1] - la[1], lb[2] - la[2]];
     // 1. Clip to T.
     let (mut s0, mut s1) = (0.0f64, 1.0f64);
@@ -130,6 +134,10 @@ pub fn edge_load_bary(l: f64, la: [f64; 3], lb: [f64; 3]) -> EdgeLoad {
         }
     }
     if s1 <= s0 || s1.is_nan() || s0.is_nan() {
+        return out;
+    }
+    let l = len();
+    if l.is_nan() || l <= 0.0 {
         return out;
     }
     // 2. Break points: where two lam are equal and smallest.
@@ -224,20 +232,22 @@ pub fn pair_loads(xc: &[V2; 3], xt: &[V2; 3]) -> Option<PairLoads> {
     let pt = TriPotential::new(*xt)?;
     let mut out = PairLoads::default();
     // Barycentric coordinates of each vertex in the other triangle, computed once.
+    // Separating axis: all vertices of one triangle outside one edge of the other -> no
+    // overlap (tested on c's vertices before the other half is computed).
+    let outside =
+        |l: &[[f64; 3]; 3]| (0..3).any(|k| l[0][k] < 0.0 && l[1][k] < 0.0 && l[2][k] < 0.0);
     let lt = xc.map(|p| pt.barycentric(p));
+    if outside(&lt) {
+        return Some(out);
+    }
     let lc = xt.map(|p| pc.barycentric(p));
-    // Separating axis: all vertices of one triangle outside one edge of the other -> no overlap.
-    for k in 0..3 {
-        if (lt[0][k] < 0.0 && lt[1][k] < 0.0 && lt[2][k] < 0.0)
-            || (lc[0][k] < 0.0 && lc[1][k] < 0.0 && lc[2][k] < 0.0)
-        {
-            return Some(out);
-        }
+    if outside(&lc) {
+        return Some(out);
     }
     for e in 0..3 {
         let f = (e + 1) % 3;
-        out.edges[e] = edge_load_bary(norm(sub(xc[f], xc[e])), lt[e], lt[f]);
-        out.edges[3 + e] = edge_load_bary(norm(sub(xt[f], xt[e])), lc[e], lc[f]);
+        out.edges[e] = edge_load_with(|| norm(sub(xc[f], xc[e])), lt[e], lt[f]);
+        out.edges[3 + e] = edge_load_with(|| norm(sub(xt[f], xt[e])), lc[e], lc[f]);
     }
     Some(out)
 }

@@ -5,6 +5,7 @@ mod common;
 use common::{Rng, cross, random_triangle};
 use fdem_contact::{
     Contact, ContactError, ContactLaw, ContactLaws, ContactSettings, Family, RigidPlane,
+    couple_force,
 };
 
 /// Two triangles: t fixed below, c overlapping its top edge by `d`, shifted by `sx`.
@@ -168,6 +169,91 @@ fn force_pass_is_bit_identical_for_one_and_two_threads() {
         assert_eq!(a[0].to_bits(), b[0].to_bits());
         assert_eq!(a[1].to_bits(), b[1].to_bits());
     }
+}
+
+#[test]
+fn pass_results_equal_the_single_couple_kernel_while_couples_touch_separate_and_retouch() {
+    // The pass skips work (box rejection, result slots written only for couples in contact,
+    // trial friction cleared only where it may be non-zero): over 48 steps of a cloud moving
+    // to and fro (its velocities reverse every 8 steps, so couples come into contact,
+    // separate and touch again; redetections in between), every
+    // couple's result must equal `couple_force` with an independently kept friction history,
+    // bit for bit, and `active` must be set exactly for couples with a load or an invalid
+    // triangle.
+    let (mut x, mut v, tris) = dense(5, 600);
+    // Each triangle moves rigidly (no triangle inverts; the check of invalid triangles comes
+    // after the box test, so an inverted triangle far from the other is not reported).
+    for t in &tris {
+        let w = v[t[0] as usize];
+        v[t[1] as usize] = w;
+        v[t[2] as usize] = w;
+    }
+    let law = ContactLaw {
+        mu: 0.4,
+        damping: 3.0,
+        // A soft tangential spring: edges stick for many steps, so a stale history would show.
+        kt: 1.0,
+        ..ContactLaw::with_penalty(1.0e3)
+    };
+    let mut c = Contact::new(ContactSettings::default(), ContactLaws::uniform(1, law));
+    let dt = 0.02;
+    let mut history: std::collections::HashMap<[u32; 2], [f64; 6]> = Default::default();
+    let (mut n_checked, mut n_active_seen, mut n_retouched) = (0usize, 0usize, 0usize);
+    // Per couple: 1 = in contact, 2 = released after a contact.
+    let mut state: std::collections::HashMap<[u32; 2], u8> = Default::default();
+    for step in 0..48 {
+        if step % 8 == 0 && step > 0 {
+            v.iter_mut().for_each(|w| *w = [-w[0], -w[1]]);
+        }
+        c.update_detection(&x, &tris);
+        c.compute_forces(&x, &v, &tris, &[], dt);
+        let mut next = std::collections::HashMap::new();
+        for (cp, r) in c.couples().iter().zip(c.couple_results()) {
+            let (ti, tj) = (tris[cp[0] as usize], tris[cp[1] as usize]);
+            let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+            let xs = nodes.map(|n| x[n as usize]);
+            let vs = nodes.map(|n| v[n as usize]);
+            let old = history.get(cp).copied().unwrap_or([0.0; 6]);
+            let want = couple_force(&xs, &vs, &old, dt, &law);
+            let loaded = want.invalid || want.fn_total > 0.0;
+            assert_eq!(r.active, loaded, "couple {cp:?}");
+            if loaded {
+                assert_eq!(r.normal, want.normal, "couple {cp:?}");
+                assert_eq!(r.friction, want.friction, "couple {cp:?}");
+                assert_eq!(r.damping, want.damping, "couple {cp:?}");
+                assert_eq!(r.total, want.total, "couple {cp:?}");
+                assert_eq!(r.ft, want.ft, "couple {cp:?}");
+                n_active_seen += 1;
+            }
+            let st = state.get(cp).copied().unwrap_or(0);
+            if st == 2 && loaded {
+                n_retouched += 1;
+            }
+            state.insert(
+                *cp,
+                if loaded {
+                    1
+                } else if st > 0 {
+                    2
+                } else {
+                    0
+                },
+            );
+            next.insert(*cp, if loaded { want.ft } else { [0.0; 6] });
+            n_checked += 1;
+        }
+        history = next;
+        c.commit();
+        for (p, w) in x.iter_mut().zip(&v) {
+            p[0] += dt * w[0];
+            p[1] += dt * w[1];
+        }
+    }
+    eprintln!(
+        "checked {n_checked} couple results, {n_active_seen} in contact, {n_retouched} touching again, {} detections",
+        c.n_detections()
+    );
+    assert!(n_active_seen > 1000 && n_retouched > 50 && c.n_detections() > 2);
 }
 
 #[test]
