@@ -52,8 +52,7 @@ fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> J
         &set.materials[set.material[j] as usize],
         &set.consts[j],
         &set.gather(j, x),
-        state.damage[j],
-        state.history[j].mode_mix,
+        &state.point_history(j),
         set.thickness,
     )
 }
@@ -95,6 +94,7 @@ pub fn accumulate_joint_forces(
                     &set.consts[j],
                     &set.gather(j, x),
                     state.damage[j],
+                    state.shear_secant[j],
                     set.thickness,
                 )
             } else {
@@ -143,21 +143,35 @@ pub fn commit_joints(
         .par_iter_mut()
         .with_min_len(MIN_CHUNK)
         .zip(state.damage.par_iter_mut())
+        .zip(state.shear_secant.par_iter_mut())
         .zip(scratch.evals.par_iter())
         .zip(state.intact.par_iter())
-        .for_each(|(((h, d), e), &intact)| {
+        .for_each(|((((h, d), k), e), &intact)| {
             if !intact {
                 return;
             }
             let mut dw = 0.0;
+            // the end-of-step tractions' half of the trapezoid
+            let mut half_end = 0.0;
             for k in 0..2 {
                 let (a, b) = (&h.last[4 * k..4 * k + 4], &e.local[4 * k..4 * k + 4]);
                 dw += 0.5 * (a[0] + b[0]) * (b[2] - a[2]) + 0.5 * (a[1] + b[1]) * (b[3] - a[3]);
+                half_end += 0.5 * b[0] * (b[2] - a[2]) + 0.5 * b[1] * (b[3] - a[3]);
             }
-            h.work += dw;
             h.dissipated += dw - (e.stored - h.stored);
-            h.stored = e.stored;
+            if e.damage[0] >= 1.0 && e.damage[1] >= 1.0 {
+                // Breaks now: the dynamics sees no joint force at the end of this step, so
+                // the step's work is the trapezoid with zero end tractions, and what the
+                // joint still holds (compression: A (p/h) o_old o_new/2 per point) is handed
+                // over with the break (kept in `stored` until the serial loop books it).
+                h.work += dw - half_end;
+                h.stored = e.stored - half_end;
+            } else {
+                h.work += dw;
+                h.stored = e.stored;
+            }
             *d = e.damage;
+            *k = e.shear_secant;
             h.mode_mix = e.mode_mix;
             h.last = e.local;
         });
