@@ -203,16 +203,34 @@ fn shear_peak_under_compression_is_c_plus_sigma_tan_phi() {
     }
     // peak shear = c + sigma_c tan(phi) = 11.464 MPa, to round-off
     assert!((peak - fs).abs() < 1e-9 * fs, "peak {peak} vs {fs}");
+    // fully damaged but closed: it stays, carrying the compression only (no shear); the shear
+    // branch has dissipated G_II A
+    let g_area = m.g_ii * H * T;
+    assert!(rig.events.is_empty(), "a closed joint does not break");
+    assert_eq!(rig.state.damage[0], [1.0, 1.0]);
+    let [(s0, t0), _] = rig.go(o, 1.2 * s_c);
+    assert!((s0 + sigma_c).abs() < 1e-6 * sigma_c && t0 == 0.0);
+    assert!(
+        (rig.hist().dissipated - g_area).abs() < 1e-6 * g_area,
+        "{} vs {g_area}",
+        rig.hist().dissipated
+    );
+    assert!((rig.hist().stored - stored_normal).abs() < 1e-9 * stored_normal);
+    // release the compression: the normal branch returns its energy, then the joint opens and
+    // breaks with no traction and nothing stored (the faces meet contact without overlap)
+    for i in (1..100).rev() {
+        rig.go(o * i as f64 / 100.0, 1.2 * s_c);
+    }
+    assert!(rig.events.is_empty(), "still closed");
+    rig.go(0.0, 1.2 * s_c);
     let ev = rig.events[0];
     assert_eq!(ev.mode, FractureMode::II);
-    // the shear branch dissipates G_II A; the normal compression energy is handed over at the break
-    let g_area = m.g_ii * H * T;
     assert!(
         (ev.energy_released - g_area).abs() < 1e-6 * g_area,
         "{} vs {g_area}",
         ev.energy_released
     );
-    assert!((ev.stored_at_break - stored_normal).abs() < 1e-9 * stored_normal);
+    assert_eq!(ev.stored_at_break, 0.0);
 }
 
 #[test]
