@@ -17,14 +17,18 @@
 //! fs = c + <-sigma> tan(phi),  s_p = 2 h fs/p_t,  s_c - s_p = <G_II - (2/3) fs s_p>/(I_z fs)
 //! D = min(1, max(D_old, sqrt(<o - o_p>^2/(o_c - o_p)^2 + <|s| - s_p>^2/(s_c - s_p)^2)))
 //! D = 0:  sigma = ft (2x - x^2) (x = o/o_p, o >= 0),   tau = fs (2y - y^2) sign(s) (y = |s|/s_p)
-//! D > 0:  sigma = ft z(D) o/o_D (o >= 0),  tau = fs z(D) s/s_D,
+//! D > 0:  sigma = ft z(D) o/o_D (o >= 0),  tau_law = fs z(D) s/s_D,
 //!         o_D = o_p + D (o_c - o_p),  s_D = s_p + D (s_c - s_p)
+//! shear:  k_t = min(k_t_old, tau_law/|s|),  tau = k_t s     (secant history, never stiffens)
 //! ```
 //!
 //! Stored energy per unit area: at `D = 0`, `ft o_p (x^2 - x^3/3)` (or `(p/h) o^2/2` for
-//! `o < 0`) plus `fs s_p (y^2 - y^3/3)`; at `D > 0`, `(sigma o + tau s)/2` (secant unloading).
+//! `o < 0`); at `D > 0`, `sigma o/2` (secant unloading); plus `k_t s^2/2`. The shear secant
+//! history is what keeps the joint from creating energy: `fs` depends on `sigma`, so
+//! `tau_law(s, sigma)` has no potential (docs/fracture.md section 3).
 //!
-//! Nodal forces: each point carries the area `A = l t/2`. The forces are the virtual-work
+//! Nodal forces: each point carries the reference area `A = h t/2` (so that the forces are
+//! exactly `-d(A psi)/dx` for a frozen history). The forces are the virtual-work
 //! conjugates of the point's opening and sliding, `f_a = -A (sigma d o/d x_a + tau d s/d x_a)`,
 //! including the turn of the joint frame (`d tt = nn (nn . d(M1-M0))/l`, `d nn = -tt (...)/l`):
 //!
