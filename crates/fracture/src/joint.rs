@@ -17,14 +17,18 @@
 //! fs = c + <-sigma> tan(phi),  s_p = 2 h fs/p_t,  s_c - s_p = <G_II - (2/3) fs s_p>/(I_z fs)
 //! D = min(1, max(D_old, sqrt(<o - o_p>^2/(o_c - o_p)^2 + <|s| - s_p>^2/(s_c - s_p)^2)))
 //! D = 0:  sigma = ft (2x - x^2) (x = o/o_p, o >= 0),   tau = fs (2y - y^2) sign(s) (y = |s|/s_p)
-//! D > 0:  sigma = ft z(D) o/o_D (o >= 0),  tau = fs z(D) s/s_D,
+//! D > 0:  sigma = ft z(D) o/o_D (o >= 0),  tau_law = fs z(D) s/s_D,
 //!         o_D = o_p + D (o_c - o_p),  s_D = s_p + D (s_c - s_p)
+//! shear:  k_t = min(k_t_old, tau_law/|s|),  tau = k_t s     (secant history, never stiffens)
 //! ```
 //!
 //! Stored energy per unit area: at `D = 0`, `ft o_p (x^2 - x^3/3)` (or `(p/h) o^2/2` for
-//! `o < 0`) plus `fs s_p (y^2 - y^3/3)`; at `D > 0`, `(sigma o + tau s)/2` (secant unloading).
+//! `o < 0`); at `D > 0`, `sigma o/2` (secant unloading); plus `k_t s^2/2`. The shear secant
+//! history is what keeps the joint from creating energy: `fs` depends on `sigma`, so
+//! `tau_law(s, sigma)` has no potential (docs/fracture.md section 3).
 //!
-//! Nodal forces: each point carries the area `A = l t/2`. The forces are the virtual-work
+//! Nodal forces: each point carries the reference area `A = h t/2` (so that the forces are
+//! exactly `-d(A psi)/dx` for a frozen history). The forces are the virtual-work
 //! conjugates of the point's opening and sliding, `f_a = -A (sigma d o/d x_a + tau d s/d x_a)`,
 //! including the turn of the joint frame (`d tt = nn (nn . d(M1-M0))/l`, `d nn = -tt (...)/l`):
 //!
@@ -106,13 +110,16 @@ pub struct PointTraction {
     /// Mode indicator `(2/pi) atan2(d_II, d_I)` of the damage increment: 0 pure mode I,
     /// 1 pure mode II. The committed value is returned when the damage does not grow.
     pub mode_mix: f64,
+    /// Secant shear stiffness `k_t = tau/s` after this evaluation (Pa/m): the smaller of the
+    /// committed one and the law's; never increases.
+    pub shear_secant: f64,
     /// Stored (recoverable) energy per unit area (J/m^2).
     pub stored: f64,
 }
 
 /// The traction law at one point: opening `o`, sliding `s`, the joint's constants `k`
-/// (reference length, stiffness, peak opening, softening width), committed damage and mode
-/// indicator.
+/// (reference length, stiffness, peak opening, softening width), committed damage, mode
+/// indicator and secant shear stiffness (`f64::INFINITY` before the first commit).
 #[inline]
 pub fn point_traction(
     mat: &JointMaterial,
@@ -121,8 +128,9 @@ pub fn point_traction(
     s: f64,
     damage_old: f64,
     mix_old: f64,
+    shear_secant_old: f64,
 ) -> PointTraction {
-    law::<true>(mat, k, o, s, damage_old, mix_old)
+    law::<true>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
 }
 
 /// The law; with `FULL = false` (force passes) the mode indicator is not computed.
@@ -134,6 +142,7 @@ fn law<const FULL: bool>(
     s: f64,
     damage_old: f64,
     mix_old: f64,
+    shear_secant_old: f64,
 ) -> PointTraction {
     let abs_s = s.abs();
     let (sigma_compr, fs, s_p, inv_s_p, s_soft, d_ii) = if o < 0.0 {
@@ -167,22 +176,19 @@ fn law<const FULL: bool>(
     } else {
         mix_old
     };
-    if damage == 0.0 {
-        let (sigma, psi_n) = if o < 0.0 {
-            (sigma_compr, 0.5 * sigma_compr * o)
+    // Shear: the law's secant stiffness tau_law/|s| (2 fs/s_p at s = 0), capped by the
+    // committed secant so that a rise of fs with compression never stiffens the joint again
+    // (that would create energy: fs depends on sigma, so tau_law(s, sigma) has no potential).
+    let (sigma, psi_n, zd) = if damage == 0.0 {
+        if o < 0.0 {
+            (sigma_compr, 0.5 * sigma_compr * o, 1.0)
         } else {
             let x = o * k.inv_o_p;
-            (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
-        };
-        let y = abs_s * inv_s_p;
-        let tau = (fs * pre_peak(y)).copysign(s);
-        let psi_t = fs * s_p * pre_peak_energy(y);
-        PointTraction {
-            sigma,
-            tau,
-            damage,
-            mode_mix,
-            stored: psi_n + psi_t,
+            (
+                mat.ft * pre_peak(x),
+                mat.ft * k.o_p * pre_peak_energy(x),
+                1.0,
+            )
         }
     } else {
         let zd = z(damage);
@@ -191,14 +197,22 @@ fn law<const FULL: bool>(
         } else {
             mat.ft * zd * o / (k.o_p + damage * k.o_soft)
         };
-        let tau = fs * zd * s / (s_p + damage * s_soft);
-        PointTraction {
-            sigma,
-            tau,
-            damage,
-            mode_mix,
-            stored: 0.5 * (sigma * o + tau * s),
-        }
+        (sigma, 0.5 * sigma * o, zd)
+    };
+    let k_law = if damage == 0.0 {
+        fs * (2.0 - abs_s * inv_s_p) * inv_s_p
+    } else {
+        fs * zd / (s_p + damage * s_soft)
+    };
+    let shear_secant = k_law.min(shear_secant_old);
+    let tau = shear_secant * s;
+    PointTraction {
+        sigma,
+        tau,
+        damage,
+        mode_mix,
+        shear_secant,
+        stored: psi_n + 0.5 * tau * s,
     }
 }
 
@@ -211,25 +225,54 @@ pub struct JointEval {
     pub damage: [f64; 2],
     /// Trial mode indicator at the two points.
     pub mode_mix: [f64; 2],
+    /// Trial secant shear stiffness at the two points (Pa/m).
+    pub shear_secant: [f64; 2],
     /// Per point k: `[A sigma, A tau, o, s]` at `4k..4k+4` (the energy accounting's work
-    /// conjugates; `A = l t/2`).
+    /// conjugates; `A = h t/2`).
     pub local: [f64; 8],
     /// Stored energy of the joint (J).
     pub stored: f64,
 }
 
+/// The committed history of one joint that a force evaluation reads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointHistory {
+    /// Damage at the two points.
+    pub damage: [f64; 2],
+    /// Mode indicator at the two points.
+    pub mode_mix: [f64; 2],
+    /// Secant shear stiffness at the two points (Pa/m); `f64::INFINITY` for a fresh joint.
+    pub shear_secant: [f64; 2],
+}
+
+impl PointHistory {
+    /// The history of a fresh joint: no damage, no shear softening yet.
+    pub const FRESH: PointHistory = PointHistory {
+        damage: [0.0; 2],
+        mode_mix: [0.0; 2],
+        shear_secant: [f64::INFINITY; 2],
+    };
+}
+
 /// Evaluates one joint at positions `x` (P, Q, R, S): tractions, nodal forces, trial damage
-/// and stored energy. `damage_old`, `mix_old` are the committed history, `t` the thickness.
+/// and stored energy. `hist` is the committed history, `t` the thickness.
 #[inline]
 pub fn evaluate(
     mat: &JointMaterial,
     consts: &JointConsts,
     x: &JointNodes,
-    damage_old: [f64; 2],
-    mix_old: [f64; 2],
+    hist: &PointHistory,
     t: f64,
 ) -> JointEval {
-    evaluate_impl::<true>(mat, consts, x, damage_old, mix_old, t)
+    evaluate_impl::<true>(
+        mat,
+        consts,
+        x,
+        hist.damage,
+        hist.mode_mix,
+        hist.shear_secant,
+        t,
+    )
 }
 
 /// The nodal forces (P, Q, R, S) only, as [`evaluate`] computes them (bit for bit).
@@ -239,9 +282,10 @@ pub fn evaluate_forces(
     consts: &JointConsts,
     x: &JointNodes,
     damage_old: [f64; 2],
+    shear_secant_old: [f64; 2],
     t: f64,
 ) -> [[f64; 2]; 4] {
-    evaluate_impl::<false>(mat, consts, x, damage_old, [0.0; 2], t).forces
+    evaluate_impl::<false>(mat, consts, x, damage_old, [0.0; 2], shear_secant_old, t).forces
 }
 
 #[inline(always)]
@@ -251,18 +295,29 @@ fn evaluate_impl<const FULL: bool>(
     x: &JointNodes,
     damage_old: [f64; 2],
     mix_old: [f64; 2],
+    shear_secant_old: [f64; 2],
     t: f64,
 ) -> JointEval {
     let h = consts.h;
     let k = kinematics(x, h);
-    let area = 0.5 * k.l * t;
+    // Reference area: the forces are then exactly -d(A psi)/dx for a frozen history.
+    let area = 0.5 * h * t;
     let mut out = JointEval::default();
     let mut frame = 0.0;
     let mut q = [[0.0; 2]; 2];
     for i in 0..2 {
-        let pt = law::<FULL>(mat, consts, k.o[i], k.s[i], damage_old[i], mix_old[i]);
+        let pt = law::<FULL>(
+            mat,
+            consts,
+            k.o[i],
+            k.s[i],
+            damage_old[i],
+            mix_old[i],
+            shear_secant_old[i],
+        );
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
+        out.shear_secant[i] = pt.shear_secant;
         out.stored += area * pt.stored;
         let (a_sigma, a_tau) = (area * pt.sigma, area * pt.tau);
         out.local[4 * i..4 * i + 4].copy_from_slice(&[a_sigma, a_tau, k.o[i], k.s[i]]);
@@ -320,9 +375,17 @@ mod tests {
         let m = mat();
         let h = 0.02;
         let x = config(3.0);
-        let e = evaluate(&m, &m.consts(h), &x, [0.2, 0.3], [0.0; 2], 1.0);
-        let kin = kinematics(&x, h);
-        let area = 0.5 * kin.l;
+        let e = evaluate(
+            &m,
+            &m.consts(h),
+            &x,
+            &PointHistory {
+                damage: [0.2, 0.3],
+                ..PointHistory::FRESH
+            },
+            1.0,
+        );
+        let area = 0.5 * h;
         let fmax = e
             .forces
             .iter()
@@ -357,7 +420,7 @@ mod tests {
     fn rigid_motion_of_the_reference_joint_gives_no_force() {
         let m = mat();
         let x = config(0.0);
-        let e = evaluate(&m, &m.consts(0.02), &x, [0.0; 2], [0.0; 2], 1.0);
+        let e = evaluate(&m, &m.consts(0.02), &x, &PointHistory::FRESH, 1.0);
         let fmax = e
             .forces
             .iter()
@@ -371,7 +434,7 @@ mod tests {
     fn degenerate_joint_stays_finite() {
         let m = mat();
         let x = [[0.0, 0.0]; 4];
-        let e = evaluate(&m, &m.consts(0.02), &x, [0.0; 2], [0.0; 2], 1.0);
+        let e = evaluate(&m, &m.consts(0.02), &x, &PointHistory::FRESH, 1.0);
         assert!(e.forces.iter().flatten().all(|v| v.is_finite()));
         assert!(e.stored.is_finite());
     }

@@ -55,7 +55,7 @@ pub mod timestep;
 pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
 pub use joint::{
-    JointEval, JointKinematics, PointTraction, evaluate, evaluate_forces, kinematics,
+    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, kinematics,
     point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};

@@ -9,18 +9,42 @@
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{JointEval, evaluate, evaluate_forces};
+use crate::joint::{JointEval, evaluate};
 use crate::set::{JointId, JointSet};
-use crate::state::JointState;
+use crate::state::{JointHistory, JointState};
+
+/// A fully damaged joint closed in compression breaks once it has slid by this fraction of its
+/// reference length.
+pub const SLID: f64 = 0.1;
 
 /// Joints per rayon task: below this, splitting costs more than it gains.
 const MIN_CHUNK: usize = 512;
+
+/// Below this many joints the passes run on the calling thread: waking rayon's workers
+/// several times per step costs more than the work (and much more on a loaded machine).
+const PAR_MIN: usize = 8 * MIN_CHUNK;
 
 /// Per-joint scratch of the pass, owned by the stepping code.
 #[derive(Debug, Clone, Default)]
 pub struct JointScratch {
     forces: Vec<[[f64; 2]; 4]>,
     evals: Vec<JointEval>,
+    /// Positions of the last force pass, whose full evaluations `evals` holds (valid while
+    /// `evals_valid`: no commit since).
+    x_last: Vec<[f64; 2]>,
+    evals_valid: bool,
+}
+
+/// Runs `f(j, &mut out[j])` over all entries, in parallel for large sets.
+fn for_each_joint<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
+    if out.len() >= PAR_MIN {
+        out.par_iter_mut()
+            .with_min_len(MIN_CHUNK)
+            .enumerate()
+            .for_each(|(j, o)| f(j, o));
+    } else {
+        out.iter_mut().enumerate().for_each(|(j, o)| f(j, o));
+    }
 }
 
 impl JointScratch {
@@ -29,10 +53,12 @@ impl JointScratch {
         JointScratch {
             forces: vec![[[0.0; 2]; 4]; n_joints],
             evals: vec![JointEval::default(); n_joints],
+            x_last: Vec::new(),
+            evals_valid: false,
         }
     }
 
-    /// The full evaluations of the last commit (zero for broken joints).
+    /// The full evaluations of the last force pass or commit (zero for broken joints).
     pub fn evals(&self) -> &[JointEval] {
         &self.evals
     }
@@ -52,8 +78,7 @@ fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> J
         &set.materials[set.material[j] as usize],
         &set.consts[j],
         &set.gather(j, x),
-        state.damage[j],
-        state.history[j].mode_mix,
+        &state.point_history(j),
         set.thickness,
     )
 }
@@ -83,37 +108,35 @@ pub fn accumulate_joint_forces(
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
     check_sizes(set, state, x);
     scratch.forces.resize(set.len(), [[0.0; 2]; 4]);
-    scratch
-        .forces
-        .par_iter_mut()
-        .with_min_len(MIN_CHUNK)
-        .enumerate()
-        .for_each(|(j, out)| {
-            *out = if state.intact[j] {
-                evaluate_forces(
-                    &set.materials[set.material[j] as usize],
-                    &set.consts[j],
-                    &set.gather(j, x),
-                    state.damage[j],
-                    set.thickness,
-                )
-            } else {
-                [[0.0; 2]; 4]
-            };
-        });
+    scratch.evals.resize(set.len(), JointEval::default());
+    // Full evaluations (forces, trial damage, work conjugates, stored energy): the commit at
+    // the same positions (the end of a central-difference step) reuses them.
+    for_each_joint(&mut scratch.evals, |j, out| {
+        *out = eval_joint(set, state, x, j)
+    });
+    let evals = &scratch.evals;
+    for_each_joint(&mut scratch.forces, |j, out| *out = evals[j].forces);
+    scratch.x_last.clear();
+    scratch.x_last.extend_from_slice(x);
+    scratch.evals_valid = true;
     // gather per node over its (joint, slot) list in joint order: parallel and deterministic
     let forces = &scratch.forces;
     let (offsets, slots) = (&set.node_offsets, &set.node_slots);
-    f.par_iter_mut()
-        .with_min_len(4 * MIN_CHUNK)
-        .enumerate()
-        .for_each(|(i, fi)| {
-            for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
-                let fe = forces[(js >> 2) as usize][(js & 3) as usize];
-                fi[0] += fe[0];
-                fi[1] += fe[1];
-            }
-        });
+    let gather = |i: usize, fi: &mut [f64; 2]| {
+        for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
+            let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+            fi[0] += fe[0];
+            fi[1] += fe[1];
+        }
+    };
+    if set.len() >= PAR_MIN {
+        f.par_iter_mut()
+            .with_min_len(4 * MIN_CHUNK)
+            .enumerate()
+            .for_each(|(i, fi)| gather(i, fi));
+    } else {
+        f.iter_mut().enumerate().for_each(|(i, fi)| gather(i, fi));
+    }
 }
 
 /// End-of-step commit at the step's final positions `x` and time `time`: damage grows to its
@@ -131,21 +154,18 @@ pub fn commit_joints(
 ) -> usize {
     check_sizes(set, state, x);
     scratch.evals.resize(set.len(), JointEval::default());
-    let st: &JointState = state;
-    scratch
-        .evals
-        .par_iter_mut()
-        .with_min_len(MIN_CHUNK)
-        .enumerate()
-        .for_each(|(j, out)| *out = eval_joint(set, st, x, j));
-    state
-        .history
-        .par_iter_mut()
-        .with_min_len(MIN_CHUNK)
-        .zip(state.damage.par_iter_mut())
-        .zip(scratch.evals.par_iter())
-        .zip(state.intact.par_iter())
-        .for_each(|(((h, d), e), &intact)| {
+    // reuse the last force pass's evaluations when it was at these positions (bitwise) with
+    // this history; otherwise evaluate
+    let reuse = scratch.evals_valid && scratch.x_last.as_slice() == x;
+    scratch.evals_valid = false;
+    if !reuse {
+        let st: &JointState = state;
+        for_each_joint(&mut scratch.evals, |j, out| {
+            *out = eval_joint(set, st, x, j)
+        });
+    }
+    let update =
+        |h: &mut JointHistory, d: &mut [f64; 2], k: &mut [f64; 2], e: &JointEval, intact: bool| {
             if !intact {
                 return;
             }
@@ -158,13 +178,42 @@ pub fn commit_joints(
             h.dissipated += dw - (e.stored - h.stored);
             h.stored = e.stored;
             *d = e.damage;
+            *k = e.shear_secant;
             h.mode_mix = e.mode_mix;
             h.last = e.local;
-        });
+        };
+    if set.len() >= PAR_MIN {
+        state
+            .history
+            .par_iter_mut()
+            .with_min_len(MIN_CHUNK)
+            .zip(state.damage.par_iter_mut())
+            .zip(state.shear_secant.par_iter_mut())
+            .zip(scratch.evals.par_iter())
+            .zip(state.intact.par_iter())
+            .for_each(|((((h, d), k), e), &i)| update(h, d, k, e, i));
+    } else {
+        state
+            .history
+            .iter_mut()
+            .zip(state.damage.iter_mut())
+            .zip(state.shear_secant.iter_mut())
+            .zip(scratch.evals.iter())
+            .zip(state.intact.iter())
+            .for_each(|((((h, d), k), e), &i)| update(h, d, k, e, i));
+    }
     let mut n_new = 0;
     for (j, h) in state.history.iter_mut().enumerate() {
         let d = state.damage[j];
-        if state.intact[j] && d[0] >= 1.0 && d[1] >= 1.0 {
+        // Fully damaged (z(1) = 0: no tension, no shear) and open at both points: the
+        // joint carries no force, so removing it changes no force and no energy, and the
+        // faces reach contact without overlap. A fully damaged joint closed at a point keeps
+        // carrying that compression (frictionless) until it opens, or until it has slid by
+        // a tenth of its length (its kinematics no longer describe the faces well: contact
+        // takes over, with the energy jump the solver measures).
+        let open = h.last[2] >= 0.0 && h.last[6] >= 0.0;
+        let slid = h.last[3].abs().max(h.last[7].abs()) >= SLID * set.consts[j].h;
+        if state.intact[j] && d[0] >= 1.0 && d[1] >= 1.0 && (open || slid) {
             state.intact[j] = false;
             h.broken_at = Some(time);
             let p = set.gather(j, x);

@@ -1,7 +1,7 @@
 //! Joint history and energy books: changed only by [`crate::commit_joints`] at the end of a
 //! step, never by force evaluations (trial stages of multi-stage schemes leave it alone).
 
-use crate::joint::evaluate;
+use crate::joint::{PointHistory, evaluate};
 use crate::set::JointSet;
 
 /// Committed history and energy of one joint (the damage, read by every force pass, is kept
@@ -55,6 +55,9 @@ pub struct JointEnergy {
 pub struct JointState {
     /// Damage at the two points (P/S, Q/R) of each joint, in `[0, 1]`, never decreasing.
     pub damage: Vec<[f64; 2]>,
+    /// Secant shear stiffness `tau/s` at the two points of each joint (Pa/m), never increasing
+    /// (read by every force pass, like the damage).
+    pub shear_secant: Vec<[f64; 2]>,
     /// False once a joint has broken.
     pub intact: Vec<bool>,
     /// Mode, failure time and energy books, one entry per joint.
@@ -77,6 +80,7 @@ impl JointState {
         );
         let mut stored_initial = 0.0;
         let mut damage = Vec::with_capacity(set.len());
+        let mut shear_secant = Vec::with_capacity(set.len());
         let history = (0..set.len())
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
@@ -84,12 +88,12 @@ impl JointState {
                     m,
                     &set.consts[j],
                     &set.gather(j, x),
-                    [0.0; 2],
-                    [0.0; 2],
+                    &PointHistory::FRESH,
                     set.thickness,
                 );
                 stored_initial += e.stored;
                 damage.push(e.damage);
+                shear_secant.push(e.shear_secant);
                 JointHistory {
                     mode_mix: e.mode_mix,
                     broken_at: None,
@@ -102,11 +106,22 @@ impl JointState {
             .collect();
         JointState {
             damage,
+            shear_secant,
             intact: vec![true; set.len()],
             history,
             stored_initial,
             released_at_break: 0.0,
             n_broken: 0,
+        }
+    }
+
+    /// The committed history of joint `j` that a force evaluation reads.
+    #[inline]
+    pub fn point_history(&self, j: usize) -> PointHistory {
+        PointHistory {
+            damage: self.damage[j],
+            mode_mix: self.history[j].mode_mix,
+            shear_secant: self.shear_secant[j],
         }
     }
 

@@ -360,6 +360,8 @@ pub struct ContactStage {
     /// Bonded triangle pairs (intact joints), refreshed by the fracture stage.
     pub bonded: Option<Arc<Mutex<BondedPairs>>>,
     bonded_version: u64,
+    /// Sum over the joint -> contact hand-overs of the contact potential they brought in [J].
+    switch_jump: f64,
     report: Arc<Mutex<ContactReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
     csv_every: u64,
@@ -439,6 +441,7 @@ impl ContactStage {
             prev_disp: vec![[0.0; 2]; nw],
             bonded: None,
             bonded_version: u64::MAX,
+            switch_jump: 0.0,
             report: report.clone(),
             csv,
             csv_every: csv_every.max(1),
@@ -469,8 +472,22 @@ impl ForceContribution for ContactStage {
         if let Some(b) = &self.bonded {
             let b = b.lock().unwrap_or_else(|e| e.into_inner());
             if b.version != self.bonded_version {
+                // Joints broke: their triangle pairs become contact couples. Measure the
+                // contact potential the new couples bring in at these positions (the energy
+                // jump of the joint -> contact hand-over; 0 when the faces do not overlap).
+                let first = self.bonded_version == u64::MAX;
+                let before = if first {
+                    0.0
+                } else {
+                    self.contact.energy(x, &self.tris, &self.labels).potential
+                };
                 self.contact.set_bonded(self.tris.len(), &b.pairs);
                 self.bonded_version = b.version;
+                if !first {
+                    self.contact.update_detection(x, &self.tris);
+                    let after = self.contact.energy(x, &self.tris, &self.labels).potential;
+                    self.switch_jump += after - before;
+                }
             }
         }
         self.place_walls(t);
@@ -583,6 +600,7 @@ impl ForceContribution for ContactStage {
                 "friction_stored": e.friction_stored,
                 "friction_dissipated": e.friction_dissipated,
                 "wall_work": r.wall_work,
+                "switch_jump": self.switch_jump,
                 "max_phi": r.max_phi,
                 "max_depth_over_altitude": r.max_depth_over_altitude,
                 "detections": r.detections,

@@ -69,12 +69,17 @@ pub fn first_error(sys: &SceneSystem) -> Option<String> {
 pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::Value) {
     let mut total = StageReport::default();
     let mut details = serde_json::Map::new();
-    for c in &sys.contributions {
+    for (i, c) in sys.contributions.iter().enumerate() {
         let r = c.report(x);
         total.stored += r.stored;
         total.dissipated += r.dissipated;
         total.boundary_work += r.boundary_work;
-        details.insert(c.name().to_string(), r.details);
+        let mut d = r.details;
+        if let (Some(obj), Some(t)) = (d.as_object_mut(), sys.contribution_times.get(i)) {
+            // wall time of the stage's force passes and end-of-step hooks [s]
+            obj.insert("wall_s".into(), serde_json::json!(t));
+        }
+        details.insert(c.name().to_string(), d);
     }
     (total, serde_json::Value::Object(details))
 }

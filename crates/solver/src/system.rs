@@ -99,6 +99,9 @@ pub struct SceneSystem {
     pub force: Vec<[f64; 2]>,
     /// Stage timers (accumulated).
     pub timers: StageTimers,
+    /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
+    /// force passes and end-of-step hooks (filled while the stage timers are on).
+    pub contribution_times: Vec<f64>,
     /// Time of the last evaluation's external loads [s].
     pub evaluations: u64,
     timing: bool,
@@ -131,6 +134,7 @@ impl SceneSystem {
             contributions: Vec::new(),
             force: vec![[0.0; 2]; n],
             timers: StageTimers::default(),
+            contribution_times: Vec::new(),
             evaluations: 0,
             timing: true,
         }
@@ -173,8 +177,22 @@ impl SceneSystem {
         }
         if !self.contributions.is_empty() {
             let s = clock(self.timing);
-            for c in &mut self.contributions {
-                c.add_forces(t, xn, vn, &mut self.force);
+            if self.timing {
+                self.contribution_times
+                    .resize(self.contributions.len(), 0.0);
+                for (c, ct) in self
+                    .contributions
+                    .iter_mut()
+                    .zip(&mut self.contribution_times)
+                {
+                    let sc = Instant::now();
+                    c.add_forces(t, xn, vn, &mut self.force);
+                    *ct += sc.elapsed().as_secs_f64();
+                }
+            } else {
+                for c in &mut self.contributions {
+                    c.add_forces(t, xn, vn, &mut self.force);
+                }
             }
             self.timers.contributions += secs(s);
         }
@@ -235,8 +253,22 @@ impl SecondOrderSystem for SceneSystem {
         if !self.contributions.is_empty() {
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
-            for c in &mut self.contributions {
-                c.end_of_step(t, xn, vn);
+            if self.timing {
+                self.contribution_times
+                    .resize(self.contributions.len(), 0.0);
+                for (c, ct) in self
+                    .contributions
+                    .iter_mut()
+                    .zip(&mut self.contribution_times)
+                {
+                    let sc = Instant::now();
+                    c.end_of_step(t, xn, vn);
+                    *ct += sc.elapsed().as_secs_f64();
+                }
+            } else {
+                for c in &mut self.contributions {
+                    c.end_of_step(t, xn, vn);
+                }
             }
         }
     }
