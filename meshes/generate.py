@@ -23,6 +23,8 @@ GEOS = [
     "long-bar",
     "notched-beam",
     "block",
+    "notched-beam-coarse",
+    "block-coarse",
 ]
 # (suffix, MshFileVersion, Binary)
 VARIANTS = {"cantilever-coarse": [("-bin", 4.1, 1), ("-v22", 2.2, 0)]}
