@@ -56,12 +56,13 @@ def shot(run, time, png, stress_title, component, rng, focus, scale):
     sb.WindowLocation = "Any Location"
     sb.Position = [0.80, 0.05]
     sb.ScalarBarLength = 0.4
-    # Damaged joints (damage above 1 %), coloured by damage.
+    # Damaged joints (damage above 1 %), coloured by damage (light to dark).
     damaged = threshold(joints, "damage", 0.01, 1.0)
     dd = Show(damaged, view)
     ColorBy(dd, ("CELLS", "damage"))
     dl = GetColorTransferFunction("damage")
     dl.ApplyPreset("Inferno (matplotlib)", True)
+    dl.InvertTransferFunction()  # light: barely damaged; dark: nearly broken
     dl.RescaleTransferFunction(0.0, 1.0)
     dd.LineWidth = 2.5
     dd.SetScalarBarVisibility(view, True)
@@ -94,7 +95,7 @@ if "beam" in which:
     shot("notched-beam-fracture", 4e-3, "docs/img/notched-beam-fracture-crack.png",
          "sigma_xx [Pa]", 0, (-6e6, 6e6), (0.006, 0.025), 0.03)
 if "block" in which:
-    shot("block-compression-fracture", 4.25e-4, "docs/img/block-compression-fracture-crack.png",
+    shot("block-compression-fracture", 4.5e-4, "docs/img/block-compression-fracture-crack.png",
          "sigma_yy [Pa]", 4, (-60e6, 5e6), (0.031, 0.025), 0.032)
 if "disc" in which:
     shot("brazilian-disc-fracture", 1.65e-3, "docs/img/brazilian-disc-fracture-crack.png",

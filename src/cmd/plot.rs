@@ -117,6 +117,7 @@ impl Table {
 }
 
 /// One run's curve: displacement [m] and load [N], and what they are.
+#[derive(Debug)]
 struct Curve {
     points: Vec<(f64, f64)>,
     x_label: String,
@@ -288,4 +289,70 @@ pub fn load_displacement(
         lines: true,
     };
     plot.write(&stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(tag: &str, files: &[(&str, &str)]) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fdem-plot-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        for (name, text) in files {
+            std::fs::write(d.join(name), text).unwrap();
+        }
+        d
+    }
+
+    #[test]
+    fn platens_give_the_first_walls_force_against_the_closure() {
+        let d = folder(
+            "walls",
+            &[(
+                "walls.csv",
+                "time,u_x[top],u_y[top],force_x[top],force_y[top],u_x[bottom],u_y[bottom],force_x[bottom],force_y[bottom]\n\
+                 0,0,0,0,0,0,0,0,0\n\
+                 1,0,-1e-6,0,-500,0,1e-6,0,500\n",
+            )],
+        );
+        let c = curve(&d, None, None).unwrap();
+        assert_eq!(c.points, vec![(0.0, 0.0), (2e-6, 500.0)]);
+        assert!(c.x_label.contains("top + bottom"));
+        let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        assert!(files.iter().all(|f| f.exists()));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn histories_give_a_groups_reaction_against_its_displacement() {
+        let d = folder(
+            "hist",
+            &[(
+                "histories.csv",
+                "time,reaction_x[load],reaction_y[load],u_x[load],u_y[load],kinetic\n\
+                 0,0,0,0,0,0\n\
+                 1,3,-700,1e-7,-1e-5,0\n",
+            )],
+        );
+        let c = curve(&d, None, None).unwrap();
+        assert_eq!(c.points, vec![(0.0, 0.0), (1e-5, 700.0)]);
+        // Named columns win; a missing column is an error that lists the columns.
+        let c = curve(&d, Some("reaction_x[load]"), Some("u_x[load]")).unwrap();
+        assert_eq!(c.points[1], (1e-7, 3.0));
+        let e = curve(&d, Some("nope"), Some("u_x[load]")).unwrap_err();
+        assert!(format!("{e}").contains("reaction_y[load]"));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_folder_without_curves_says_what_the_scene_needs() {
+        let d = folder("none", &[("histories.csv", "time,kinetic\n0,0\n")]);
+        let e = format!("{}", curve(&d, None, None).unwrap_err());
+        assert!(
+            e.contains("\"reaction\" and a \"displacement\" probe"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
 }
