@@ -24,6 +24,8 @@ GEOS = [
     "notched-beam",
     "block",
     "hertz-disc",
+    "notched-beam-coarse",
+    "block-coarse",
 ]
 # (suffix, MshFileVersion, Binary)
 VARIANTS = {"cantilever-coarse": [("-bin", 4.1, 1), ("-v22", 2.2, 0)]}

@@ -3,6 +3,7 @@
 //! - `fdem run SCENE [--out DIR] [--raw]`: run a scene (`src/cmd/run.rs`).
 //! - `fdem check SCENE`: validate a scene, stable steps, estimated time (`src/cmd/check.rs`).
 //! - `fdem info MESH`: describe a mesh file (`src/cmd/info.rs`).
+//! - `fdem plot load-displacement DIR...`: load-displacement curves of runs (`src/cmd/plot.rs`).
 //! - `fdem study oscillator [--out DIR]`: the time-integration study (`src/study/`).
 
 mod cmd;
@@ -46,6 +47,9 @@ enum Command {
         /// The mesh file (.msh or .json).
         mesh: PathBuf,
     },
+    /// Plots of run results (PNG and SVG).
+    #[command(subcommand)]
+    Plot(cmd::plot::PlotCommand),
     /// Numerical studies that reproduce and extend the reference's comparisons.
     #[command(subcommand)]
     Study(study::StudyCommand),
@@ -66,6 +70,7 @@ fn main() -> ExitCode {
         Command::Run { scene, out, raw } => cmd::run::run(&scene, out, raw),
         Command::Check { scene } => cmd::check::check(&scene),
         Command::Info { mesh } => cmd::info::info(&mesh),
+        Command::Plot(cmd) => cmd::plot::run(cmd),
         Command::Study(cmd) => study::run(cmd),
     };
     match result {

@@ -1,5 +1,6 @@
-//! The solver's subcommands: `run`, `check`, `info`.
+//! The solver's subcommands: `run`, `check`, `info`, `plot`.
 
 pub mod check;
 pub mod info;
+pub mod plot;
 pub mod run;

@@ -54,6 +54,14 @@ pub fn run(scene: &Path, out: Option<PathBuf>, raw: bool) -> Result<()> {
         })?
     };
     println!("{}", summary.describe());
+    // Fracturing scenes: the load-displacement curve, when the run has one (platens, or a
+    // group with reaction and displacement probes).
+    if out.join("fractures.csv").exists() {
+        match super::plot::load_displacement(std::slice::from_ref(&out), None, None, None, None) {
+            Ok(files) => println!("load-displacement curve: {}", files[0].display()),
+            Err(e) => eprintln!("no load-displacement curve: {e:#}"),
+        }
+    }
     println!("results in {}", out.display());
     Ok(())
 }

@@ -1,7 +1,9 @@
 """Independent read-back of fdem's output: every .vtu frame listed in results.pvd is read by
 meshio and by VTK's vtkXMLUnstructuredGridReader, and its points, cells and arrays must equal
-the solver's raw dump (frame_NNNN.json) exactly. Prints 'N passed, N failed'; exits non-zero
-on any failure."""
+the solver's raw dump (frame_NNNN.json) exactly. In fracturing runs the joint series
+(joints.pvd, joints_NNNN.vtu: one line cell per joint) is read the same way and compared with
+the dump's "joints" object; a run without joints must have no joint series. Prints
+'N passed, N failed'; exits non-zero on any failure."""
 import json
 import os
 import sys
@@ -64,13 +66,76 @@ def same(a, b):
     return a.shape == b.shape and np.array_equal(a, b)
 
 
-def read_vtk(path):
+JOINT_ARRAYS = ["damage", "mode", "mode_mix", "broken", "time_of_failure", "opening", "sliding",
+                "normal_traction", "shear_traction"]
+
+
+def check_joints(out, entries):
+    """The joint series of run folder `out` against the raw dumps of the frames `entries`."""
+    pvd_path = os.path.join(out, "joints.pvd")
+    raws = [json.load(open(os.path.join(out, f.replace(".vtu", ".json")))) for _, f in entries]
+    has = ["joints" in r for r in raws]
+    if not any(has):
+        check(f"{out}: no joint series without joints", not os.path.exists(pvd_path))
+        return
+    check(f"{out}: every frame has joints", all(has))
+    jp = ET.parse(pvd_path).getroot()
+    jentries = [(float(d.get("timestep")), d.get("file")) for d in jp.iter("DataSet")]
+    check(f"{out}: joints.pvd has the frames of results.pvd",
+          [t for t, _ in jentries] == [t for t, _ in entries], f"{len(jentries)} vs {len(entries)}")
+    prev_damage = None
+    for (t, f), raw in zip(jentries, raws):
+        j = raw["joints"]
+        tag = f"{os.path.basename(out)}/{f}"
+        n = len(j["damage"])
+        check(f"{tag}: joint file named after its frame",
+              f.replace("joints_", "frame_") in [e[1] for e in entries])
+        text = open(os.path.join(out, f), "rb").read(4096)
+        check(f"{tag}: zlib compressed", b"vtkZLibDataCompressor" in text)
+        pts = vec3(j["points"])
+        lines = np.arange(2 * n, dtype=np.int64).reshape(n, 2)
+        m = meshio.read(os.path.join(out, f))
+        check(f"{tag}: meshio points (joint mid-surface ends)", same(m.points, pts))
+        ln = [c.data for c in m.cells if c.type == "line"]
+        check(f"{tag}: meshio one line cell per joint", len(ln) == 1 and same(ln[0], lines))
+        for k in JOINT_ARRAYS:
+            check(f"{tag}: meshio cell {k}", same(m.cell_data[k][0], np.asarray(j[k])))
+        vp, conn, pd, cd, types = read_vtk(os.path.join(out, f), 2)
+        check(f"{tag}: vtk points", same(vp, pts))
+        check(f"{tag}: vtk line cells", same(conn, lines) and types == {3})
+        for k in JOINT_ARRAYS:
+            check(f"{tag}: vtk cell {k}", k in cd and same(cd[k], np.asarray(j[k])))
+        check(f"{tag}: no NaN", all(np.isfinite(np.asarray(a, dtype=float)).all() for a in cd.values()))
+        d = np.asarray(cd["damage"])
+        b = np.asarray(cd["broken"])
+        tof = np.asarray(cd["time_of_failure"])
+        check(f"{tag}: damage in [0, 1]", ((d >= 0) & (d <= 1)).all())
+        check(f"{tag}: broken joints have damage 1 and failed by the frame time",
+              ((d[b == 1] == 1) & (tof[b == 1] >= 0) & (tof[b == 1] <= t * (1 + 1e-12))).all())
+        check(f"{tag}: unbroken joints have time_of_failure -1", (tof[b == 0] == -1).all())
+        if prev_damage is not None:
+            check(f"{tag}: damage never heals", (d >= prev_damage).all())
+        prev_damage = d
+    # The last frame's broken joints are the rows of fractures.csv (when the last frame is the
+    # end of the run), with the same failure times.
+    csv_path = os.path.join(out, "fractures.csv")
+    rows = [l.split(",") for l in open(csv_path).read().splitlines()[1:]]
+    ev = {int(r[6]): float(r[0]) for r in rows}
+    last = raws[-1]["joints"]
+    broken = {i: last["time_of_failure"][i] for i, b in enumerate(last["broken"]) if b == 1}
+    check(f"{out}: broken joints of the last frame are fractures.csv's",
+          set(broken) == set(ev), f"{len(broken)} vs {len(ev)}")
+    check(f"{out}: failure times agree with fractures.csv",
+          all(abs(broken[i] - ev[i]) <= 1e-8 * abs(ev[i]) for i in set(broken) & set(ev)))
+
+
+def read_vtk(path, verts=3):
     r = vtk.vtkXMLUnstructuredGridReader()
     r.SetFileName(path)
     r.Update()
     g = r.GetOutput()
     pts = vtk_to_numpy(g.GetPoints().GetData())
-    conn = vtk_to_numpy(g.GetCells().GetConnectivityArray()).reshape(-1, 3)
+    conn = vtk_to_numpy(g.GetCells().GetConnectivityArray()).reshape(-1, verts)
     pd = {g.GetPointData().GetArrayName(i): vtk_to_numpy(g.GetPointData().GetArray(i))
           for i in range(g.GetPointData().GetNumberOfArrays())}
     cd = {g.GetCellData().GetArrayName(i): vtk_to_numpy(g.GetCellData().GetArray(i))
@@ -110,6 +175,7 @@ for out in sys.argv[1:]:
             check(f"{tag}: vtk cell {k}", k in cd and same(cd[k], v))
         check(f"{tag}: no NaN", all(np.isfinite(np.asarray(a, dtype=float)).all()
                                     for a in list(pd.values()) + list(cd.values())))
+    check_joints(out, entries)
 
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

@@ -9,6 +9,18 @@ use std::path::Path;
 /// lines or triangles of the group.
 const MESHIO_COUNTS: &[(&str, usize, usize, &str)] = &[
     (
+        "block-coarse.msh",
+        230,
+        406,
+        "bottom:1:13,right:1:13,top:1:13,left:1:13,body:2:406",
+    ),
+    (
+        "notched-beam-coarse.msh",
+        975,
+        1831,
+        "support_left:0:1,support_right:0:1,load_top:0:1,bottom:1:46,notch:1:11,top:1:46,load:1:4,left:1:5,right:1:5,bulk:2:1194,fracture_zone:2:637",
+    ),
+    (
         "block.msh",
         1544,
         2936,
@@ -174,6 +186,8 @@ fn mesh_areas_match_geometry() {
         ("cantilever-fine.msh", 10.0, 1e-12),
         ("long-bar.msh", 0.02, 1e-12),
         ("notched-beam.msh", 0.2 * 0.05 - 0.002 * 0.01, 1e-12),
+        ("notched-beam-coarse.msh", 0.2 * 0.05 - 0.002 * 0.01, 1e-12),
+        ("block-coarse.msh", 0.05 * 0.05, 1e-12),
         // arcs: chord error of a segment of angle dt is R^2 (dt - sin dt)/2 ~ R^2 dt^3/12
         ("brazilian-disc.msh", PI * 0.025f64.powi(2), 1e-3),
         ("thick-cylinder.msh", PI / 4.0 * 3.0, 1e-3),

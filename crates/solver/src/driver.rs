@@ -20,7 +20,7 @@ use serde::Serialize;
 use crate::error::{RunError, SceneError};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
-use crate::output::{Collection, FrameData, HistoryWriter, frame, vtu, write_atomic};
+use crate::output::{Collection, FrameData, HistoryWriter, JointSeries, frame, vtu, write_atomic};
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 use crate::static_solve;
 use crate::system::{ForceContribution, SceneSystem, StageTimers};
@@ -456,6 +456,7 @@ struct Writer {
     raw: bool,
     level: u32,
     frames: usize,
+    joints: JointSeries,
 }
 
 impl Writer {
@@ -470,6 +471,7 @@ impl Writer {
             raw: options.raw,
             level,
             frames: 0,
+            joints: JointSeries::default(),
         })
     }
 
@@ -494,6 +496,9 @@ impl Writer {
         let bytes = vtu::encode(data, self.level).map_err(|e| out(self.dir.join(&name), e))?;
         write_atomic(&self.dir.join(&name), &bytes)
             .map_err(|e| out(self.dir.join(&name), e.to_string()))?;
+        self.joints
+            .write(&self.dir, self.frames, data, self.level)
+            .map_err(|(file, e)| out(file, e))?;
         if self.raw {
             let raw = format!("frame_{:04}.json", self.frames);
             let text =
@@ -578,6 +583,7 @@ pub fn frame_from_parts(
         body: model.tri_body.iter().map(|&b| b as i32).collect(),
         extra_point_vectors: Vec::new(),
         extra_cell_scalars: Vec::new(),
+        joints: None,
     }
 }
 

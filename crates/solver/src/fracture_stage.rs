@@ -310,6 +310,11 @@ impl ForceContribution for FractureStage {
         }
     }
 
+    /// Hands the joints to the writer (the `joints_NNNN.vtu` series, `crate::output::joints`).
+    fn frame_fields(&self, x: &[[f64; 2]], frame: &mut crate::output::FrameData) {
+        frame.joints = Some(crate::output::JointFrame::new(&self.set, &self.state, x));
+    }
+
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {
         let e = self.state.energy();
         StageReport {

@@ -39,6 +39,10 @@ pub struct FrameData {
     /// scene has contact), written after `body`; empty (and absent from the files) otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub extra_cell_scalars: Vec<(String, Vec<f64>)>,
+    /// The joints as line cells (scenes with a `"fracture"` section only; written as
+    /// `joints_NNNN.vtu` beside the frame, see [`super::joints`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joints: Option<super::JointFrame>,
 }
 
 /// In-plane principal stresses (s1 >= s2) of (sxx, syy, sxy).

@@ -1,4 +1,5 @@
-//! Output: `.vtu` frames collected in a `.pvd`, histories as CSV, and the JSON run summary.
+//! Output: `.vtu` frames collected in a `.pvd`, histories as CSV, and the JSON run summary;
+//! in fracturing scenes a second series of the joints as line cells (`joints.pvd`).
 //!
 //! Every file is written whole or not at all ([`atomic::write_atomic`]: a temporary file in
 //! the same folder, then a rename), and the `.pvd` collection is rewritten after each frame,
@@ -7,10 +8,12 @@
 pub mod atomic;
 pub mod frame;
 pub mod history;
+pub mod joints;
 pub mod pvd;
 pub mod vtu;
 
 pub use atomic::write_atomic;
 pub use frame::FrameData;
 pub use history::HistoryWriter;
+pub use joints::{JointFrame, JointSeries};
 pub use pvd::Collection;

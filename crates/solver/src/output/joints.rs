@@ -1,0 +1,352 @@
+//! The joints of a fracturing scene as a second ParaView series: `joints_NNNN.vtu` (line
+//! cells, zlib compressed, the only other module that uses vtkio) collected in `joints.pvd`,
+//! written at the same frames as the triangles' `frame_NNNN.vtu`.
+//!
+//! One line cell per joint, cell `j` is joint `j` (the `joint` column of `fractures.csv`),
+//! with its own two points: the current **mid-surface** of the joint,
+//!
+//! ```text
+//! M0 = (x_P + x_S)/2,   M1 = (x_Q + x_R)/2
+//! ```
+//!
+//! (edge P->Q of triangle T1 against R->S of T2; the two node pairs averaged, so the line
+//! sits in the middle of an opening crack). Cell arrays, each from the committed joint
+//! history at the frame's positions:
+//!
+//! | array | meaning |
+//! |---|---|
+//! | `damage` | mean damage of the two integration points, in `[0, 1]` (1 once broken) |
+//! | `mode` | 0 elastic (no damage), 1 mode I, 2 mode II, 3 mixed (damaged or broken joints, from `mode_mix`: below 1/6, above 5/6, between) |
+//! | `mode_mix` | mode indicator `(2/pi) atan2(d_II, d_I)` of the latest damage growth, mean of the two points (0 pure I, 1 pure II) |
+//! | `broken` | 0 or 1 |
+//! | `time_of_failure` | time of the break [s]; -1 for an unbroken joint (never NaN) |
+//! | `opening`, `sliding` | `o = w . nn`, `s = w . tt`, mean of the two points [m] (`w` = x_S - x_P, x_R - x_Q) |
+//! | `normal_traction`, `shear_traction` | `sigma`, `tau` of the law, mean of the two points [Pa], tension positive; 0 once broken |
+
+use fdem_fracture::{FractureMode, JointSet, JointState, kinematics, point_traction};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, Piece,
+    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+};
+use vtkio::xml::Compressor;
+
+use super::{Collection, FrameData, write_atomic};
+
+/// The joints of one frame (plain data, one entry per joint; `points` has two per joint).
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct JointFrame {
+    /// The line of joint `j` runs from `points[2j]` (M0) to `points[2j + 1]` (M1) [m].
+    pub points: Vec<[f64; 2]>,
+    /// Mean damage of the two points, in `[0, 1]`.
+    pub damage: Vec<f64>,
+    /// 0 elastic, 1 mode I, 2 mode II, 3 mixed.
+    pub mode: Vec<i32>,
+    /// Mode indicator in `[0, 1]` (0 pure mode I, 1 pure mode II).
+    pub mode_mix: Vec<f64>,
+    /// 1 once broken, else 0.
+    pub broken: Vec<i32>,
+    /// Time of the break [s], -1 while unbroken.
+    pub time_of_failure: Vec<f64>,
+    /// Opening, mean of the two points [m].
+    pub opening: Vec<f64>,
+    /// Sliding, mean of the two points [m].
+    pub sliding: Vec<f64>,
+    /// Normal traction, mean of the two points [Pa] (0 once broken).
+    pub normal_traction: Vec<f64>,
+    /// Shear traction, mean of the two points [Pa] (0 once broken).
+    pub shear_traction: Vec<f64>,
+}
+
+/// Mode code of a joint: 0 with no damage, else [`FractureMode::from_mix`] as 1 (I), 2 (II),
+/// 3 (mixed).
+pub fn mode_code(damage: f64, mix: f64) -> i32 {
+    if damage <= 0.0 {
+        return 0;
+    }
+    match FractureMode::from_mix(mix) {
+        FractureMode::I => 1,
+        FractureMode::II => 2,
+        FractureMode::Mixed => 3,
+    }
+}
+
+impl JointFrame {
+    /// The joints of `set` with history `state` at positions `x`.
+    pub fn new(set: &JointSet, state: &JointState, x: &[[f64; 2]]) -> Self {
+        let n = set.len();
+        let mut f = JointFrame {
+            points: Vec::with_capacity(2 * n),
+            damage: Vec::with_capacity(n),
+            mode: Vec::with_capacity(n),
+            mode_mix: Vec::with_capacity(n),
+            broken: Vec::with_capacity(n),
+            time_of_failure: Vec::with_capacity(n),
+            opening: Vec::with_capacity(n),
+            sliding: Vec::with_capacity(n),
+            normal_traction: Vec::with_capacity(n),
+            shear_traction: Vec::with_capacity(n),
+        };
+        for j in 0..n {
+            let xs = set.gather(j, x);
+            let [p, q, r, s] = xs;
+            f.points.push([0.5 * (p[0] + s[0]), 0.5 * (p[1] + s[1])]);
+            f.points.push([0.5 * (q[0] + r[0]), 0.5 * (q[1] + r[1])]);
+            let k = kinematics(&xs, set.consts[j].h);
+            let h = &state.history[j];
+            let intact = state.intact[j];
+            let (sigma, tau) = if intact {
+                let m = &set.materials[set.material[j] as usize];
+                let t: [_; 2] = std::array::from_fn(|i| {
+                    point_traction(
+                        m,
+                        &set.consts[j],
+                        k.o[i],
+                        k.s[i],
+                        state.damage[j][i],
+                        h.mode_mix[i],
+                    )
+                });
+                (0.5 * (t[0].sigma + t[1].sigma), 0.5 * (t[0].tau + t[1].tau))
+            } else {
+                (0.0, 0.0)
+            };
+            let d = if intact {
+                state.joint_damage(j).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            let mix = h.mode_mix().clamp(0.0, 1.0);
+            f.damage.push(d);
+            f.mode.push(mode_code(d, mix));
+            f.mode_mix.push(mix);
+            f.broken.push(i32::from(!intact));
+            f.time_of_failure.push(match h.broken_at {
+                Some(t) if !intact => t,
+                _ => -1.0,
+            });
+            f.opening.push(0.5 * (k.o[0] + k.o[1]));
+            f.sliding.push(0.5 * (k.s[0] + k.s[1]));
+            f.normal_traction.push(sigma);
+            f.shear_traction.push(tau);
+        }
+        f
+    }
+
+    /// Number of joints.
+    pub fn len(&self) -> usize {
+        self.damage.len()
+    }
+
+    /// True with no joints.
+    pub fn is_empty(&self) -> bool {
+        self.damage.is_empty()
+    }
+
+    /// True when every value is finite (a frame with a NaN or infinity is not written).
+    pub fn is_finite(&self) -> bool {
+        self.points.iter().flatten().all(|v| v.is_finite())
+            && [
+                &self.damage,
+                &self.mode_mix,
+                &self.time_of_failure,
+                &self.opening,
+                &self.sliding,
+                &self.normal_traction,
+                &self.shear_traction,
+            ]
+            .iter()
+            .all(|a| a.iter().all(|v| v.is_finite()))
+    }
+}
+
+fn array(name: &str, data: Vec<f64>) -> Attribute {
+    Attribute::DataArray(DataArray {
+        name: name.into(),
+        elem: ElementType::Generic(1),
+        data: data.into(),
+    })
+}
+
+fn int_array(name: &str, data: Vec<i32>) -> Attribute {
+    Attribute::DataArray(DataArray {
+        name: name.into(),
+        elem: ElementType::Generic(1),
+        data: data.into(),
+    })
+}
+
+/// Encodes the joints as the bytes of a `.vtu` file of line cells (zlib level `level`,
+/// 0 = uncompressed).
+pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
+    let n = j.len();
+    let points: Vec<f64> = j.points.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+    let piece = UnstructuredGridPiece {
+        points: points.into(),
+        cells: Cells {
+            cell_verts: VertexNumbers::XML {
+                connectivity: (0..2 * n as u64).collect(),
+                offsets: (1..=n as u64).map(|i| 2 * i).collect(),
+            },
+            types: vec![CellType::Line; n],
+        },
+        data: Attributes {
+            point: Vec::new(),
+            cell: vec![
+                array("damage", j.damage.clone()),
+                int_array("mode", j.mode.clone()),
+                array("mode_mix", j.mode_mix.clone()),
+                int_array("broken", j.broken.clone()),
+                array("time_of_failure", j.time_of_failure.clone()),
+                array("opening", j.opening.clone()),
+                array("sliding", j.sliding.clone()),
+                array("normal_traction", j.normal_traction.clone()),
+                array("shear_traction", j.shear_traction.clone()),
+            ],
+        },
+    };
+    let vtk = Vtk {
+        version: Version::new_xml(1, 0),
+        title: String::new(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::UnstructuredGrid {
+            meta: None,
+            pieces: vec![Piece::Inline(Box::new(piece))],
+        },
+    };
+    let compressor = if level == 0 {
+        Compressor::None
+    } else {
+        Compressor::ZLib
+    };
+    let xml = vtk
+        .try_into_xml_format(compressor, level)
+        .map_err(|e| e.to_string())?;
+    let mut bytes = Vec::new();
+    xml.write(&mut bytes).map_err(|e| e.to_string())?;
+    Ok(bytes)
+}
+
+/// The joint series of a run: `joints_NNNN.vtu` files and their collection `joints.pvd`,
+/// started by the first frame that carries joints (a scene without joints writes neither).
+#[derive(Debug, Clone, Default)]
+pub struct JointSeries {
+    pvd: Option<Collection>,
+}
+
+impl JointSeries {
+    /// Writes frame `index`'s joints (if it has any) into `dir` and rewrites `joints.pvd`;
+    /// on failure, the file and the message.
+    pub fn write(
+        &mut self,
+        dir: &Path,
+        index: usize,
+        frame: &FrameData,
+        level: u32,
+    ) -> Result<(), (PathBuf, String)> {
+        let Some(j) = &frame.joints else {
+            return Ok(());
+        };
+        let name = format!("joints_{index:04}.vtu");
+        let path = dir.join(&name);
+        if !j.is_finite() {
+            return Err((path, "non-finite joint values (frame not written)".into()));
+        }
+        let bytes = encode(j, level).map_err(|e| (path.clone(), e))?;
+        write_atomic(&path, &bytes).map_err(|e| (path.clone(), e.to_string()))?;
+        let pvd = self
+            .pvd
+            .get_or_insert_with(|| Collection::new(&dir.join("joints.pvd")));
+        pvd.push(frame.time, &name)
+            .map_err(|e| (dir.join("joints.pvd"), e.to_string()))
+    }
+
+    /// Frames written.
+    pub fn len(&self) -> usize {
+        self.pvd.as_ref().map_or(0, Collection::len)
+    }
+
+    /// True before the first joint frame.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdem_fracture::{Joint, JointMaterialInput};
+
+    fn one_joint() -> (JointSet, Vec<[f64; 2]>) {
+        let mat = JointMaterialInput {
+            tensile_strength: 5e6,
+            cohesion: 10e6,
+            friction_angle_deg: 30.0,
+            fracture_energy_i: 50.0,
+            fracture_energy_ii: 250.0,
+            penalty_normal: 3e12,
+            penalty_tangential: 3e12,
+        };
+        let joints = [Joint {
+            nodes: [0, 1, 2, 3],
+            triangles: [0, 1],
+            ref_length: 0.01,
+            material: 0,
+        }];
+        let x = vec![[0.0, 0.0], [0.01, 0.0], [0.01, 0.0], [0.0, 0.0]];
+        (JointSet::new(&joints, &[mat], 4, 1.0).unwrap(), x)
+    }
+
+    #[test]
+    fn joint_frame_is_the_mid_surface_with_the_law_tractions() {
+        let (set, mut x) = one_joint();
+        let state = JointState::new(&set, &x);
+        // Open by half the peak opening (nn points to -y: move R, S down): sigma = ft (2x - x^2)
+        // with x = 1/2, i.e. 0.75 ft; the line is the mid-surface at y = -o/2.
+        let o_p = 2.0 * 0.01 * 5e6 / 3e12;
+        x[2][1] -= 0.5 * o_p;
+        x[3][1] -= 0.5 * o_p;
+        let f = JointFrame::new(&set, &state, &x);
+        assert_eq!(f.len(), 1);
+        assert_eq!(f.points, vec![[0.0, -0.25 * o_p], [0.01, -0.25 * o_p]]);
+        assert!((f.opening[0] / (0.5 * o_p) - 1.0).abs() < 1e-12);
+        assert!(f.sliding[0].abs() < 1e-20);
+        assert!((f.normal_traction[0] / (0.75 * 5e6) - 1.0).abs() < 1e-12);
+        assert_eq!((f.damage[0], f.mode[0], f.broken[0]), (0.0, 0, 0));
+        assert_eq!(f.time_of_failure[0], -1.0);
+        assert!(f.is_finite());
+    }
+
+    #[test]
+    fn joint_vtu_has_one_line_cell_per_joint_and_vtkio_reads_it_back() {
+        let (set, x) = one_joint();
+        let state = JointState::new(&set, &x);
+        let f = JointFrame::new(&set, &state, &x);
+        let bytes = encode(&f, 6).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        assert!(text.contains("vtkZLibDataCompressor"));
+        assert!(text.contains("Name=\"time_of_failure\""));
+        let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
+        let vtk: Vtk = back.try_into().unwrap();
+        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+            panic!("not an unstructured grid")
+        };
+        let Piece::Inline(p) = &pieces[0] else {
+            panic!("not inline")
+        };
+        assert_eq!(p.cells.types, vec![CellType::Line]);
+        let pts: Vec<f64> = p.points.cast_into().unwrap();
+        assert_eq!(pts, vec![0.0, 0.0, 0.0, 0.01, 0.0, 0.0]);
+        assert_eq!(p.data.cell.len(), 9);
+    }
+
+    #[test]
+    fn mode_codes_follow_the_fracture_modes() {
+        assert_eq!(mode_code(0.0, 0.9), 0);
+        assert_eq!(mode_code(0.5, 0.1), 1);
+        assert_eq!(mode_code(1.0, 0.9), 2);
+        assert_eq!(mode_code(0.2, 0.5), 3);
+    }
+}

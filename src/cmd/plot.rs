@@ -1,0 +1,358 @@
+//! `fdem plot load-displacement DIR...`: the load-displacement curve of one or more runs as
+//! `load_displacement.png` (and `.svg`), read from the run folders' CSV files.
+//!
+//! Where the curve comes from, unless `--load` and `--displacement` name the columns:
+//! - `walls.csv` with moving walls (platens): the load is the force of the first moving wall
+//!   along its direction of motion, `|force_y[w]|` (or `x`), and the displacement is the sum of
+//!   the moving walls' `|u_y|` (the platen closure when two platens approach each other);
+//! - otherwise `histories.csv`: the first group with both `reaction_y[G]` and `u_y[G]` (then
+//!   `x`): the load is `|reaction_y[G]|` (the force the prescribed nodes apply), the
+//!   displacement `|u_y[G]|`.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Subcommand;
+
+use crate::plot::{Plot, Scale, Series};
+
+/// Plots of run results.
+#[derive(Subcommand)]
+pub enum PlotCommand {
+    /// Load against displacement (platens from walls.csv, or a loaded group's reaction and
+    /// displacement from histories.csv); several run folders give one curve each.
+    LoadDisplacement {
+        /// Run folders (the --out of fdem run).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Load column (in walls.csv or histories.csv), e.g. "reaction_y[load]".
+        #[arg(long)]
+        load: Option<String>,
+        /// Displacement column of the same file, e.g. "u_y[load]".
+        #[arg(long)]
+        displacement: Option<String>,
+        /// Output file stem (default DIR/load_displacement for the first DIR): writes .png
+        /// and .svg.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Chart title (default: the first run's scene title).
+        #[arg(long)]
+        title: Option<String>,
+    },
+}
+
+/// Runs a plot command.
+pub fn run(cmd: PlotCommand) -> Result<()> {
+    match cmd {
+        PlotCommand::LoadDisplacement {
+            dirs,
+            load,
+            displacement,
+            out,
+            title,
+        } => {
+            let paths = load_displacement(
+                &dirs,
+                load.as_deref(),
+                displacement.as_deref(),
+                out.as_deref(),
+                title,
+            )?;
+            for p in paths {
+                println!("{}", p.display());
+            }
+            Ok(())
+        }
+    }
+}
+
+/// A CSV file: column names and rows.
+struct Table {
+    path: PathBuf,
+    head: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    fn read(path: &Path) -> Result<Option<Table>> {
+        if !path.exists() {
+            return Ok(None);
+        }
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let mut lines = text.lines();
+        let head: Vec<String> = lines
+            .next()
+            .unwrap_or("")
+            .split(',')
+            .map(|s| s.trim().to_string())
+            .collect();
+        let mut rows = Vec::new();
+        for (i, l) in lines.enumerate() {
+            if l.trim().is_empty() {
+                continue;
+            }
+            let row: Result<Vec<f64>, _> = l.split(',').map(|s| s.trim().parse::<f64>()).collect();
+            let row =
+                row.with_context(|| format!("{} line {}: not a number", path.display(), i + 2))?;
+            rows.push(row);
+        }
+        Ok(Some(Table {
+            path: path.to_path_buf(),
+            head,
+            rows,
+        }))
+    }
+
+    fn col(&self, name: &str) -> Option<usize> {
+        self.head.iter().position(|h| h == name)
+    }
+
+    fn values(&self, c: usize) -> Vec<f64> {
+        self.rows
+            .iter()
+            .map(|r| r.get(c).copied().unwrap_or(f64::NAN))
+            .collect()
+    }
+}
+
+/// One run's curve: displacement [m] and load [N], and what they are.
+#[derive(Debug)]
+struct Curve {
+    points: Vec<(f64, f64)>,
+    x_label: String,
+    y_label: String,
+}
+
+/// The curve of run folder `dir`.
+fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
+    let walls = Table::read(&dir.join("walls.csv"))?;
+    let hist = Table::read(&dir.join("histories.csv"))?;
+    let tables: Vec<&Table> = walls.iter().chain(hist.iter()).collect();
+    if tables.is_empty() {
+        bail!(
+            "{}: neither walls.csv nor histories.csv: is this an fdem run folder? (a scene \
+             needs moving walls in \"contact\" or a \"reaction\" probe in \"histories\")",
+            dir.display()
+        );
+    }
+    if load.is_some() || disp.is_some() {
+        let (Some(l), Some(d)) = (load, disp) else {
+            bail!("give both --load and --displacement");
+        };
+        for t in &tables {
+            if let (Some(cl), Some(cd)) = (t.col(l), t.col(d)) {
+                return Ok(Curve {
+                    points: abs_pairs(t.values(cd), t.values(cl)),
+                    x_label: d.to_string(),
+                    y_label: l.to_string(),
+                });
+            }
+        }
+        bail!(
+            "{}: no file has both columns {l} and {d} (columns: {})",
+            dir.display(),
+            tables
+                .iter()
+                .map(|t| format!("{}: {}", t.path.display(), t.head.join(",")))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+    }
+    if let Some(w) = &walls {
+        // Moving walls: their names from the u_y[...] columns, axis of the larger motion.
+        let mut moving = Vec::new();
+        for (i, h) in w.head.iter().enumerate() {
+            let Some(name) = h.strip_prefix("u_x[").and_then(|s| s.strip_suffix(']')) else {
+                continue;
+            };
+            let Some(iy) = w.col(&format!("u_y[{name}]")) else {
+                continue;
+            };
+            let last = |c: usize| {
+                w.rows
+                    .last()
+                    .and_then(|r| r.get(c))
+                    .map_or(0.0, |v| v.abs())
+            };
+            let (ux, uy) = (last(i), last(iy));
+            if ux.max(uy) > 0.0 {
+                let axis = if uy >= ux { "y" } else { "x" };
+                moving.push((name.to_string(), axis));
+            }
+        }
+        if let Some((first, axis)) = moving.first() {
+            let f = w
+                .col(&format!("force_{axis}[{first}]"))
+                .with_context(|| format!("{}: no force_{axis}[{first}]", w.path.display()))?;
+            let mut u = vec![0.0; w.rows.len()];
+            for (name, ax) in moving.iter().filter(|m| m.1 == *axis) {
+                if let Some(c) = w.col(&format!("u_{ax}[{name}]")) {
+                    for (s, v) in u.iter_mut().zip(w.values(c)) {
+                        *s += v.abs();
+                    }
+                }
+            }
+            let names: Vec<&str> = moving.iter().map(|m| m.0.as_str()).collect();
+            let x_label = if names.len() > 1 {
+                format!("platen closure ({}) [mm]", names.join(" + "))
+            } else {
+                format!("platen displacement ({first}) [mm]")
+            };
+            return Ok(Curve {
+                points: abs_pairs(u, w.values(f)),
+                x_label,
+                y_label: format!("load |force_{axis}[{first}]| [kN]"),
+            });
+        }
+    }
+    if let Some(h) = &hist {
+        for axis in ["y", "x"] {
+            for (i, col) in h.head.iter().enumerate() {
+                let prefix = format!("reaction_{axis}[");
+                let Some(group) = col.strip_prefix(&prefix).and_then(|s| s.strip_suffix(']'))
+                else {
+                    continue;
+                };
+                if let Some(cu) = h.col(&format!("u_{axis}[{group}]")) {
+                    return Ok(Curve {
+                        points: abs_pairs(h.values(cu), h.values(i)),
+                        x_label: format!("displacement |u_{axis}[{group}]| [mm]"),
+                        y_label: format!("load |reaction_{axis}[{group}]| [kN]"),
+                    });
+                }
+            }
+        }
+    }
+    bail!(
+        "{}: no load-displacement data: no moving wall in walls.csv, and histories.csv has no \
+         group with both a \"reaction\" and a \"displacement\" probe (add them to the scene, or \
+         name the columns with --load and --displacement)",
+        dir.display()
+    )
+}
+
+fn abs_pairs(x: Vec<f64>, y: Vec<f64>) -> Vec<(f64, f64)> {
+    x.into_iter()
+        .zip(y)
+        .map(|(a, b)| (a.abs(), b.abs()))
+        .collect()
+}
+
+/// The scene title of a run folder (from summary.json's scene file), if any.
+fn scene_title(dir: &Path) -> Option<String> {
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).ok()?).ok()?;
+    let scene = s.get("scene")?.as_str()?;
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scene).ok()?).ok()?;
+    let t = v.get("title")?.as_str()?;
+    // The first clause: titles are long descriptions.
+    let short = t.split([':', ';']).next().unwrap_or(t).trim();
+    Some(short.chars().take(90).collect())
+}
+
+/// Draws the load-displacement curves of `dirs` into `out` (default
+/// `dirs[0]/load_displacement`): returns the files written (PNG and SVG). Loads in kN,
+/// displacements in mm.
+pub fn load_displacement(
+    dirs: &[PathBuf],
+    load: Option<&str>,
+    disp: Option<&str>,
+    out: Option<&Path>,
+    title: Option<String>,
+) -> Result<Vec<PathBuf>> {
+    let mut series = Vec::new();
+    let mut labels = None;
+    for d in dirs {
+        let c = curve(d, load, disp)?;
+        let name = d
+            .file_name()
+            .map_or_else(|| d.display().to_string(), |n| n.to_string_lossy().into());
+        series.push(Series {
+            name,
+            points: c.points.iter().map(|(u, p)| (1e3 * u, 1e-3 * p)).collect(),
+        });
+        labels.get_or_insert((c.x_label, c.y_label));
+    }
+    let (x_label, y_label) = labels.unwrap_or_default();
+    let stem = out.map_or_else(|| dirs[0].join("load_displacement"), Path::to_path_buf);
+    let plot = Plot {
+        title: title
+            .or_else(|| scene_title(&dirs[0]))
+            .unwrap_or_else(|| "load-displacement".into()),
+        x_label,
+        y_label,
+        x_scale: Scale::Linear,
+        y_scale: Scale::Linear,
+        series,
+        y_range: None,
+        lines: true,
+    };
+    plot.write(&stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn folder(tag: &str, files: &[(&str, &str)]) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("fdem-plot-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        for (name, text) in files {
+            std::fs::write(d.join(name), text).unwrap();
+        }
+        d
+    }
+
+    #[test]
+    fn platens_give_the_first_walls_force_against_the_closure() {
+        let d = folder(
+            "walls",
+            &[(
+                "walls.csv",
+                "time,u_x[top],u_y[top],force_x[top],force_y[top],u_x[bottom],u_y[bottom],force_x[bottom],force_y[bottom]\n\
+                 0,0,0,0,0,0,0,0,0\n\
+                 1,0,-1e-6,0,-500,0,1e-6,0,500\n",
+            )],
+        );
+        let c = curve(&d, None, None).unwrap();
+        assert_eq!(c.points, vec![(0.0, 0.0), (2e-6, 500.0)]);
+        assert!(c.x_label.contains("top + bottom"));
+        let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        assert!(files.iter().all(|f| f.exists()));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn histories_give_a_groups_reaction_against_its_displacement() {
+        let d = folder(
+            "hist",
+            &[(
+                "histories.csv",
+                "time,reaction_x[load],reaction_y[load],u_x[load],u_y[load],kinetic\n\
+                 0,0,0,0,0,0\n\
+                 1,3,-700,1e-7,-1e-5,0\n",
+            )],
+        );
+        let c = curve(&d, None, None).unwrap();
+        assert_eq!(c.points, vec![(0.0, 0.0), (1e-5, 700.0)]);
+        // Named columns win; a missing column is an error that lists the columns.
+        let c = curve(&d, Some("reaction_x[load]"), Some("u_x[load]")).unwrap();
+        assert_eq!(c.points[1], (1e-7, 3.0));
+        let e = curve(&d, Some("nope"), Some("u_x[load]")).unwrap_err();
+        assert!(format!("{e}").contains("reaction_y[load]"));
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_folder_without_curves_says_what_the_scene_needs() {
+        let d = folder("none", &[("histories.csv", "time,kinetic\n0,0\n")]);
+        let e = format!("{}", curve(&d, None, None).unwrap_err());
+        assert!(
+            e.contains("\"reaction\" and a \"displacement\" probe"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+}
