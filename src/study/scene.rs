@@ -71,6 +71,17 @@ const PROBES: [f64; 8] = [1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0];
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
 
+/// Length of a stability probe run, in units of `omega_max t` (796 periods of the element
+/// frequency bound).
+const PROBE_OMEGA_T: f64 = 5000.0;
+/// A probe is unstable when the mean energy over its last fifth exceeds that over its first
+/// fifth by this factor: the centres are `0.8 x 5000 = 4000` apart in `omega_max t`, so 1 %
+/// is an amplitude growth rate of `ln(1.01) / 2 / 4000 = 1.24e-6` per unit `omega_max t`, the
+/// time crate's definition of stability (`rho(T(h)) <= 1 + 1e-6 h`).
+const PROBE_GROWTH: f64 = 1.01;
+/// Power iterations that concentrate a probe's initial velocity in the highest modes.
+const PROBE_POWER_ITERATIONS: usize = 40;
+
 /// The analytical answer a scene may declare in `SCENE.study.json`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case", deny_unknown_fields)]
@@ -84,6 +95,21 @@ enum Analytical {
     },
     /// First natural frequency [Hz] seen at a probe.
     FirstFrequency { probe: String, frequency: f64 },
+    /// A collision of free bodies: measure `K_end / K_0` (kinetic energy after separation
+    /// over before), second measure `|P_end - P_0| / |P_0|` (momentum); no analytical value:
+    /// the error is against the reference run's measure.
+    Collision {},
+    /// A fracturing specimen loaded by a wall: measure the peak of `|force_y[wall]|` in
+    /// `walls.csv` [N], second measure the mean `|x| / radius` of the broken joints in
+    /// `fractures.csv` (the crack path); errors against the reference run.
+    Fracture { wall: String, radius: f64 },
+}
+
+impl Analytical {
+    /// Whether the answer is analytical (else the measure is compared with the reference run).
+    fn is_analytical(&self) -> bool {
+        matches!(self, Self::BarArrival { .. } | Self::FirstFrequency { .. })
+    }
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -110,7 +136,14 @@ struct Run {
     error_analytical: Option<f64>,
     /// The analytical measure itself (arrival time [s] or frequency [Hz]).
     measured: Option<f64>,
-    /// Primary error (analytical when declared).
+    /// Second measure (collision: momentum error; fracture: crack mean |x| / R).
+    measured2: Option<f64>,
+    /// Collision/fracture: `|measured - reference's| / |reference's|`.
+    error_measure: Option<f64>,
+    /// Collision: momentum error itself; fracture: `|crack - reference's crack|` (units of R).
+    error_measure2: Option<f64>,
+    /// Primary error (analytical when declared, else the measure's against the reference
+    /// when declared, else the displacements' against the reference).
     error: Option<f64>,
 }
 
@@ -123,6 +156,8 @@ struct Limit {
     observed_at_least: f64,
     /// Smallest unstable fraction tried (None: none found up to the last probe).
     observed_below: Option<f64>,
+    /// Stability probes ([`stability_probe`]): (fraction, stable, energy ratio).
+    probes: Vec<(f64, bool, Option<f64>)>,
 }
 
 #[derive(Serialize)]
@@ -153,8 +188,12 @@ fn side_file(scene: &Path) -> Result<Option<Analytical>> {
 }
 
 fn read_history(out: &Path, probe: &str) -> Result<(Vec<f64>, Vec<f64>)> {
-    let p = out.join("histories.csv");
-    let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
+    read_csv_column(&out.join("histories.csv"), probe)
+}
+
+/// The first column and the column named `probe` of a CSV file with a header.
+fn read_csv_column(p: &Path, probe: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let col = head
@@ -220,6 +259,7 @@ fn analytical_error(a: &Analytical, out: &Path) -> Result<Option<(f64, f64)>> {
             let f = (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0]);
             Ok(Some((f, (f - frequency).abs() / frequency)))
         }
+        Analytical::Collision {} | Analytical::Fracture { .. } => Ok(None),
     }
 }
 
@@ -266,6 +306,9 @@ fn one_run(
         error_vs_reference: None,
         error_analytical: None,
         measured: None,
+        measured2: None,
+        error_measure: None,
+        error_measure2: None,
         error: None,
     };
     let options = RunOptions {
@@ -290,11 +333,39 @@ fn one_run(
             run.stable = finite && ratio.is_finite() && ratio <= ENERGY_BOUND;
             run.energy_ratio = ratio.is_finite().then_some(ratio);
             if run.stable {
-                if let Some(a) = analytical
-                    && let Some((m, err)) = analytical_error(a, out)?
-                {
-                    run.measured = Some(m);
-                    run.error_analytical = Some(err);
+                match analytical {
+                    Some(Analytical::Collision {}) => {
+                        let mom =
+                            |v: &[[f64; 2]]| {
+                                l.model.mass.iter().zip(v).fold([0.0, 0.0], |p, (m, v)| {
+                                    [p[0] + m * v[0], p[1] + m * v[1]]
+                                })
+                            };
+                        let (p0, p1) = (mom(&l.model.v0), mom(&o.last_frame.velocity));
+                        run.measured = Some(s.energy.kinetic / e_kin0.max(f64::MIN_POSITIVE));
+                        let dp = ((p1[0] - p0[0]).powi(2) + (p1[1] - p0[1]).powi(2)).sqrt();
+                        let p = (p0[0] * p0[0] + p0[1] * p0[1])
+                            .sqrt()
+                            .max(f64::MIN_POSITIVE);
+                        run.measured2 = Some(dp / p);
+                        run.error_measure2 = Some(dp / p);
+                    }
+                    Some(Analytical::Fracture { wall, radius }) => {
+                        let (_, f) =
+                            read_csv_column(&out.join("walls.csv"), &format!("force_y[{wall}]"))?;
+                        run.measured = Some(f.iter().fold(0.0, |a, b| a.max(b.abs())));
+                        let (_, x) = read_csv_column(&out.join("fractures.csv"), "x")?;
+                        run.measured2 = (!x.is_empty()).then(|| {
+                            x.iter().map(|v| v.abs()).sum::<f64>() / x.len() as f64 / radius
+                        });
+                    }
+                    Some(a) => {
+                        if let Some((m, err)) = analytical_error(a, out)? {
+                            run.measured = Some(m);
+                            run.error_analytical = Some(err);
+                        }
+                    }
+                    None => {}
                 }
                 return Ok(Raw {
                     run,
@@ -312,6 +383,134 @@ fn one_run(
         run,
         displacement: Vec::new(),
     })
+}
+
+/// An initial velocity field concentrated in the highest modes of the mesh: power iteration
+/// `v <- M^-1 K v` (with `K v = -(f_int(x_0 + eps v) - f_int(x_0)) / eps`, elements only,
+/// constrained DOFs zero), scaled to a largest nodal speed of `1e-6 c` (small strain).
+fn top_mode_velocity(l: &driver::Loaded) -> Vec<[f64; 2]> {
+    let n = l.model.n_nodes();
+    let x0 = &l.model.x0;
+    let mut f0 = vec![[0.0; 2]; n];
+    let zero = vec![[0.0; 2]; n];
+    l.elements.internal_forces_owner(x0, &zero, &mut f0);
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let mut v: Vec<[f64; 2]> = (0..n).map(|_| [rnd(), rnd()]).collect();
+    let scale_of = |v: &[[f64; 2]]| {
+        v.iter()
+            .map(|a| a[0].abs().max(a[1].abs()))
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE)
+    };
+    let size = x0
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut x = x0.clone();
+    let mut f = vec![[0.0; 2]; n];
+    for _ in 0..PROBE_POWER_ITERATIONS {
+        for (i, vi) in v.iter_mut().enumerate() {
+            for c in 0..2 {
+                if l.model.constrained[2 * i + c] || l.model.mass[i] <= 0.0 {
+                    vi[c] = 0.0;
+                }
+            }
+        }
+        let s = scale_of(&v);
+        let eps = 1e-7 * size / s;
+        for i in 0..n {
+            for c in 0..2 {
+                x[i][c] = x0[i][c] + eps * v[i][c];
+            }
+        }
+        f.iter_mut().for_each(|a| *a = [0.0; 2]);
+        l.elements.internal_forces_owner(&x, &zero, &mut f);
+        for i in 0..n {
+            for c in 0..2 {
+                v[i][c] = -(f[i][c] - f0[i][c]) / (eps * l.model.mass[i].max(f64::MIN_POSITIVE));
+            }
+        }
+        let s = scale_of(&v);
+        for vi in &mut v {
+            vi[0] /= s;
+            vi[1] /= s;
+        }
+    }
+    for (i, vi) in v.iter_mut().enumerate() {
+        for c in 0..2 {
+            if l.model.constrained[2 * i + c] || l.model.mass[i] <= 0.0 {
+                vi[c] = 0.0;
+            }
+        }
+    }
+    // a largest speed of 1e-7 omega_max x the largest coordinate: displacements ~1e-7 of it
+    let amp = 1e-7 * l.omega_max * size;
+    let s = scale_of(&v);
+    v.iter().map(|a| [amp * a[0] / s, amp * a[1] / s]).collect()
+}
+
+/// The measured-stability probe of one scheme at one fraction of its predicted step: the
+/// scene's mesh, supports and optional stages (contact, joints), with no loads, no gravity and
+/// the walls at rest, started from [`top_mode_velocity`] and run for `omega_max t` =
+/// [`PROBE_OMEGA_T`]. Returns whether it is stable (solver did not stop it and the mean of
+/// `K + U` over the last fifth is at most [`PROBE_GROWTH`] times that over the first fifth)
+/// and that ratio.
+fn stability_probe(
+    scene: &Path,
+    scheme: SchemeKind,
+    fraction: f64,
+    out: &Path,
+) -> Result<(bool, Option<f64>)> {
+    let mut l = driver::load(scene)?;
+    l.scheme = scheme;
+    l.dt_limit = driver::stable_step(scheme, l.omega_max, l.z_high);
+    l.scene.integrator.scheme = scheme.name().into();
+    l.scene.output.frames = 0;
+    l.model.loads.clear();
+    l.model.gravity = None;
+    for p in &mut l.model.prescribed {
+        p.velocity = 0.0;
+    }
+    if let Some(c) = &mut l.scene.contact {
+        for w in &mut c.walls {
+            w.velocity = [0.0, 0.0];
+        }
+    }
+    l.model.v0 = top_mode_velocity(&l);
+    let duration = PROBE_OMEGA_T / l.omega_max;
+    let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
+    l.scene.duration = Some(duration);
+    l.dt = duration / n;
+    l.n_steps = n as u64;
+    l.scene.histories.every = Some(((n as usize) / 1000).max(1));
+    l.scene.histories.probes = vec![fdem_solver::scene::Probe::Energy];
+    let options = RunOptions {
+        out_dir: out.to_path_buf(),
+        raw: false,
+    };
+    match driver::run_outcome(&mut l, &options, &mut |_| {}) {
+        Ok(_) => {}
+        Err(RunError::Unstable { .. }) => return Ok((false, None)),
+        Err(e) => return Err(e.into()),
+    }
+    let (_, k) = read_history(out, "kinetic")?;
+    let (_, u) = read_history(out, "strain")?;
+    let e: Vec<f64> = k.iter().zip(&u).map(|(a, b)| a + b).collect();
+    let m = e.len() / 5;
+    if m == 0 {
+        return Ok((true, None));
+    }
+    let first = e[..m].iter().sum::<f64>() / m as f64;
+    let last = e[e.len() - m..].iter().sum::<f64>() / m as f64;
+    let ratio = last / first.max(f64::MIN_POSITIVE);
+    Ok((ratio.is_finite() && ratio <= PROBE_GROWTH, Some(ratio)))
 }
 
 fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
@@ -333,13 +532,13 @@ fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
 
 fn csv(runs: &[Run]) -> String {
     let mut s = String::from(
-        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,element_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error\n",
+        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,element_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error,measured2,error_measure,error_measure2\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:e}")).unwrap_or_default();
     for r in runs {
         let _ = writeln!(
             s,
-            "{},{},{:e},{:e},{},{},{},{:e},{:e},{},{},{},{},{}",
+            "{},{},{:e},{:e},{},{},{},{:e},{:e},{},{},{},{},{},{},{},{}",
             r.scheme,
             r.fraction,
             r.dt,
@@ -353,7 +552,10 @@ fn csv(runs: &[Run]) -> String {
             o(r.error_vs_reference),
             o(r.error_analytical),
             o(r.measured),
-            o(r.error)
+            o(r.error),
+            o(r.measured2),
+            o(r.error_measure),
+            o(r.error_measure2)
         );
     }
     s
@@ -413,13 +615,23 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     for &k in &kinds {
         let mut first_unstable = None;
         let mut last_stable: f64 = 0.0;
+        let mut probes: Vec<(f64, bool, Option<f64>)> = Vec::new();
         let mut list: Vec<f64> = fractions.clone();
         let mut i = 0;
         while i < list.len() {
             let f = list[i];
             bar.set_message(format!("{} at {f} h_pred", k.name()));
             let r = one_run(&args.scene, k, f, &run_dir(k, f), analytical.as_ref())?;
-            if r.run.stable {
+            // The measured-stability probe from 0.99 up, until one is unstable.
+            let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.1) {
+                bar.set_message(format!("{} at {f} h_pred (stability probe)", k.name()));
+                let (ok, ratio) = stability_probe(&args.scene, k, f, &run_dir(k, f).join("probe"))?;
+                probes.push((f, ok, ratio));
+                ok
+            } else {
+                probes.iter().all(|p| p.1)
+            };
+            if r.run.stable && probe_stable {
                 last_stable = last_stable.max(f);
             } else if first_unstable.is_none() {
                 first_unstable = Some(f);
@@ -443,14 +655,31 @@ pub fn run(args: &SceneArgs) -> Result<()> {
             dt_predicted: raws.last().map(|r| r.run.dt_predicted).unwrap_or(0.0),
             observed_at_least: last_stable,
             observed_below: first_unstable,
+            probes,
         });
     }
     bar.finish_and_clear();
     let f_min = fractions[0];
-    let reference = raws
+    let ref_raw = raws
         .iter()
-        .find(|r| r.run.scheme == ref_kind.name() && r.run.fraction == f_min && r.run.stable)
-        .map(|r| r.displacement.clone());
+        .find(|r| r.run.scheme == ref_kind.name() && r.run.fraction == f_min && r.run.stable);
+    let reference = ref_raw.map(|r| r.displacement.clone());
+    let (m_ref, m2_ref) = ref_raw
+        .map(|r| (r.run.measured, r.run.measured2))
+        .unwrap_or((None, None));
+    let by_measure = analytical.as_ref().is_some_and(|a| !a.is_analytical());
+    if by_measure {
+        for r in raws.iter_mut().filter(|r| r.run.stable) {
+            if let (Some(m), Some(mr)) = (r.run.measured, m_ref) {
+                r.run.error_measure = Some((m - mr).abs() / mr.abs().max(f64::MIN_POSITIVE));
+            }
+            if let Some(Analytical::Fracture { .. }) = analytical
+                && let (Some(c), Some(cr)) = (r.run.measured2, m2_ref)
+            {
+                r.run.error_measure2 = Some((c - cr).abs());
+            }
+        }
+    }
     if let Some(u_ref) = &reference {
         let scale = u_ref
             .iter()
@@ -470,7 +699,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     let runs: Vec<Run> = raws
         .into_iter()
         .map(|mut r| {
-            r.run.error = if analytical.is_some() {
+            r.run.error = if by_measure {
+                r.run.error_measure
+            } else if analytical.is_some() {
                 r.run.error_analytical
             } else {
                 r.run.error_vs_reference
@@ -492,7 +723,13 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         &out.join("study.json"),
         serde_json::to_string_pretty(&report)?.as_bytes(),
     )?;
-    let files = plots(&out, &stem, &kinds, &runs, &limits, analytical.is_some())?;
+    let primary = match &analytical {
+        Some(a) if a.is_analytical() => Primary::Analytical,
+        Some(Analytical::Collision {}) => Primary::Measure("kinetic energy ratio after/before"),
+        Some(_) => Primary::Measure("peak load"),
+        None => Primary::Reference,
+    };
+    let files = plots(&out, &stem, &kinds, &runs, &limits, primary)?;
 
     // The table on stdout.
     println!(
@@ -545,6 +782,17 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     Ok(())
 }
 
+/// Which error the first pair of charts shows.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Primary {
+    /// Against the scene's analytical answer.
+    Analytical,
+    /// A scalar measure (named) against the reference run's.
+    Measure(&'static str),
+    /// The displacements against the reference run.
+    Reference,
+}
+
 /// Picks one error of a run.
 type ErrorOf = fn(&Run) -> Option<f64>;
 
@@ -554,7 +802,7 @@ fn plots(
     kinds: &[SchemeKind],
     runs: &[Run],
     limits: &[Limit],
-    analytical: bool,
+    primary: Primary,
 ) -> Result<Vec<PathBuf>> {
     let label = |k: &SchemeKind| {
         let l = limits.iter().find(|l| l.scheme == k.name());
@@ -594,15 +842,27 @@ fn plots(
     };
     // The primary error (analytical when declared), and the error against the reference run
     // as a second pair of charts when the primary one is analytical.
-    let mut kinds_of_error: Vec<(&str, &str, ErrorOf)> = Vec::new();
-    if analytical {
-        kinds_of_error.push(("", "relative error against the analytical answer", |r| {
-            r.error_analytical
-        }));
+    let mut kinds_of_error: Vec<(&str, String, ErrorOf)> = Vec::new();
+    match primary {
+        Primary::Analytical => kinds_of_error.push((
+            "",
+            "relative error against the analytical answer".into(),
+            |r| r.error_analytical,
+        )),
+        Primary::Measure(what) => kinds_of_error.push((
+            "",
+            format!("relative error of the {what} against the reference run"),
+            |r| r.error_measure,
+        )),
+        Primary::Reference => {}
     }
     kinds_of_error.push((
-        if analytical { "_reference" } else { "" },
-        "relative error against the reference run",
+        if primary == Primary::Reference {
+            ""
+        } else {
+            "_reference"
+        },
+        "relative error of the displacements against the reference run".into(),
         |r| r.error_vs_reference,
     ));
     let mut plots = Vec::new();
@@ -623,7 +883,7 @@ fn plots(
             Plot {
                 title: format!("{stem}: work-precision (stable runs)"),
                 x_label: "wall time of the run (s)".into(),
-                y_label: what.into(),
+                y_label: what.clone(),
                 x_scale: Scale::Log,
                 y_scale: Scale::Log,
                 series: series(&|r| pick(r).map(|e| (r.wall_time, e)), false),
@@ -637,7 +897,7 @@ fn plots(
                 title: format!("{stem}: error against the time step"),
                 x_label: "h / h_pred (h_pred: scheme limit over the element frequency bound)"
                     .into(),
-                y_label: what.into(),
+                y_label: what.clone(),
                 x_scale: Scale::Log,
                 y_scale: Scale::Log,
                 series: err_vs_step,
