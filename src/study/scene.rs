@@ -11,8 +11,22 @@
 //! 1e-5), while a growing mode shows first as a gain (OMF32 in its weak unstable band
 //! `h omega` in [3.122, 3.160], spectral radius 1.019, gains 0.35 % in 240 steps before it
 //! would blow up in a longer run). When every listed fraction is
-//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5 and 3 until one is not: the
+//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5, 3, 4, 5, 6 and 8 until one is not: the
 //! observed limit lies between the largest stable fraction and the first unstable one.
+//!
+//! **Measured stability** (the observed limit): a fraction is stable when the scene run is
+//! (above) *and* its *stability probe* is: the scene's mesh, supports and stages (contact,
+//! joints) with no loads, no gravity and the walls at rest, started from a velocity field
+//! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the element
+//! forces), run for `omega_max t` = 5000 (796 periods of the element frequency bound); it is
+//! unstable when the solver stops it or the mean `K + U` over its last fifth exceeds that over
+//! its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
+//! `omega_max t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_max t`: the
+//! time crate's own definition of a stable step (`rho(T(h)) <= 1 + 1e-6 h`,
+//! docs/time-integration.md), applied to the mesh's highest modes. Probes run from 0.99 of
+//! the predicted step up, until one is unstable (after that every fraction counts unstable).
+//! Unlike the scene run alone, the probe also finds the weak growth of PC-4, PC-5 and OMF32
+//! past their limits.
 //!
 //! Errors of a stable run:
 //! - `error_vs_reference`: `max_i |u_i - u_ref,i| / max_i |u_ref,i|` over the nodes at the final
@@ -24,10 +38,21 @@
 //!     time; error `|t_arr - L/c| / (L/c)`;
 //!   - `{"reference": {"first-frequency": {"probe", "frequency"}}}`: the first frequency from
 //!     the upward crossings of the probe's displacement through its mean; error
-//!     `|f - f_ref| / f_ref`.
+//!     `|f - f_ref| / f_ref`;
+//! - `error_measure` (and `error_measure2`), when the side file declares a measure without an
+//!   analytical value, against the reference run's:
+//!   - `{"reference": {"collision": {}}}`: `K_end / K_0` (kinetic energy after separation over
+//!     before), relative error; second, the momentum error `|P_end - P_0| / |P_0|` itself;
+//!   - `{"reference": {"fracture": {"wall", "radius"}}}`: the peak of `|force_y[wall]|`
+//!     (`walls.csv`), relative error; second, the crack path: mean `|x| / radius` of the
+//!     broken joints (`fractures.csv`), absolute difference.
 //!
-//! The primary `error` is the analytical one when declared, else the one against the
-//! reference. Cost: wall time of the run, force evaluations, element-steps per second.
+//! The side file may also hold `"set": {"/json/pointer": value, ...}` (changes to the scene for
+//! the study: a shorter or coarser version, written to `OUT/study-SCENE.json`), and default
+//! `"fractions"` and `"schemes"` (the command line wins).
+//!
+//! The primary `error` is the analytical one when declared, else the measure's when declared,
+//! else the displacements' against the reference. Cost: wall time of the run, force evaluations, element-steps per second.
 //! Output (in `--out`): `runs.csv`, `study.json`, and the charts `work_precision`,
 //! `error_vs_step` (x = `h / h_pred`, the predicted limit at 1, each scheme's observed limit
 //! in its legend), the same two with the error against the reference
@@ -57,17 +82,18 @@ pub struct SceneArgs {
     /// Schemes, comma separated (default: all).
     #[arg(long, value_delimiter = ',')]
     pub schemes: Vec<String>,
-    /// Fractions of each scheme's predicted stable step, comma separated.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "0.1,0.2,0.4,0.7,0.9,0.99,1.01,1.05"
-    )]
+    /// Fractions of each scheme's predicted stable step, comma separated (default: the side
+    /// file's `fractions`, else 0.1,0.2,0.4,0.7,0.9,0.99,1.01,1.05).
+    #[arg(long, value_delimiter = ',')]
     pub fractions: Vec<f64>,
 }
 
+/// The default fractions of the predicted stable step.
+const DEFAULT_FRACTIONS: [f64; 8] = [0.1, 0.2, 0.4, 0.7, 0.9, 0.99, 1.01, 1.05];
+
 /// Fractions tried after the list when all of it was stable, to find the observed limit.
-const PROBES: [f64; 8] = [1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0];
+/// (Beyond 3: scenes whose predicted step is set by a loose contact or joint bound.)
+const PROBES: [f64; 12] = [1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0];
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
 
@@ -116,6 +142,16 @@ impl Analytical {
 #[serde(deny_unknown_fields)]
 struct SideFile {
     reference: Analytical,
+    /// Changes to the scene for the study, by JSON pointer (e.g. `"/duration": 2e-4`): a
+    /// shorter or coarser version of the shipped scene, so that the study fits in minutes.
+    #[serde(default)]
+    set: std::collections::BTreeMap<String, serde_json::Value>,
+    /// Default fractions for this scene (the command line's `--fractions` wins).
+    #[serde(default)]
+    fractions: Option<Vec<f64>>,
+    /// Default schemes for this scene (the command line's `--schemes` wins).
+    #[serde(default)]
+    schemes: Option<Vec<String>>,
 }
 
 /// One scheme at one step.
@@ -177,14 +213,54 @@ struct Raw {
     displacement: Vec<[f64; 2]>,
 }
 
-fn side_file(scene: &Path) -> Result<Option<Analytical>> {
+fn side_file(scene: &Path) -> Result<Option<SideFile>> {
     let p = scene.with_extension("study.json");
     if !p.exists() {
         return Ok(None);
     }
     let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
     let s: SideFile = serde_json::from_str(&text).with_context(|| format!("in {}", p.display()))?;
-    Ok(Some(s.reference))
+    Ok(Some(s))
+}
+
+/// The scene with the side file's `set` applied, written into `out` (mesh paths made
+/// absolute); the scene itself when there is nothing to set.
+fn study_scene(scene: &Path, side: Option<&SideFile>, out: &Path) -> Result<PathBuf> {
+    let Some(side) = side.filter(|s| !s.set.is_empty()) else {
+        return Ok(scene.to_path_buf());
+    };
+    let text =
+        std::fs::read_to_string(scene).with_context(|| format!("reading {}", scene.display()))?;
+    let mut v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("in {}", scene.display()))?;
+    let side_path = scene.with_extension("study.json");
+    for (ptr, val) in &side.set {
+        let slot = v.pointer_mut(ptr).with_context(|| {
+            format!(
+                "{}: `set` names {ptr}, which is not in {} (a JSON pointer to an existing field, e.g. /duration)",
+                side_path.display(),
+                scene.display()
+            )
+        })?;
+        *slot = val.clone();
+    }
+    let dir = scene.parent().unwrap_or(Path::new("."));
+    let dir = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if let Some(bodies) = v.get_mut("bodies").and_then(|b| b.as_array_mut()) {
+        for b in bodies {
+            if let Some(m) = b.get("mesh").and_then(|m| m.as_str()) {
+                let abs = dir.join(m).display().to_string();
+                b["mesh"] = serde_json::Value::String(abs);
+            }
+        }
+    }
+    let name = scene
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "scene.json".into());
+    let p = out.join(format!("study-{name}"));
+    crate::write_atomically(&p, serde_json::to_string_pretty(&v)?.as_bytes())?;
+    Ok(p)
 }
 
 fn read_history(out: &Path, probe: &str) -> Result<(Vec<f64>, Vec<f64>)> {
@@ -322,7 +398,9 @@ fn one_run(
             run.wall_time = s.wall_time;
             run.force_evaluations = s.force_evaluations;
             run.element_steps_per_second = s.element_steps_per_second;
-            let input = (s.energy.external_work + s.energy.support_work).abs() + e_kin0;
+            let input = (s.energy.external_work + s.energy.support_work).abs()
+                + s.energy.boundary_work.abs()
+                + e_kin0;
             let e = s.energy.kinetic + s.energy.strain;
             let ratio = e / input.max(f64::MIN_POSITIVE);
             let finite = o
@@ -563,11 +641,21 @@ fn csv(runs: &[Run]) -> String {
 
 /// Runs the study.
 pub fn run(args: &SceneArgs) -> Result<()> {
-    let kinds = schemes(&args.schemes)?;
-    if args.fractions.is_empty() || args.fractions.iter().any(|f| !(*f > 0.0 && f.is_finite())) {
+    let side = side_file(&args.scene)?;
+    let kinds = match side.as_ref().and_then(|s| s.schemes.clone()) {
+        Some(list) if args.schemes.is_empty() => schemes(&list)?,
+        _ => schemes(&args.schemes)?,
+    };
+    let mut fractions = if !args.fractions.is_empty() {
+        args.fractions.clone()
+    } else if let Some(f) = side.as_ref().and_then(|s| s.fractions.clone()) {
+        f
+    } else {
+        DEFAULT_FRACTIONS.to_vec()
+    };
+    if fractions.is_empty() || fractions.iter().any(|f| !(*f > 0.0 && f.is_finite())) {
         bail!("--fractions must be positive numbers, e.g. 0.1,0.5,0.9");
     }
-    let mut fractions = args.fractions.clone();
     fractions.sort_by(f64::total_cmp);
     fractions.dedup();
     let stem = args
@@ -581,8 +669,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{stem}")));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let analytical = side_file(&args.scene)?;
-    let l0 = driver::load(&args.scene)?;
+    let scene = study_scene(&args.scene, side.as_ref(), &out)?;
+    let analytical = side.map(|s| s.reference);
+    let l0 = driver::load(&scene)?;
     let (nodes, triangles) = (l0.model.n_nodes(), l0.model.triangles.len());
     drop(l0);
 
@@ -621,11 +710,11 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         while i < list.len() {
             let f = list[i];
             bar.set_message(format!("{} at {f} h_pred", k.name()));
-            let r = one_run(&args.scene, k, f, &run_dir(k, f), analytical.as_ref())?;
+            let r = one_run(&scene, k, f, &run_dir(k, f), analytical.as_ref())?;
             // The measured-stability probe from 0.99 up, until one is unstable.
             let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.1) {
                 bar.set_message(format!("{} at {f} h_pred (stability probe)", k.name()));
-                let (ok, ratio) = stability_probe(&args.scene, k, f, &run_dir(k, f).join("probe"))?;
+                let (ok, ratio) = stability_probe(&scene, k, f, &run_dir(k, f).join("probe"))?;
                 probes.push((f, ok, ratio));
                 ok
             } else {
