@@ -193,18 +193,19 @@ fn each_scheme_at_099_and_101_of_its_predicted_stable_step() {
 /// The driver's energy-growth check (every 100 steps: `K + U + stored > 2 x` the energy
 /// supplied, and growing). Central difference on the shipped bar, free, random initial
 /// velocities: the observed stable step of this mesh is 1.2-1.35 `h_pred`
-/// (docs/speed-vs-accuracy.md); measured here: 3000 steps at 1.30 `h_pred` stay bounded,
-/// 1.35 is unstable (at 1.4 the values overflow within the first 100 steps). At 1.35 the run
-/// must stop with the energy-growth message (scheme, step, predicted limit, fix) while the
-/// state is still finite and small (largest displacement in the partial summary below 1e-3 of
-/// the bar's length, i.e. the energy is ~1e6 times below an overflow: the non-finite check
-/// would fire only after an overflow, much later). At 0.99 and at 1.30 `h_pred`, 3000 steps: no alarm, `(K + U)/E0 < 2`
-/// (measured 1.18 and 1.68: the step-synchronised energy of central difference near
-/// `h omega = 2`).
+/// (docs/speed-vs-accuracy.md); measured here with random velocities and 3000 steps: 1.30,
+/// 1.36 and 1.37 `h_pred` stay bounded (`(K + U)/E0` = 1.68, 2.13, 2.50: the step-synchronised
+/// energy of central difference near `h omega = 2`, which the check allows for), 1.38 is
+/// unstable and grows ~3e7-fold in energy within 100 steps (at 1.4 the values overflow within
+/// the first 100 steps, and the non-finite check reports). At 1.38 the run must stop with the
+/// energy-growth message (scheme, step, predicted limit, fix) while the state is still finite
+/// and small (largest displacement in the partial summary below 1e-3 of the bar's length: the
+/// non-finite check would fire only after an overflow). At 0.99 and 1.30 `h_pred`: no alarm,
+/// `(K + U)/E0 < 2.5`.
 #[test]
 fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
     let dir = common::temp_dir("extremes-energy-check");
-    for f in [0.99, 1.3, 1.35] {
+    for f in [0.99, 1.3, 1.38] {
         let mut l = load(
             &dir,
             json!({
@@ -224,16 +225,19 @@ fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
         l.n_steps = 3000;
         let e0 = kinetic(&l);
         let r = run(&mut l, &dir);
-        if f < 1.32 {
+        if f < 1.35 {
             let o = r.unwrap_or_else(|e| panic!("false alarm at {f}: {e}"));
             let ratio = (o.summary.energy.kinetic + o.summary.energy.strain) / e0;
             eprintln!("{f} h_pred: 3000 steps, no alarm, (K + U)/E0 = {ratio:.3}");
-            assert!(no_nan(&o) && ratio < 2.0);
+            assert!(no_nan(&o) && ratio < 2.5);
             continue;
         }
         let e = match r {
             Err(e) => e,
-            Ok(_) => panic!("central difference at 1.35 h_pred ran 3000 steps without a stop"),
+            Ok(o) => panic!(
+                "central difference at {f} h_pred ran 3000 steps without a stop: (K+U)/E0 = {}",
+                (o.summary.energy.kinetic + o.summary.energy.strain) / e0
+            ),
         };
         let msg = e.to_string();
         eprintln!("{msg}");
