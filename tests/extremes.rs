@@ -190,6 +190,79 @@ fn each_scheme_at_099_and_101_of_its_predicted_stable_step() {
     }
 }
 
+/// The driver's energy-growth check (every 100 steps: `K + U + stored > 2 x` the energy
+/// supplied, and growing). Central difference on the shipped bar, free, random initial
+/// velocities: the observed stable step of this mesh is 1.2-1.35 `h_pred`
+/// (docs/speed-vs-accuracy.md); measured here with random velocities and 3000 steps: 1.30,
+/// 1.36 and 1.37 `h_pred` stay bounded (`(K + U)/E0` = 1.68, 2.13, 2.50: the step-synchronised
+/// energy of central difference near `h omega = 2`, which the check allows for), 1.38 is
+/// unstable and grows ~3e7-fold in energy within 100 steps (at 1.4 the values overflow within
+/// the first 100 steps, and the non-finite check reports). At 1.38 the run must stop with the
+/// energy-growth message (scheme, step, predicted limit, fix) while the state is still finite
+/// and small (largest displacement in the partial summary below 1e-3 of the bar's length: the
+/// non-finite check would fire only after an overflow). At 0.99 and 1.30 `h_pred`: no alarm,
+/// `(K + U)/E0 < 2.5`.
+#[test]
+fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
+    let dir = common::temp_dir("extremes-energy-check");
+    for f in [0.99, 1.3, 1.38] {
+        let mut l = load(
+            &dir,
+            json!({
+                "analysis": "dynamic",
+                "bodies": [{ "mesh": common::root().join("examples/meshes/bar.json"),
+                    "materials": { "bar": { "young": 200e9, "poisson": 0.25, "density": 8000.0 } },
+                    "thickness": 0.02 }],
+                "integrator": { "scheme": "central-difference" },
+                "duration": 1e-3, "output": { "frames": 0 }
+            }),
+        );
+        let mut s = 7u64;
+        for v in &mut l.model.v0 {
+            *v = [1e-3 * rnd(&mut s), 1e-3 * rnd(&mut s)];
+        }
+        l.dt = f * l.dt_limit;
+        l.n_steps = 3000;
+        let e0 = kinetic(&l);
+        let r = run(&mut l, &dir);
+        if f < 1.35 {
+            let o = r.unwrap_or_else(|e| panic!("false alarm at {f}: {e}"));
+            let ratio = (o.summary.energy.kinetic + o.summary.energy.strain) / e0;
+            eprintln!("{f} h_pred: 3000 steps, no alarm, (K + U)/E0 = {ratio:.3}");
+            assert!(no_nan(&o) && ratio < 2.5);
+            continue;
+        }
+        let e = match r {
+            Err(e) => e,
+            Ok(o) => panic!(
+                "central difference at {f} h_pred ran 3000 steps without a stop: (K+U)/E0 = {}",
+                (o.summary.energy.kinetic + o.summary.energy.strain) / e0
+            ),
+        };
+        let msg = e.to_string();
+        eprintln!("{msg}");
+        let step = match e {
+            RunError::Unstable { step, .. } => step,
+            _ => panic!("{msg}"),
+        };
+        assert!(
+            msg.contains("energy growth")
+                && msg.contains("central-difference")
+                && msg.contains("predicted limit")
+                && msg.contains("fix: lower the time step"),
+            "{msg}"
+        );
+        // stopped within the first 3000 steps, by the energy check (not the non-finite one)
+        assert!(step < 3000, "stopped at step {step}");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+                .unwrap();
+        let umax = summary["max_displacement"].as_f64().unwrap();
+        eprintln!("stopped at step {step}, largest displacement {umax:.3e} m");
+        assert!(umax.is_finite() && umax < 1e-3, "max |u| = {umax}");
+    }
+}
+
 /// Two materials in series (E_a = 10^6 E_b, nu = 0), clamped at x = 0, traction p at x = L:
 /// end displacement `p (L_a/E_a + L_b/E_b)`, stress p in every triangle (CST is exact for
 /// uniform stress). Asserted to 1e-8 relative. The stable step is set by the stiff material:
@@ -479,4 +552,170 @@ fn long_run_of_a_free_body_has_bounded_energy_drift_for_symplectic_schemes() {
             k.name()
         );
     }
+}
+
+/// Momentum `(px, py)` and kinetic energy of a state.
+fn momentum_and_kinetic(mass: &[f64], v: &[[f64; 2]]) -> ([f64; 2], f64) {
+    mass.iter()
+        .zip(v)
+        .fold(([0.0, 0.0], 0.0), |(p, k), (m, v)| {
+            (
+                [p[0] + m * v[0], p[1] + m * v[1]],
+                k + 0.5 * m * (v[0] * v[0] + v[1] * v[1]),
+            )
+        })
+}
+
+/// The two-disc collision (examples/disc-collision.json, E = 10 GPa) with a contact penalty of
+/// 10^4 E instead of the default 10 E, gap 0.2 mm, run to 0.4 ms. The auto step accounts for
+/// the penalty: the contact frequency bound scales like sqrt(p), so the step falls by about
+/// sqrt(1000) = 31.6 where contact dominates (asserted: ratio of the limits within [10, 40]);
+/// the run is finite, momentum is kept to round-off (1e-10 relative; measured 2.2e-13) and
+/// the kinetic energy after separation is within 3 % of before (measured 0.9816; the rest
+/// stays in the discs' vibration). Measured step ratio 31.2, 139 351 steps.
+#[test]
+fn contact_penalty_of_1e4_times_young() {
+    let mut dts = Vec::new();
+    for factor in [10.0, 1e4] {
+        let scene = common::edited_example("disc-collision.json", "extreme-penalty", |v| {
+            v["contact"] = json!({ "default": { "penalty_factor": factor } });
+            v["bodies"][0]["offset"] = json!([-0.0251, 0.0]);
+            v["bodies"][1]["offset"] = json!([0.0251, 0.0]);
+            v["duration"] = json!(4e-4);
+            v["output"] = json!({ "frames": 0 });
+        });
+        let l = driver::load(&scene).unwrap();
+        dts.push(l.dt_limit);
+        if factor < 1e3 {
+            continue;
+        }
+        let (p0, k0) = momentum_and_kinetic(&l.model.mass, &l.model.v0);
+        let (o, _) = common::run(&scene);
+        assert!(no_nan(&o));
+        let (p1, k1) = momentum_and_kinetic(&l.model.mass, &o.last_frame.velocity);
+        let c = &o.summary.stages["contact"];
+        let dp = ((p1[0] - p0[0]).powi(2) + (p1[1] - p0[1]).powi(2)).sqrt() / p0[0];
+        eprintln!(
+            "penalty 1e4 E: h_limit {:.3e} s (10 E: {:.3e} s, ratio {:.2}), {} steps; momentum error {dp:.2e}; K1/K0 = {:.5}; max overlap d/H {:.2e}; contact stored at end {:.2e} J",
+            dts[1],
+            dts[0],
+            dts[0] / dts[1],
+            o.summary.steps,
+            k1 / k0,
+            c["max_depth_over_altitude"].as_f64().unwrap(),
+            c["contact_potential"].as_f64().unwrap()
+        );
+        assert!(dp < 1e-10, "momentum error {dp}");
+        assert!((k1 / k0 - 1.0).abs() < 0.03, "K1/K0 = {}", k1 / k0);
+        let ratio = dts[0] / dts[1];
+        assert!((10.0..=40.0).contains(&ratio), "step ratio {ratio}");
+    }
+}
+
+/// Impact at 0.1 c_p: the left disc at 219 m/s (c_p = 2191 m/s for E = 10 GPa, nu = 0.25,
+/// plane strain, rho = 2500) into the right one at rest, gap 0.2 mm, 60 us. Either the run
+/// ends finite with momentum kept to 1e-10 and energy not created (final K + U + stored below
+/// 1.02 K0), or the solver stops it with a message that names the fix; never a NaN.
+/// Measured: it runs (670 steps), momentum error 2.1e-16, K1/K0 = 0.817 (the rest is the
+/// discs' vibration), (K + U + stored)/K0 = 0.990, largest overlap 2.8 % of the altitude.
+#[test]
+fn impact_at_a_tenth_of_the_wave_speed() {
+    let c_p = (10e9 * 0.75 / (1.25 * 0.5 * 2500.0f64)).sqrt();
+    let v0 = 0.1 * c_p;
+    let scene = common::edited_example("disc-collision.json", "extreme-impact", |v| {
+        v["bodies"][0]["initial_velocity"] = json!([v0, 0.0]);
+        v["bodies"][0]["offset"] = json!([-0.0251, 0.0]);
+        v["bodies"][1]["offset"] = json!([0.0251, 0.0]);
+        v["duration"] = json!(6e-5);
+        v["output"] = json!({ "frames": 0 });
+    });
+    let mut l = driver::load(&scene).unwrap();
+    let (p0, k0) = momentum_and_kinetic(&l.model.mass, &l.model.v0);
+    let r = driver::run_outcome(
+        &mut l,
+        &RunOptions {
+            out_dir: scene.parent().unwrap().join("out"),
+            raw: false,
+        },
+        &mut |_| {},
+    );
+    match r {
+        Ok(o) => {
+            assert!(no_nan(&o));
+            let (p1, k1) = momentum_and_kinetic(&l.model.mass, &o.last_frame.velocity);
+            let dp = ((p1[0] - p0[0]).powi(2) + (p1[1] - p0[1]).powi(2)).sqrt() / p0[0];
+            let e = &o.summary.energy;
+            let total = e.kinetic + e.strain + e.stored_contact_joints;
+            let c = &o.summary.stages["contact"];
+            eprintln!(
+                "impact at {v0:.1} m/s = 0.1 c_p: {} steps; momentum error {dp:.2e}; K1/K0 {:.4}; (K + U + stored)/K0 {:.4}; max overlap d/H {:.3e}",
+                o.summary.steps,
+                k1 / k0,
+                total / k0,
+                c["max_depth_over_altitude"].as_f64().unwrap()
+            );
+            assert!(dp < 1e-10, "momentum error {dp}");
+            assert!(total / k0 < 1.02, "energy created: {}", total / k0);
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            eprintln!("impact at 0.1 c_p stopped: {msg}");
+            assert!(msg.contains("fix:"), "{msg}");
+        }
+    }
+}
+
+/// The cantilever's first frequency from the generalised eigenproblem `K phi = omega^2 M phi`
+/// (the mesh crate's small-strain sparse stiffness `K`, the lumped masses `M`, the clamped
+/// DOFs removed) by inverse iteration (`y = K^-1 M x` with faer's sparse Cholesky through
+/// `fdem_mesh::solve_static`, Rayleigh quotient `omega^2 = y.M x / y.M y`), against the
+/// frequency measured from the dynamic run of examples/cantilever-vibration.json (upward
+/// crossings of the tip displacement through its mean over 4 s, central difference at 0.9 of
+/// its limit). Agreement to 1e-3 (measured 1.9e-5: 0.76992 against 0.76990 Hz); both are 6-7 % above Euler-Bernoulli
+/// (0.72243 Hz) because 4 CST layers through the depth are too stiff in bending.
+#[test]
+fn cantilever_first_frequency_matches_the_stiffness_eigenvalue() {
+    let scene = common::edited_example("cantilever-vibration.json", "extreme-eigen", |v| {
+        v["output"] = json!({ "frames": 0 });
+    });
+    let l = driver::load(&scene).unwrap();
+    let n = 2 * l.model.n_nodes();
+    let k = l.elements.stiffness();
+    let fixed: Vec<(usize, f64)> = (0..n)
+        .filter(|&d| l.model.constrained[d])
+        .map(|d| (d, 0.0))
+        .collect();
+    let m: Vec<f64> = l.model.mass.iter().flat_map(|m| [*m, *m]).collect();
+    let mut x: Vec<f64> = (0..n).map(|d| if d % 2 == 1 { 1.0 } else { 0.0 }).collect();
+    let mut omega2 = 0.0;
+    for _ in 0..30 {
+        let mx: Vec<f64> = x.iter().zip(&m).map(|(a, b)| a * b).collect();
+        let y = fdem_mesh::solve_static(&k, &mx, &fixed).unwrap();
+        let ymx: f64 = y.iter().zip(&mx).map(|(a, b)| a * b).sum();
+        let ymy: f64 = y.iter().zip(&m).map(|(a, b)| a * a * b).sum();
+        omega2 = ymx / ymy;
+        let s = y.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        x = y.iter().map(|v| v / s).collect();
+    }
+    let f_eig = omega2.sqrt() / (2.0 * std::f64::consts::PI);
+    let (_, out) = common::run(&scene);
+    let (head, rows) = common::histories(&out);
+    let t = common::column(&head, &rows, "time");
+    let u = common::column(&head, &rows, "u_y[tip]");
+    let mean = u.iter().sum::<f64>() / u.len() as f64;
+    let mut ups = Vec::new();
+    for i in 1..u.len() {
+        let (a, b) = (u[i - 1] - mean, u[i] - mean);
+        if a < 0.0 && b >= 0.0 {
+            ups.push(t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a));
+        }
+    }
+    let f_dyn = (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0]);
+    eprintln!(
+        "cantilever: eigenvalue f1 = {f_eig:.5} Hz, dynamic f1 = {f_dyn:.5} Hz ({} crossings), relative difference {:.2e}; beam theory 0.72243 Hz",
+        ups.len(),
+        (f_dyn - f_eig).abs() / f_eig
+    );
+    assert!(ups.len() >= 3);
+    assert!((f_dyn - f_eig).abs() / f_eig < 1e-3, "{f_dyn} vs {f_eig}");
 }

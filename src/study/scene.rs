@@ -11,8 +11,22 @@
 //! 1e-5), while a growing mode shows first as a gain (OMF32 in its weak unstable band
 //! `h omega` in [3.122, 3.160], spectral radius 1.019, gains 0.35 % in 240 steps before it
 //! would blow up in a longer run). When every listed fraction is
-//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5 and 3 until one is not: the
+//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5, 3, 4, 5, 6 and 8 until one is not: the
 //! observed limit lies between the largest stable fraction and the first unstable one.
+//!
+//! **Measured stability** (the observed limit): a fraction is stable when the scene run is
+//! (above) *and* its *stability probe* is: the scene's mesh, supports and stages (contact,
+//! joints) with no loads, no gravity and the walls at rest, started from a velocity field
+//! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the element
+//! forces), run for `omega_max t` = 5000 (796 periods of the element frequency bound); it is
+//! unstable when the solver stops it or the mean `K + U` over its last fifth exceeds that over
+//! its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
+//! `omega_max t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_max t`: the
+//! time crate's own definition of a stable step (`rho(T(h)) <= 1 + 1e-6 h`,
+//! docs/time-integration.md), applied to the mesh's highest modes. Probes run from 0.99 of
+//! the predicted step up, until one is unstable (after that every fraction counts unstable).
+//! Unlike the scene run alone, the probe also finds the weak growth of PC-4, PC-5 and OMF32
+//! past their limits.
 //!
 //! Errors of a stable run:
 //! - `error_vs_reference`: `max_i |u_i - u_ref,i| / max_i |u_ref,i|` over the nodes at the final
@@ -24,10 +38,21 @@
 //!     time; error `|t_arr - L/c| / (L/c)`;
 //!   - `{"reference": {"first-frequency": {"probe", "frequency"}}}`: the first frequency from
 //!     the upward crossings of the probe's displacement through its mean; error
-//!     `|f - f_ref| / f_ref`.
+//!     `|f - f_ref| / f_ref`;
+//! - `error_measure` (and `error_measure2`), when the side file declares a measure without an
+//!   analytical value, against the reference run's:
+//!   - `{"reference": {"collision": {}}}`: `K_end / K_0` (kinetic energy after separation over
+//!     before), relative error; second, the momentum error `|P_end - P_0| / |P_0|` itself;
+//!   - `{"reference": {"fracture": {"wall", "radius"}}}`: the peak of `|force_y[wall]|`
+//!     (`walls.csv`), relative error; second, the crack path: mean `|x| / radius` of the
+//!     broken joints (`fractures.csv`), absolute difference.
 //!
-//! The primary `error` is the analytical one when declared, else the one against the
-//! reference. Cost: wall time of the run, force evaluations, element-steps per second.
+//! The side file may also hold `"set": {"/json/pointer": value, ...}` (changes to the scene for
+//! the study: a shorter or coarser version, written to `OUT/study-SCENE.json`), and default
+//! `"fractions"` and `"schemes"` (the command line wins).
+//!
+//! The primary `error` is the analytical one when declared, else the measure's when declared,
+//! else the displacements' against the reference. Cost: wall time of the run, force evaluations, element-steps per second.
 //! Output (in `--out`): `runs.csv`, `study.json`, and the charts `work_precision`,
 //! `error_vs_step` (x = `h / h_pred`, the predicted limit at 1, each scheme's observed limit
 //! in its legend), the same two with the error against the reference
@@ -57,19 +82,31 @@ pub struct SceneArgs {
     /// Schemes, comma separated (default: all).
     #[arg(long, value_delimiter = ',')]
     pub schemes: Vec<String>,
-    /// Fractions of each scheme's predicted stable step, comma separated.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "0.1,0.2,0.4,0.7,0.9,0.99,1.01,1.05"
-    )]
+    /// Fractions of each scheme's predicted stable step, comma separated (default: the side
+    /// file's `fractions`, else 0.1,0.2,0.4,0.7,0.9,0.99,1.01,1.05).
+    #[arg(long, value_delimiter = ',')]
     pub fractions: Vec<f64>,
 }
 
+/// The default fractions of the predicted stable step.
+const DEFAULT_FRACTIONS: [f64; 8] = [0.1, 0.2, 0.4, 0.7, 0.9, 0.99, 1.01, 1.05];
+
 /// Fractions tried after the list when all of it was stable, to find the observed limit.
-const PROBES: [f64; 8] = [1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0];
+/// (Beyond 3: scenes whose predicted step is set by a loose contact or joint bound.)
+const PROBES: [f64; 12] = [1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0];
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
+
+/// Length of a stability probe run, in units of `omega_max t` (796 periods of the element
+/// frequency bound).
+const PROBE_OMEGA_T: f64 = 5000.0;
+/// A probe is unstable when the mean energy over its last fifth exceeds that over its first
+/// fifth by this factor: the centres are `0.8 x 5000 = 4000` apart in `omega_max t`, so 1 %
+/// is an amplitude growth rate of `ln(1.01) / 2 / 4000 = 1.24e-6` per unit `omega_max t`, the
+/// time crate's definition of stability (`rho(T(h)) <= 1 + 1e-6 h`).
+const PROBE_GROWTH: f64 = 1.01;
+/// Power iterations that concentrate a probe's initial velocity in the highest modes.
+const PROBE_POWER_ITERATIONS: usize = 40;
 
 /// The analytical answer a scene may declare in `SCENE.study.json`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -84,12 +121,37 @@ enum Analytical {
     },
     /// First natural frequency [Hz] seen at a probe.
     FirstFrequency { probe: String, frequency: f64 },
+    /// A collision of free bodies: measure `K_end / K_0` (kinetic energy after separation
+    /// over before), second measure `|P_end - P_0| / |P_0|` (momentum); no analytical value:
+    /// the error is against the reference run's measure.
+    Collision {},
+    /// A fracturing specimen loaded by a wall: measure the peak of `|force_y[wall]|` in
+    /// `walls.csv` [N], second measure the mean `|x| / radius` of the broken joints in
+    /// `fractures.csv` (the crack path); errors against the reference run.
+    Fracture { wall: String, radius: f64 },
+}
+
+impl Analytical {
+    /// Whether the answer is analytical (else the measure is compared with the reference run).
+    fn is_analytical(&self) -> bool {
+        matches!(self, Self::BarArrival { .. } | Self::FirstFrequency { .. })
+    }
 }
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SideFile {
     reference: Analytical,
+    /// Changes to the scene for the study, by JSON pointer (e.g. `"/duration": 2e-4`): a
+    /// shorter or coarser version of the shipped scene, so that the study fits in minutes.
+    #[serde(default)]
+    set: std::collections::BTreeMap<String, serde_json::Value>,
+    /// Default fractions for this scene (the command line's `--fractions` wins).
+    #[serde(default)]
+    fractions: Option<Vec<f64>>,
+    /// Default schemes for this scene (the command line's `--schemes` wins).
+    #[serde(default)]
+    schemes: Option<Vec<String>>,
 }
 
 /// One scheme at one step.
@@ -110,7 +172,14 @@ struct Run {
     error_analytical: Option<f64>,
     /// The analytical measure itself (arrival time [s] or frequency [Hz]).
     measured: Option<f64>,
-    /// Primary error (analytical when declared).
+    /// Second measure (collision: momentum error; fracture: crack mean |x| / R).
+    measured2: Option<f64>,
+    /// Collision/fracture: `|measured - reference's| / |reference's|`.
+    error_measure: Option<f64>,
+    /// Collision: momentum error itself; fracture: `|crack - reference's crack|` (units of R).
+    error_measure2: Option<f64>,
+    /// Primary error (analytical when declared, else the measure's against the reference
+    /// when declared, else the displacements' against the reference).
     error: Option<f64>,
 }
 
@@ -123,6 +192,8 @@ struct Limit {
     observed_at_least: f64,
     /// Smallest unstable fraction tried (None: none found up to the last probe).
     observed_below: Option<f64>,
+    /// Stability probes ([`stability_probe`]): (fraction, stable, energy ratio).
+    probes: Vec<(f64, bool, Option<f64>)>,
 }
 
 #[derive(Serialize)]
@@ -142,19 +213,63 @@ struct Raw {
     displacement: Vec<[f64; 2]>,
 }
 
-fn side_file(scene: &Path) -> Result<Option<Analytical>> {
+fn side_file(scene: &Path) -> Result<Option<SideFile>> {
     let p = scene.with_extension("study.json");
     if !p.exists() {
         return Ok(None);
     }
     let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
     let s: SideFile = serde_json::from_str(&text).with_context(|| format!("in {}", p.display()))?;
-    Ok(Some(s.reference))
+    Ok(Some(s))
+}
+
+/// The scene with the side file's `set` applied, written into `out` (mesh paths made
+/// absolute); the scene itself when there is nothing to set.
+fn study_scene(scene: &Path, side: Option<&SideFile>, out: &Path) -> Result<PathBuf> {
+    let Some(side) = side.filter(|s| !s.set.is_empty()) else {
+        return Ok(scene.to_path_buf());
+    };
+    let text =
+        std::fs::read_to_string(scene).with_context(|| format!("reading {}", scene.display()))?;
+    let mut v: serde_json::Value =
+        serde_json::from_str(&text).with_context(|| format!("in {}", scene.display()))?;
+    let side_path = scene.with_extension("study.json");
+    for (ptr, val) in &side.set {
+        let slot = v.pointer_mut(ptr).with_context(|| {
+            format!(
+                "{}: `set` names {ptr}, which is not in {} (a JSON pointer to an existing field, e.g. /duration)",
+                side_path.display(),
+                scene.display()
+            )
+        })?;
+        *slot = val.clone();
+    }
+    let dir = scene.parent().unwrap_or(Path::new("."));
+    let dir = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if let Some(bodies) = v.get_mut("bodies").and_then(|b| b.as_array_mut()) {
+        for b in bodies {
+            if let Some(m) = b.get("mesh").and_then(|m| m.as_str()) {
+                let abs = dir.join(m).display().to_string();
+                b["mesh"] = serde_json::Value::String(abs);
+            }
+        }
+    }
+    let name = scene
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_else(|| "scene.json".into());
+    let p = out.join(format!("study-{name}"));
+    crate::write_atomically(&p, serde_json::to_string_pretty(&v)?.as_bytes())?;
+    Ok(p)
 }
 
 fn read_history(out: &Path, probe: &str) -> Result<(Vec<f64>, Vec<f64>)> {
-    let p = out.join("histories.csv");
-    let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
+    read_csv_column(&out.join("histories.csv"), probe)
+}
+
+/// The first column and the column named `probe` of a CSV file with a header.
+fn read_csv_column(p: &Path, probe: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let col = head
@@ -220,6 +335,7 @@ fn analytical_error(a: &Analytical, out: &Path) -> Result<Option<(f64, f64)>> {
             let f = (ups.len() - 1) as f64 / (ups[ups.len() - 1] - ups[0]);
             Ok(Some((f, (f - frequency).abs() / frequency)))
         }
+        Analytical::Collision {} | Analytical::Fracture { .. } => Ok(None),
     }
 }
 
@@ -266,6 +382,9 @@ fn one_run(
         error_vs_reference: None,
         error_analytical: None,
         measured: None,
+        measured2: None,
+        error_measure: None,
+        error_measure2: None,
         error: None,
     };
     let options = RunOptions {
@@ -279,7 +398,9 @@ fn one_run(
             run.wall_time = s.wall_time;
             run.force_evaluations = s.force_evaluations;
             run.element_steps_per_second = s.element_steps_per_second;
-            let input = (s.energy.external_work + s.energy.support_work).abs() + e_kin0;
+            let input = (s.energy.external_work + s.energy.support_work).abs()
+                + s.energy.boundary_work.abs()
+                + e_kin0;
             let e = s.energy.kinetic + s.energy.strain;
             let ratio = e / input.max(f64::MIN_POSITIVE);
             let finite = o
@@ -290,11 +411,39 @@ fn one_run(
             run.stable = finite && ratio.is_finite() && ratio <= ENERGY_BOUND;
             run.energy_ratio = ratio.is_finite().then_some(ratio);
             if run.stable {
-                if let Some(a) = analytical
-                    && let Some((m, err)) = analytical_error(a, out)?
-                {
-                    run.measured = Some(m);
-                    run.error_analytical = Some(err);
+                match analytical {
+                    Some(Analytical::Collision {}) => {
+                        let mom =
+                            |v: &[[f64; 2]]| {
+                                l.model.mass.iter().zip(v).fold([0.0, 0.0], |p, (m, v)| {
+                                    [p[0] + m * v[0], p[1] + m * v[1]]
+                                })
+                            };
+                        let (p0, p1) = (mom(&l.model.v0), mom(&o.last_frame.velocity));
+                        run.measured = Some(s.energy.kinetic / e_kin0.max(f64::MIN_POSITIVE));
+                        let dp = ((p1[0] - p0[0]).powi(2) + (p1[1] - p0[1]).powi(2)).sqrt();
+                        let p = (p0[0] * p0[0] + p0[1] * p0[1])
+                            .sqrt()
+                            .max(f64::MIN_POSITIVE);
+                        run.measured2 = Some(dp / p);
+                        run.error_measure2 = Some(dp / p);
+                    }
+                    Some(Analytical::Fracture { wall, radius }) => {
+                        let (_, f) =
+                            read_csv_column(&out.join("walls.csv"), &format!("force_y[{wall}]"))?;
+                        run.measured = Some(f.iter().fold(0.0, |a, b| a.max(b.abs())));
+                        let (_, x) = read_csv_column(&out.join("fractures.csv"), "x")?;
+                        run.measured2 = (!x.is_empty()).then(|| {
+                            x.iter().map(|v| v.abs()).sum::<f64>() / x.len() as f64 / radius
+                        });
+                    }
+                    Some(a) => {
+                        if let Some((m, err)) = analytical_error(a, out)? {
+                            run.measured = Some(m);
+                            run.error_analytical = Some(err);
+                        }
+                    }
+                    None => {}
                 }
                 return Ok(Raw {
                     run,
@@ -312,6 +461,136 @@ fn one_run(
         run,
         displacement: Vec::new(),
     })
+}
+
+/// An initial velocity field concentrated in the highest modes of the mesh: power iteration
+/// `v <- M^-1 K v` (with `K v = -(f_int(x_0 + eps v) - f_int(x_0)) / eps`, elements only,
+/// constrained DOFs zero), scaled to a largest nodal speed of `1e-6 c` (small strain).
+fn top_mode_velocity(l: &driver::Loaded) -> Vec<[f64; 2]> {
+    let n = l.model.n_nodes();
+    let x0 = &l.model.x0;
+    let mut f0 = vec![[0.0; 2]; n];
+    let zero = vec![[0.0; 2]; n];
+    l.elements.internal_forces_owner(x0, &zero, &mut f0);
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let mut v: Vec<[f64; 2]> = (0..n).map(|_| [rnd(), rnd()]).collect();
+    let scale_of = |v: &[[f64; 2]]| {
+        v.iter()
+            .map(|a| a[0].abs().max(a[1].abs()))
+            .fold(0.0, f64::max)
+            .max(f64::MIN_POSITIVE)
+    };
+    let size = x0
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut x = x0.clone();
+    let mut f = vec![[0.0; 2]; n];
+    for _ in 0..PROBE_POWER_ITERATIONS {
+        for (i, vi) in v.iter_mut().enumerate() {
+            for c in 0..2 {
+                if l.model.constrained[2 * i + c] || l.model.mass[i] <= 0.0 {
+                    vi[c] = 0.0;
+                }
+            }
+        }
+        let s = scale_of(&v);
+        let eps = 1e-7 * size / s;
+        for i in 0..n {
+            for c in 0..2 {
+                x[i][c] = x0[i][c] + eps * v[i][c];
+            }
+        }
+        f.iter_mut().for_each(|a| *a = [0.0; 2]);
+        l.elements.internal_forces_owner(&x, &zero, &mut f);
+        for i in 0..n {
+            for c in 0..2 {
+                v[i][c] = -(f[i][c] - f0[i][c]) / (eps * l.model.mass[i].max(f64::MIN_POSITIVE));
+            }
+        }
+        let s = scale_of(&v);
+        for vi in &mut v {
+            vi[0] /= s;
+            vi[1] /= s;
+        }
+    }
+    for (i, vi) in v.iter_mut().enumerate() {
+        for c in 0..2 {
+            if l.model.constrained[2 * i + c] || l.model.mass[i] <= 0.0 {
+                vi[c] = 0.0;
+            }
+        }
+    }
+    // a largest speed of 1e-7 omega_max x the largest coordinate: displacements ~1e-7 of it
+    let amp = 1e-7 * l.omega_max * size;
+    let s = scale_of(&v);
+    v.iter().map(|a| [amp * a[0] / s, amp * a[1] / s]).collect()
+}
+
+/// The measured-stability probe of one scheme at one fraction of its predicted step: the
+/// scene's mesh, supports and optional stages (contact, joints), with no loads, no gravity and
+/// the walls at rest, started from [`top_mode_velocity`] and run for `omega_max t` =
+/// [`PROBE_OMEGA_T`]. Returns whether it is stable (solver did not stop it and the mean of
+/// `K + U` over the last fifth is at most [`PROBE_GROWTH`] times that over the first fifth)
+/// and that ratio.
+fn stability_probe(
+    scene: &Path,
+    scheme: SchemeKind,
+    fraction: f64,
+    out: &Path,
+) -> Result<(bool, Option<f64>)> {
+    let mut l = driver::load(scene)?;
+    l.scheme = scheme;
+    l.dt_limit = driver::stable_step(scheme, l.omega_max, l.z_high);
+    l.scene.integrator.scheme = scheme.name().into();
+    l.scene.output.frames = 0;
+    l.model.loads.clear();
+    l.model.gravity = None;
+    for p in &mut l.model.prescribed {
+        p.velocity = 0.0;
+    }
+    if let Some(c) = &mut l.scene.contact {
+        for w in &mut c.walls {
+            w.velocity = [0.0, 0.0];
+        }
+    }
+    l.model.v0 = top_mode_velocity(&l);
+    let duration = PROBE_OMEGA_T / l.omega_max;
+    let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
+    l.scene.duration = Some(duration);
+    l.dt = duration / n;
+    l.n_steps = n as u64;
+    // every step: sampled more sparsely, the fast oscillation of `K + U` near a scheme's
+    // limit aliases into slow beats that bias the means of the fifths by ~1 %
+    l.scene.histories.every = Some(1);
+    l.scene.histories.probes = vec![fdem_solver::scene::Probe::Energy];
+    let options = RunOptions {
+        out_dir: out.to_path_buf(),
+        raw: false,
+    };
+    match driver::run_outcome(&mut l, &options, &mut |_| {}) {
+        Ok(_) => {}
+        Err(RunError::Unstable { .. }) => return Ok((false, None)),
+        Err(e) => return Err(e.into()),
+    }
+    let (_, k) = read_history(out, "kinetic")?;
+    let (_, u) = read_history(out, "strain")?;
+    let e: Vec<f64> = k.iter().zip(&u).map(|(a, b)| a + b).collect();
+    let m = e.len() / 5;
+    if m == 0 {
+        return Ok((true, None));
+    }
+    let first = e[..m].iter().sum::<f64>() / m as f64;
+    let last = e[e.len() - m..].iter().sum::<f64>() / m as f64;
+    let ratio = last / first.max(f64::MIN_POSITIVE);
+    Ok((ratio.is_finite() && ratio <= PROBE_GROWTH, Some(ratio)))
 }
 
 fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
@@ -333,13 +612,13 @@ fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
 
 fn csv(runs: &[Run]) -> String {
     let mut s = String::from(
-        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,element_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error\n",
+        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,element_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error,measured2,error_measure,error_measure2\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:e}")).unwrap_or_default();
     for r in runs {
         let _ = writeln!(
             s,
-            "{},{},{:e},{:e},{},{},{},{:e},{:e},{},{},{},{},{}",
+            "{},{},{:e},{:e},{},{},{},{:e},{:e},{},{},{},{},{},{},{},{}",
             r.scheme,
             r.fraction,
             r.dt,
@@ -353,7 +632,10 @@ fn csv(runs: &[Run]) -> String {
             o(r.error_vs_reference),
             o(r.error_analytical),
             o(r.measured),
-            o(r.error)
+            o(r.error),
+            o(r.measured2),
+            o(r.error_measure),
+            o(r.error_measure2)
         );
     }
     s
@@ -361,11 +643,21 @@ fn csv(runs: &[Run]) -> String {
 
 /// Runs the study.
 pub fn run(args: &SceneArgs) -> Result<()> {
-    let kinds = schemes(&args.schemes)?;
-    if args.fractions.is_empty() || args.fractions.iter().any(|f| !(*f > 0.0 && f.is_finite())) {
+    let side = side_file(&args.scene)?;
+    let kinds = match side.as_ref().and_then(|s| s.schemes.clone()) {
+        Some(list) if args.schemes.is_empty() => schemes(&list)?,
+        _ => schemes(&args.schemes)?,
+    };
+    let mut fractions = if !args.fractions.is_empty() {
+        args.fractions.clone()
+    } else if let Some(f) = side.as_ref().and_then(|s| s.fractions.clone()) {
+        f
+    } else {
+        DEFAULT_FRACTIONS.to_vec()
+    };
+    if fractions.is_empty() || fractions.iter().any(|f| !(*f > 0.0 && f.is_finite())) {
         bail!("--fractions must be positive numbers, e.g. 0.1,0.5,0.9");
     }
-    let mut fractions = args.fractions.clone();
     fractions.sort_by(f64::total_cmp);
     fractions.dedup();
     let stem = args
@@ -379,8 +671,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{stem}")));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let analytical = side_file(&args.scene)?;
-    let l0 = driver::load(&args.scene)?;
+    let scene = study_scene(&args.scene, side.as_ref(), &out)?;
+    let analytical = side.map(|s| s.reference);
+    let l0 = driver::load(&scene)?;
     let (nodes, triangles) = (l0.model.n_nodes(), l0.model.triangles.len());
     drop(l0);
 
@@ -413,13 +706,23 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     for &k in &kinds {
         let mut first_unstable = None;
         let mut last_stable: f64 = 0.0;
+        let mut probes: Vec<(f64, bool, Option<f64>)> = Vec::new();
         let mut list: Vec<f64> = fractions.clone();
         let mut i = 0;
         while i < list.len() {
             let f = list[i];
             bar.set_message(format!("{} at {f} h_pred", k.name()));
-            let r = one_run(&args.scene, k, f, &run_dir(k, f), analytical.as_ref())?;
-            if r.run.stable {
+            let r = one_run(&scene, k, f, &run_dir(k, f), analytical.as_ref())?;
+            // The measured-stability probe from 0.99 up, until one is unstable.
+            let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.1) {
+                bar.set_message(format!("{} at {f} h_pred (stability probe)", k.name()));
+                let (ok, ratio) = stability_probe(&scene, k, f, &run_dir(k, f).join("probe"))?;
+                probes.push((f, ok, ratio));
+                ok
+            } else {
+                probes.iter().all(|p| p.1)
+            };
+            if r.run.stable && probe_stable {
                 last_stable = last_stable.max(f);
             } else if first_unstable.is_none() {
                 first_unstable = Some(f);
@@ -443,14 +746,31 @@ pub fn run(args: &SceneArgs) -> Result<()> {
             dt_predicted: raws.last().map(|r| r.run.dt_predicted).unwrap_or(0.0),
             observed_at_least: last_stable,
             observed_below: first_unstable,
+            probes,
         });
     }
     bar.finish_and_clear();
     let f_min = fractions[0];
-    let reference = raws
+    let ref_raw = raws
         .iter()
-        .find(|r| r.run.scheme == ref_kind.name() && r.run.fraction == f_min && r.run.stable)
-        .map(|r| r.displacement.clone());
+        .find(|r| r.run.scheme == ref_kind.name() && r.run.fraction == f_min && r.run.stable);
+    let reference = ref_raw.map(|r| r.displacement.clone());
+    let (m_ref, m2_ref) = ref_raw
+        .map(|r| (r.run.measured, r.run.measured2))
+        .unwrap_or((None, None));
+    let by_measure = analytical.as_ref().is_some_and(|a| !a.is_analytical());
+    if by_measure {
+        for r in raws.iter_mut().filter(|r| r.run.stable) {
+            if let (Some(m), Some(mr)) = (r.run.measured, m_ref) {
+                r.run.error_measure = Some((m - mr).abs() / mr.abs().max(f64::MIN_POSITIVE));
+            }
+            if let Some(Analytical::Fracture { .. }) = analytical
+                && let (Some(c), Some(cr)) = (r.run.measured2, m2_ref)
+            {
+                r.run.error_measure2 = Some((c - cr).abs());
+            }
+        }
+    }
     if let Some(u_ref) = &reference {
         let scale = u_ref
             .iter()
@@ -470,7 +790,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     let runs: Vec<Run> = raws
         .into_iter()
         .map(|mut r| {
-            r.run.error = if analytical.is_some() {
+            r.run.error = if by_measure {
+                r.run.error_measure
+            } else if analytical.is_some() {
                 r.run.error_analytical
             } else {
                 r.run.error_vs_reference
@@ -492,7 +814,13 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         &out.join("study.json"),
         serde_json::to_string_pretty(&report)?.as_bytes(),
     )?;
-    let files = plots(&out, &stem, &kinds, &runs, &limits, analytical.is_some())?;
+    let primary = match &analytical {
+        Some(a) if a.is_analytical() => Primary::Analytical,
+        Some(Analytical::Collision {}) => Primary::Measure("kinetic energy ratio after/before"),
+        Some(_) => Primary::Measure("peak load"),
+        None => Primary::Reference,
+    };
+    let files = plots(&out, &stem, &kinds, &runs, &limits, primary)?;
 
     // The table on stdout.
     println!(
@@ -545,6 +873,17 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     Ok(())
 }
 
+/// Which error the first pair of charts shows.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Primary {
+    /// Against the scene's analytical answer.
+    Analytical,
+    /// A scalar measure (named) against the reference run's.
+    Measure(&'static str),
+    /// The displacements against the reference run.
+    Reference,
+}
+
 /// Picks one error of a run.
 type ErrorOf = fn(&Run) -> Option<f64>;
 
@@ -554,7 +893,7 @@ fn plots(
     kinds: &[SchemeKind],
     runs: &[Run],
     limits: &[Limit],
-    analytical: bool,
+    primary: Primary,
 ) -> Result<Vec<PathBuf>> {
     let label = |k: &SchemeKind| {
         let l = limits.iter().find(|l| l.scheme == k.name());
@@ -594,15 +933,27 @@ fn plots(
     };
     // The primary error (analytical when declared), and the error against the reference run
     // as a second pair of charts when the primary one is analytical.
-    let mut kinds_of_error: Vec<(&str, &str, ErrorOf)> = Vec::new();
-    if analytical {
-        kinds_of_error.push(("", "relative error against the analytical answer", |r| {
-            r.error_analytical
-        }));
+    let mut kinds_of_error: Vec<(&str, String, ErrorOf)> = Vec::new();
+    match primary {
+        Primary::Analytical => kinds_of_error.push((
+            "",
+            "relative error against the analytical answer".into(),
+            |r| r.error_analytical,
+        )),
+        Primary::Measure(what) => kinds_of_error.push((
+            "",
+            format!("relative error of the {what} against the reference run"),
+            |r| r.error_measure,
+        )),
+        Primary::Reference => {}
     }
     kinds_of_error.push((
-        if analytical { "_reference" } else { "" },
-        "relative error against the reference run",
+        if primary == Primary::Reference {
+            ""
+        } else {
+            "_reference"
+        },
+        "relative error of the displacements against the reference run".into(),
         |r| r.error_vs_reference,
     ));
     let mut plots = Vec::new();
@@ -623,7 +974,7 @@ fn plots(
             Plot {
                 title: format!("{stem}: work-precision (stable runs)"),
                 x_label: "wall time of the run (s)".into(),
-                y_label: what.into(),
+                y_label: what.clone(),
                 x_scale: Scale::Log,
                 y_scale: Scale::Log,
                 series: series(&|r| pick(r).map(|e| (r.wall_time, e)), false),
@@ -637,7 +988,7 @@ fn plots(
                 title: format!("{stem}: error against the time step"),
                 x_label: "h / h_pred (h_pred: scheme limit over the element frequency bound)"
                     .into(),
-                y_label: what.into(),
+                y_label: what.clone(),
                 x_scale: Scale::Log,
                 y_scale: Scale::Log,
                 series: err_vs_step,
