@@ -106,6 +106,7 @@ impl JointFrame {
                         k.s[i],
                         state.damage[j][i],
                         h.mode_mix[i],
+                        state.shear_secant[j][i],
                     )
                 });
                 (0.5 * (t[0].sigma + t[1].sigma), 0.5 * (t[0].tau + t[1].tau))
