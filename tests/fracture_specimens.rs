@@ -268,7 +268,7 @@ fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_a
 
 /// Runs the block example with friction `mu` at both platens: (peak load [N], elastic slope
 /// [N/m], broken joints, mode II + mixed breaks, energy residual / work).
-fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64) {
+fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64, f64) {
     let scene = common::edited_example("block-compression-fracture.json", tag, |v| {
         for w in v["contact"]["walls"].as_array_mut().unwrap() {
             w["law"]["friction"] = mu.into();
@@ -308,7 +308,8 @@ fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64) {
         e.dissipated_or_error / work,
         o.summary.stages
     );
-    (p[ip], slope, nb, shear, e.dissipated_or_error / work)
+    eprintln!("block mu = {mu}: final load / peak {:.3}", p[p.len() - 1] / p[ip]);
+    (p[ip], slope, nb, shear, e.dissipated_or_error / work, p[p.len() - 1] / p[ip])
 }
 
 #[test]
@@ -316,7 +317,7 @@ fn block_between_platens_has_the_elastic_slope_and_friction_raises_its_peak() {
     // Square block 50 x 50 mm, t = 50 mm, E = 30 GPa, plane stress: E A / H = E t.
     let k = 30e9 * 0.05 * 0.05 / 0.05;
     // The two runs side by side (each is serial in its own thread; rayon shares the cores).
-    let ((p0, k0, b0, s0, r0), (p5, k5, b5, s5, r5)) = std::thread::scope(|sc| {
+    let ((p0, k0, b0, s0, r0, d0), (p5, k5, b5, s5, r5, d5)) = std::thread::scope(|sc| {
         let h0 = sc.spawn(|| block(0.0, "block-mu0"));
         let h5 = sc.spawn(|| block(0.5, "block-mu05"));
         (h0.join().unwrap(), h5.join().unwrap())
@@ -333,9 +334,13 @@ fn block_between_platens_has_the_elastic_slope_and_friction_raises_its_peak() {
     assert!((k5 / k - 1.0).abs() < 0.03, "slope {k5}");
     // Friction at the platens confines the block ends: a higher peak.
     assert!(p5 > p0, "peak with friction {p5} <= frictionless {p0}");
-    // It fractures, in shear (mode II or mixed breaks) as well as in tension.
-    for (b, s) in [(b0, s0), (b5, s5)] {
-        assert!(b > 50 && s > 10, "{b} broken, {s} in shear");
+    // It fails: the load has dropped below half the peak by the end of the run, with broken
+    // joints in shear (mode II or mixed) as well as in tension. (A fully damaged joint breaks
+    // only once open at both points or slid by h/10, so joints crushed shut in the shear bands
+    // stay in the set with damage 1; the broken count is the lower bound 30.)
+    for (b, s, d) in [(b0, s0, d0), (b5, s5, d5)] {
+        assert!(d < 0.5, "final load / peak {d}: the block has not failed");
+        assert!(b > 30 && s > 10, "{b} broken, {s} in shear");
     }
     // Energy balance within 2 % of the platens' work.
     assert!(r0.abs() < 0.02 && r5.abs() < 0.02, "residuals {r0} {r5}");
