@@ -19,8 +19,8 @@
 //! joints) with no loads, no gravity and the walls at rest, started from a velocity field
 //! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the element
 //! forces), run for `omega_max t` = 5000 (796 periods of the element frequency bound); it is
-//! unstable when the solver stops it or the mean `K + U` over its last fifth exceeds that over
-//! its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
+//! unstable when the solver stops it or the mean `K + U + stored` (contact, joints) over its
+//! last fifth exceeds that over its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
 //! `omega_max t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_max t`: the
 //! time crate's own definition of a stable step (`rho(T(h)) <= 1 + 1e-6 h`,
 //! docs/time-integration.md), applied to the mesh's highest modes. Probes run from 0.99 of
@@ -582,7 +582,13 @@ fn stability_probe(
     }
     let (_, k) = read_history(out, "kinetic")?;
     let (_, u) = read_history(out, "strain")?;
-    let e: Vec<f64> = k.iter().zip(&u).map(|(a, b)| a + b).collect();
+    let (_, st) = read_history(out, "stored")?;
+    let e: Vec<f64> = k
+        .iter()
+        .zip(&u)
+        .zip(&st)
+        .map(|((a, b), c)| a + b + c)
+        .collect();
     let m = e.len() / 5;
     if m == 0 {
         return Ok((true, None));

@@ -600,6 +600,8 @@ struct Histories {
     writer: HistoryWriter,
     every: u64,
     groups: Vec<Vec<u32>>,
+    /// Whether an energy probe is recorded (then the stages' stored energy is computed).
+    energy: bool,
 }
 
 impl Histories {
@@ -634,6 +636,7 @@ impl Histories {
                         "external_work",
                         "support_work",
                         "balance",
+                        "stored",
                     ] {
                         cols.push(c.into());
                     }
@@ -651,6 +654,7 @@ impl Histories {
             writer: HistoryWriter::new(&dir.join("histories.csv"), &cols),
             every,
             groups,
+            energy: probes.iter().any(|p| matches!(p, Probe::Energy)),
         })
     }
 
@@ -702,6 +706,7 @@ impl Histories {
                         energy.external_work,
                         energy.support_work,
                         energy.external_work + energy.support_work - kinetic - u,
+                        energy.stored_contact_joints,
                     ]);
                 }
             }
@@ -1010,6 +1015,9 @@ fn dynamic(
             kinetic = kinetic_energy(&mass_dof, &state.v);
             let mut e = energy;
             e.external_work += gravity_work(&sys.model, &state.x, &grav0);
+            if hh.energy {
+                e.stored_contact_joints = stored_at(&sys, state.x_nodes()).0;
+            }
             hh.record(
                 l,
                 state.t,
