@@ -11,10 +11,14 @@
 //!   so that a joint dissipates exactly `G` times its area in a pure mode.
 //! - [`joint`]: kinematics at the two nodal integration points, the mixed-mode law with damage
 //!   `D = max(D_old, sqrt(<o-o_p>^2/(o_c-o_p)^2 + <|s|-s_p>^2/(s_c-s_p)^2))`, secant unloading,
-//!   compression `(p/h) o`, Mohr-Coulomb shear strength `c + sigma_c tan(phi)`, nodal forces
-//!   that conserve linear and angular momentum exactly.
+//!   compression `(p/h) o`, Mohr-Coulomb shear strength `c + sigma_c tan(phi)` with a shear
+//!   secant history `k_t = min(k_t_old, tau_law/|s|)` (the law's shear depends on sigma and
+//!   has no potential: without the history a joint can create energy), nodal forces on the
+//!   reference area `h t/2` that conserve linear and angular momentum exactly.
 //! - [`pass`]: the parallel force pass ([`accumulate_joint_forces`], read-only on history) and
-//!   the end-of-step [`commit_joints`] (damage, energy books, breaking, events).
+//!   the end-of-step [`commit_joints`] (damage, energy books, breaking when fully damaged and
+//!   open (or slid by `h/10`), events); the commit reuses the force pass's evaluations at
+//!   the same positions.
 //! - [`timestep`]: the joints' bound on `omega^2` for the stable time step.
 //! - [`events`]: a broken joint reported as data ([`FractureEvent`]): the solver hands the
 //!   two triangles to contact; this crate does not depend on contact.
