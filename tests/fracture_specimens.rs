@@ -308,8 +308,18 @@ fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64, f64) {
         e.dissipated_or_error / work,
         o.summary.stages
     );
-    eprintln!("block mu = {mu}: final load / peak {:.3}", p[p.len() - 1] / p[ip]);
-    (p[ip], slope, nb, shear, e.dissipated_or_error / work, p[p.len() - 1] / p[ip])
+    eprintln!(
+        "block mu = {mu}: final load / peak {:.3}",
+        p[p.len() - 1] / p[ip]
+    );
+    (
+        p[ip],
+        slope,
+        nb,
+        shear,
+        e.dissipated_or_error / work,
+        p[p.len() - 1] / p[ip],
+    )
 }
 
 #[test]
