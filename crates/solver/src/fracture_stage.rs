@@ -200,6 +200,9 @@ pub struct FractureStage {
     stars: StarBonds,
     /// Per joint: its stars released (the joint softened or broke).
     star_released: Vec<bool>,
+    /// Rebuilds of the bonded list and their wall time [s] (reported in the details).
+    rebuilds: u64,
+    rebuild_s: f64,
     bonded: Arc<Mutex<BondedPairs>>,
     report: Arc<Mutex<FractureReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
@@ -238,6 +241,8 @@ impl FractureStage {
                 events: Vec::new(),
                 stars,
                 star_released: vec![false; n_joints],
+                rebuilds: 0,
+                rebuild_s: 0.0,
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
@@ -298,10 +303,13 @@ impl ForceContribution for FractureStage {
             return;
         }
         {
+            let t0 = std::time::Instant::now();
             let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
             let b = &mut *b;
             self.stars.pairs(&self.state.intact, &mut b.pairs);
             b.version += 1;
+            self.rebuilds += 1;
+            self.rebuild_s += t0.elapsed().as_secs_f64();
         }
         if n == 0 {
             return;
@@ -347,6 +355,9 @@ impl ForceContribution for FractureStage {
             details: serde_json::json!({
                 "joints": self.set.len(),
                 "broken": self.state.n_broken,
+                "bonded_pairs": self.bonded.lock().map_or(0, |b| b.pairs.len()),
+                "bonded_rebuilds": self.rebuilds,
+                "bonded_rebuild_s": self.rebuild_s,
                 "stored": e.stored,
                 "dissipated": e.dissipated,
                 "released_at_break": e.released_at_break,
