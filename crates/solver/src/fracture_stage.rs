@@ -9,9 +9,12 @@
 //! [`crate::contact_stage::BondedPairs`]) holds the pairs of every intact joint and every pair
 //! of triangles around an original (pre-explode) node whose star of joints is intact
 //! ([`crate::star_bonds`]): in an intact mesh no triangle is a contact couple of its edge or
-//! vertex neighbours. A break removes its joint's pair and unbonds the vertex pairs of the stars
-//! of its two end nodes (the list is rebuilt once per step with breaks, `O(joints)`), so these
-//! faces become contact couples. Physics caveat: non-adjacent triangles of an intact star
+//! vertex neighbours. A break removes its joint's pair; the first softening (damage > 0) or
+//! break of a joint unbonds the vertex pairs of the stars of its two end nodes (the list is
+//! rebuilt once per step with such changes, `O(joints)`), so these faces become contact
+//! couples. (Releasing only at breaks let triangles slide along fully damaged, unbroken joints
+//! into their vertex neighbours, and the overlaps entered contact at once when a star broke:
+//! docs/fracture.md section 13.) Physics caveat: non-adjacent triangles of an intact star
 //! could only overlap after their edge neighbours' joints are crushed by more than the joint
 //! penalty allows (the joints carry the compression there; docs/fracture.md). Each break is a
 //! row of `fractures.csv` (time, position, mode, energy released).

@@ -12,7 +12,10 @@
 //! Bonded set `B = { (T1, T2) of intact joints } U { (a, b) : a, b in star(c), c intact }`.
 //! A joint break marks the stars of its two end nodes broken (for good); pairs still bonded
 //! by an intact joint stay bonded. [`StarBonds::pairs`] rebuilds the list in `O(joints +
-//! vertex pairs)` (no sorting), once per batch of breaks.
+//! vertex pairs)` (no sorting), once per batch of breaks. The fracture stage calls
+//! [`StarBonds::break_joint`] already at a joint's first softening (damage > 0), so that
+//! triangles cannot slide along fully damaged, unbroken joints into vertex neighbours that
+//! are not contact couples (docs/fracture.md section 13).
 //!
 //! Physics caveat: two non-adjacent triangles of an intact star could only overlap after the
 //! joints between them and their edge neighbours are crushed by more than the joint penalty
