@@ -131,6 +131,29 @@ fn bench(c: &mut Criterion) {
         serde_json::to_string(&s.timers).unwrap(),
         s.stages
     );
+    // Results identical bit for bit on 1 and 2 threads (final positions and velocities).
+    let mut finals = Vec::new();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let o = pool.install(|| run_outcome(&mut l, &opts, &mut |_| {}).unwrap());
+        let bits: Vec<u64> = (o.last_frame.points.iter())
+            .chain(&o.last_frame.velocity)
+            .flat_map(|p| [p[0].to_bits(), p[1].to_bits()])
+            .collect();
+        finals.push((bits, o.summary.stages["fracture"]["broken"].clone()));
+    }
+    assert!(
+        finals[0] == finals[1],
+        "1 and 2 threads give different final states"
+    );
+    eprintln!(
+        "1 and 2 threads: final positions and velocities bit-identical ({} values, {} broken)",
+        finals[0].0.len(),
+        finals[0].1
+    );
     let mut g = c.benchmark_group("fracture_disc");
     g.sample_size(10);
     g.throughput(Throughput::Elements(n_tri as u64 * STEPS));

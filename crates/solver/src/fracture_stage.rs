@@ -5,10 +5,19 @@
 //! Each force evaluation adds the forces of the intact joints (Munjiza's combined single and
 //! smeared crack model, docs/fracture.md); the end-of-step hook commits damage
 //! (`commit_joints`: damage never heals, energies booked, joints with both points at `D = 1`
-//! break). A broken joint's two triangles leave the contact stage's bonded list (passed as
-//! data through [`crate::contact_stage::BondedPairs`]), so its faces become contact couples;
-//! intact-joint pairs are never contact couples. Each break is a row of `fractures.csv`
-//! (time, position, mode, energy released).
+//! break). The contact stage's bonded list (passed as data through
+//! [`crate::contact_stage::BondedPairs`]) holds the pairs of every intact joint and every pair
+//! of triangles around an original (pre-explode) node whose star of joints is intact
+//! ([`crate::star_bonds`]): in an intact mesh no triangle is a contact couple of its edge or
+//! vertex neighbours. A break removes its joint's pair; the first softening (damage > 0) or
+//! break of a joint unbonds the vertex pairs of the stars of its two end nodes (the list is
+//! rebuilt once per step with such changes, `O(joints)`), so these faces become contact
+//! couples. (Releasing only at breaks let triangles slide along fully damaged, unbroken joints
+//! into their vertex neighbours, and the overlaps entered contact at once when a star broke:
+//! docs/fracture.md section 13.) Physics caveat: non-adjacent triangles of an intact star
+//! could only overlap after their edge neighbours' joints are crushed by more than the joint
+//! penalty allows (the joints carry the compression there; docs/fracture.md). Each break is a
+//! row of `fractures.csv` (time, position, mode, energy released).
 //!
 //! Time step: `omega^2 += omega_j^2` with the fracture crate's Gershgorin bound
 //! (`joint_omega_sq_bound`, about `3 (p/h) l (1/A_1 + 1/A_2)/rho`).
@@ -28,6 +37,7 @@ use crate::contact_stage::BondedPairs;
 use crate::error::SceneError;
 use crate::model::Model;
 use crate::scene::Scene;
+use crate::star_bonds::StarBonds;
 use crate::system::{ForceContribution, StageReport};
 
 /// The scene's `"fracture"` section.
@@ -190,6 +200,12 @@ pub struct FractureStage {
     state: JointState,
     scratch: JointScratch,
     events: Vec<FractureEvent>,
+    stars: StarBonds,
+    /// Per joint: its stars released (the joint softened or broke).
+    star_released: Vec<bool>,
+    /// Rebuilds of the bonded list and their wall time [s] (reported in the details).
+    rebuilds: u64,
+    rebuild_s: f64,
     bonded: Arc<Mutex<BondedPairs>>,
     report: Arc<Mutex<FractureReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
@@ -205,10 +221,11 @@ impl FractureStage {
     ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
         let state = JointState::new(&set, &model.x0);
         let scratch = JointScratch::new(set.len());
-        let bonded = Arc::new(Mutex::new(BondedPairs {
-            pairs: set.triangles.clone(),
-            version: 0,
-        }));
+        let n_joints = set.len();
+        let stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
+        let mut pairs = Vec::new();
+        stars.pairs(&state.intact, &mut pairs);
+        let bonded = Arc::new(Mutex::new(BondedPairs { pairs, version: 0 }));
         let report = Arc::new(Mutex::new(FractureReport {
             joints: set.len(),
             ..Default::default()
@@ -225,6 +242,10 @@ impl FractureStage {
                 state,
                 scratch,
                 events: Vec::new(),
+                stars,
+                star_released: vec![false; n_joints],
+                rebuilds: 0,
+                rebuild_s: 0.0,
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
@@ -269,20 +290,32 @@ impl ForceContribution for FractureStage {
             &mut self.scratch,
             &mut self.events,
         );
-        if n == 0 {
+        // Stars stop bonding at the first softening of one of their joints (damage > 0 at
+        // either point) or its break: O(joints) flags per step, a rebuild only on a change.
+        let mut released = false;
+        for (j, r) in self.star_released.iter_mut().enumerate() {
+            if !*r {
+                let d = self.state.damage[j];
+                if !self.state.intact[j] || d[0] > 0.0 || d[1] > 0.0 {
+                    *r = true;
+                    released |= self.stars.break_joint(j);
+                }
+            }
+        }
+        if n == 0 && !released {
             return;
         }
         {
+            let t0 = std::time::Instant::now();
             let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
-            b.pairs = self
-                .set
-                .triangles
-                .iter()
-                .zip(&self.state.intact)
-                .filter(|(_, i)| **i)
-                .map(|(p, _)| *p)
-                .collect();
+            let b = &mut *b;
+            self.stars.pairs(&self.state.intact, &mut b.pairs);
             b.version += 1;
+            self.rebuilds += 1;
+            self.rebuild_s += t0.elapsed().as_secs_f64();
+        }
+        if n == 0 {
+            return;
         }
         let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
         r.broken = self.state.n_broken;
@@ -325,6 +358,9 @@ impl ForceContribution for FractureStage {
             details: serde_json::json!({
                 "joints": self.set.len(),
                 "broken": self.state.n_broken,
+                "bonded_pairs": self.bonded.lock().map_or(0, |b| b.pairs.len()),
+                "bonded_rebuilds": self.rebuilds,
+                "bonded_rebuild_s": self.rebuild_s,
                 "stored": e.stored,
                 "dissipated": e.dissipated,
                 "released_at_break": e.released_at_break,

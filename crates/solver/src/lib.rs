@@ -21,6 +21,7 @@ pub mod output;
 pub mod scene;
 pub mod schemes;
 pub mod stages;
+pub mod star_bonds;
 pub mod static_solve;
 pub mod system;
 

@@ -1,0 +1,358 @@
+//! Bonded triangle pairs of an exploded mesh: the edge neighbours of an intact joint, and every
+//! pair of triangles around an original (pre-explode) mesh node whose star is intact.
+//!
+//! The original nodes are recovered from the joints alone: joint `j` with nodes `[P, Q, R, S]`
+//! (`P = S`, `Q = R` in the reference) joins `P ~ S` and `Q ~ R`; the classes of this relation
+//! (union-find over the model's nodes) are the original nodes inside the fracturing regions
+//! (a node on a region's border also collects the shared node of the unexploded triangles).
+//! The star of class `c` is the set of triangles with a node in `c`; its joints are the joints
+//! with an end node in `c`. A star is intact while all its joints are; a star on the border of
+//! the body or of a fracturing region is intact when all the joints it has are.
+//!
+//! Bonded set `B = { (T1, T2) of intact joints } U { (a, b) : a, b in star(c), c intact }`.
+//! A joint break marks the stars of its two end nodes broken (for good); pairs still bonded
+//! by an intact joint stay bonded. [`StarBonds::pairs`] rebuilds the list in `O(joints +
+//! vertex pairs)` (no sorting), once per batch of breaks. The fracture stage calls
+//! [`StarBonds::break_joint`] already at a joint's first softening (damage > 0), so that
+//! triangles cannot slide along fully damaged, unbroken joints into vertex neighbours that
+//! are not contact couples (docs/fracture.md section 13).
+//!
+//! Physics caveat: two non-adjacent triangles of an intact star could only overlap after the
+//! joints between them and their edge neighbours are crushed by more than the joint penalty
+//! allows (the joints carry compression there), so the contact couples they would make are
+//! dropped while the star is intact. Stars that are split in two by a non-manifold node
+//! (triangles touching at a node without a chain of joints between them) are two classes here,
+//! which only keeps more couples in contact (conservative).
+
+/// The star structure of a joint set (reference topology; fixed at set-up).
+#[derive(Debug, Clone)]
+pub struct StarBonds {
+    /// Per joint: its two triangles.
+    joint_tris: Vec<[u32; 2]>,
+    /// Per joint: the stars of its two end nodes.
+    joint_stars: Vec<[u32; 2]>,
+    /// Vertex-neighbour pairs (sharing a star, no joint between them) and their star.
+    vertex_pairs: Vec<([u32; 2], u32)>,
+    /// Per star: still intact.
+    star_intact: Vec<bool>,
+}
+
+fn find(parent: &mut [u32], mut a: u32) -> u32 {
+    while parent[a as usize] != a {
+        let p = parent[a as usize];
+        parent[a as usize] = parent[p as usize];
+        a = p;
+    }
+    a
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        parent[hi as usize] = lo;
+    }
+}
+
+impl StarBonds {
+    /// Builds the stars of joints `nodes[j] = [P, Q, R, S]` between `tris[j] = [T1, T2]`
+    /// (`P -> Q` in `T1`, `R -> S` in `T2`) over a model of `n_nodes` nodes. All stars start
+    /// intact.
+    pub fn new(nodes: &[[u32; 4]], tris: &[[u32; 2]], n_nodes: usize) -> Self {
+        let mut parent: Vec<u32> = (0..n_nodes as u32).collect();
+        for n in nodes {
+            union(&mut parent, n[0], n[3]);
+            union(&mut parent, n[1], n[2]);
+        }
+        // Dense star ids for the roots that appear in a joint.
+        const NONE: u32 = u32::MAX;
+        let mut star_of_root = vec![NONE; n_nodes];
+        let mut n_stars = 0u32;
+        let mut joint_stars = Vec::with_capacity(nodes.len());
+        for n in nodes {
+            let mut s = [0u32; 2];
+            for (k, &node) in [n[0], n[1]].iter().enumerate() {
+                let r = find(&mut parent, node) as usize;
+                if star_of_root[r] == NONE {
+                    star_of_root[r] = n_stars;
+                    n_stars += 1;
+                }
+                s[k] = star_of_root[r];
+            }
+            joint_stars.push(s);
+        }
+        // Per star: its triangles and its joints (compressed rows).
+        let ns = n_stars as usize;
+        let mut off = vec![0u32; ns + 1];
+        for s in &joint_stars {
+            off[s[0] as usize + 1] += 1;
+            off[s[1] as usize + 1] += 1;
+        }
+        for i in 0..ns {
+            off[i + 1] += off[i];
+        }
+        let mut cur = off.clone();
+        let mut star_joints = vec![0u32; off[ns] as usize];
+        for (j, s) in joint_stars.iter().enumerate() {
+            for &si in s {
+                star_joints[cur[si as usize] as usize] = j as u32;
+                cur[si as usize] += 1;
+            }
+        }
+        let mut vertex_pairs = Vec::new();
+        let mut star_tris: Vec<u32> = Vec::new();
+        for s in 0..ns {
+            let js = &star_joints[off[s] as usize..off[s + 1] as usize];
+            star_tris.clear();
+            for &j in js {
+                for t in tris[j as usize] {
+                    if !star_tris.contains(&t) {
+                        star_tris.push(t);
+                    }
+                }
+            }
+            star_tris.sort_unstable();
+            for (ia, &a) in star_tris.iter().enumerate() {
+                for &b in &star_tris[ia + 1..] {
+                    let by_joint = js.iter().any(|&j| {
+                        let p = tris[j as usize];
+                        (p[0] == a && p[1] == b) || (p[0] == b && p[1] == a)
+                    });
+                    if !by_joint {
+                        vertex_pairs.push(([a, b], s as u32));
+                    }
+                }
+            }
+        }
+        Self {
+            joint_tris: tris.to_vec(),
+            joint_stars,
+            vertex_pairs,
+            star_intact: vec![true; ns],
+        }
+    }
+
+    /// Number of stars (original nodes touched by a joint).
+    pub fn n_stars(&self) -> usize {
+        self.star_intact.len()
+    }
+
+    /// Number of vertex-neighbour pairs (bonded while their star is intact).
+    pub fn n_vertex_pairs(&self) -> usize {
+        self.vertex_pairs.len()
+    }
+
+    /// Joint `j` broke (or, as the fracture stage uses it, started to soften): the stars of
+    /// its two end nodes stop bonding. Returns true when a star was still bonding.
+    pub fn break_joint(&mut self, j: usize) -> bool {
+        let mut changed = false;
+        for s in self.joint_stars[j] {
+            changed |= std::mem::replace(&mut self.star_intact[s as usize], false);
+        }
+        changed
+    }
+
+    /// Writes the bonded pairs into `out` (cleared first): the intact joints' pairs
+    /// (`intact[j]`), then the vertex pairs of the intact stars. No pair appears twice.
+    pub fn pairs(&self, intact: &[bool], out: &mut Vec<[u32; 2]>) {
+        out.clear();
+        out.extend(
+            self.joint_tris
+                .iter()
+                .zip(intact)
+                .filter(|(_, i)| **i)
+                .map(|(p, _)| *p),
+        );
+        out.extend(
+            self.vertex_pairs
+                .iter()
+                .filter(|(_, s)| self.star_intact[*s as usize])
+                .map(|(p, _)| *p),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fdem_contact::{Contact, ContactLaw, ContactLaws, ContactSettings};
+    use fdem_mesh::{Mesh, explode};
+    use std::collections::BTreeSet;
+
+    /// A structured `n x n` square mesh of side 1 (two triangles per cell, diagonals alternating).
+    fn square(n: usize) -> Mesh {
+        let mut nodes = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                nodes.push([i as f64 / n as f64, j as f64 / n as f64]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                if (i + j) % 2 == 0 {
+                    tris.push([a, b, c]);
+                    tris.push([a, c, d]);
+                } else {
+                    tris.push([a, b, d]);
+                    tris.push([b, c, d]);
+                }
+            }
+        }
+        Mesh::from_nodes_triangles(nodes, tris).expect("valid mesh")
+    }
+
+    /// The bonded set from its definition, with the explode's map to the original nodes.
+    fn brute_force(
+        tris: &[[u32; 3]],
+        original: &[u32],
+        jn: &[[u32; 4]],
+        jt: &[[u32; 2]],
+        intact: &[bool],
+    ) -> BTreeSet<[u32; 2]> {
+        let n_orig = original.iter().max().map_or(0, |m| *m as usize + 1);
+        let mut star_ok = vec![true; n_orig];
+        for (j, n) in jn.iter().enumerate() {
+            if !intact[j] {
+                star_ok[original[n[0] as usize] as usize] = false;
+                star_ok[original[n[1] as usize] as usize] = false;
+            }
+        }
+        let mut out = BTreeSet::new();
+        for (j, p) in jt.iter().enumerate() {
+            if intact[j] {
+                out.insert([p[0].min(p[1]), p[0].max(p[1])]);
+            }
+        }
+        for a in 0..tris.len() {
+            for b in a + 1..tris.len() {
+                let shared = tris[a].iter().any(|&na| {
+                    let oa = original[na as usize];
+                    star_ok[oa as usize] && tris[b].iter().any(|&nb| original[nb as usize] == oa)
+                });
+                if shared {
+                    out.insert([a as u32, b as u32]);
+                }
+            }
+        }
+        out
+    }
+
+    fn as_set(pairs: &[[u32; 2]]) -> BTreeSet<[u32; 2]> {
+        pairs
+            .iter()
+            .map(|p| [p[0].min(p[1]), p[0].max(p[1])])
+            .collect()
+    }
+
+    #[test]
+    fn bonded_set_equals_brute_force_after_a_sequence_of_breaks() {
+        let mesh = square(5);
+        let ex = explode(&mesh, None).expect("explode");
+        let jn: Vec<[u32; 4]> = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.nodes.map(|n| n.0))
+            .collect();
+        let jt: Vec<[u32; 2]> = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.tris.map(|t| t.0))
+            .collect();
+        let original: Vec<u32> = ex.original_node.iter().map(|n| n.0).collect();
+        let tris = &ex.mesh.triangles;
+        let mut sb = StarBonds::new(&jn, &jt, ex.mesh.nodes.len());
+        // One star per original node touched by a joint (all but the two corners (1, 0) and
+        // (0, 1), whose single triangle has no diagonal there).
+        let touched: BTreeSet<u32> = jn
+            .iter()
+            .flat_map(|n| [original[n[0] as usize], original[n[1] as usize]])
+            .collect();
+        assert_eq!(touched.len(), mesh.nodes.len() - 2);
+        assert_eq!(sb.n_stars(), touched.len(), "one star per original node");
+        let mut intact = vec![true; jn.len()];
+        let mut out = Vec::new();
+        // Breaks in a fixed scrambled order, checked after each batch of 1, 2, 3, ... breaks.
+        let order: Vec<usize> = (0..jn.len()).map(|k| (k * 37 + 11) % jn.len()).collect();
+        let mut k = 0;
+        let mut batch = 1;
+        let mut checked = 0;
+        while k < order.len() {
+            sb.pairs(&intact, &mut out);
+            let got = as_set(&out);
+            assert_eq!(got.len(), out.len(), "a pair listed twice");
+            assert_eq!(got, brute_force(tris, &original, &jn, &jt, &intact));
+            checked += 1;
+            for &j in order[k..(k + batch).min(order.len())].iter() {
+                intact[j] = false;
+                let _ = sb.break_joint(j);
+            }
+            k += batch;
+            batch += 1;
+        }
+        sb.pairs(&intact, &mut out);
+        assert!(out.is_empty(), "all joints broken: nothing bonded");
+        assert!(checked >= 8, "only {checked} states checked");
+    }
+
+    #[test]
+    fn vertex_neighbours_at_a_star_with_a_broken_joint_are_detected() {
+        // Two triangles sharing only original node 4 (the centre of a 2 x 2 square): T(a) in the
+        // lower-left cell and T(b) in the upper-right cell; pushed through each other they
+        // overlap. Bonded while the centre's star is intact: no couple; after one joint of that
+        // star breaks (any of its 8 joints; not between a and b): a couple.
+        let mesh = square(2);
+        let ex = explode(&mesh, None).expect("explode");
+        let jn: Vec<[u32; 4]> = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.nodes.map(|n| n.0))
+            .collect();
+        let jt: Vec<[u32; 2]> = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.tris.map(|t| t.0))
+            .collect();
+        let tris = ex.mesh.triangles.clone();
+        let orig = |n: u32| ex.original_node[n as usize].0;
+        // Triangles 0..2 are cell (0,0), 6..8 cell (1,1); both have a vertex at node 4.
+        let a = (0..2u32)
+            .find(|&t| tris[t as usize].iter().any(|&n| orig(n) == 4))
+            .expect("lower-left triangle at the centre");
+        let b = (6..8u32)
+            .find(|&t| tris[t as usize].iter().any(|&n| orig(n) == 4))
+            .expect("upper-right triangle at the centre");
+        let mut x = ex.mesh.nodes.clone();
+        for &n in &tris[b as usize] {
+            x[n as usize][0] -= 0.3;
+            x[n as usize][1] -= 0.3;
+        }
+        let mut sb = StarBonds::new(&jn, &jt, x.len());
+        let mut intact = vec![true; jn.len()];
+        let mut out = Vec::new();
+        sb.pairs(&intact, &mut out);
+        let mut c = Contact::new(
+            ContactSettings::default(),
+            ContactLaws::uniform(1, ContactLaw::with_penalty(1e9)),
+        );
+        c.set_bonded(tris.len(), &out);
+        c.detect(&x, &tris);
+        let has = |c: &Contact| {
+            c.couples()
+                .iter()
+                .any(|p| (p[0] == a && p[1] == b) || (p[0] == b && p[1] == a))
+        };
+        assert!(!has(&c), "intact star: (a, b) bonded");
+        let j = (0..jn.len())
+            .find(|&j| orig(jn[j][0]) == 4 && !jt[j].contains(&a) && !jt[j].contains(&b))
+            .expect("a joint of the centre's star away from a and b");
+        intact[j] = false;
+        assert!(sb.break_joint(j), "the centre's star was bonding");
+        sb.pairs(&intact, &mut out);
+        c.set_bonded(tris.len(), &out);
+        c.detect(&x, &tris);
+        assert!(has(&c), "broken star: (a, b) must be a contact couple");
+    }
+}
