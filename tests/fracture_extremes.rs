@@ -7,57 +7,6 @@ mod common;
 
 use fdem_solver::driver::{self, Outcome, RunOptions};
 
-/// Two triangles (a 10 mm square cut along its diagonal) bonded by one joint, between a fixed
-/// frictionless floor and a frictionless platen moving down at `speed` (ramped over `ramp`):
-/// the diagonal fails in shear under compression at `sigma = 2 c/(1 - tan(phi))` = 4.73 MPa
-/// and the two wedges slide apart.
-fn pair_scene(
-    tag: &str,
-    penalty: f64,
-    speed: f64,
-    ramp: f64,
-    safety: f64,
-    duration: f64,
-) -> std::path::PathBuf {
-    let dir = common::temp_dir(tag);
-    let l = 0.01;
-    let mesh = serde_json::json!({
-        "nodes": [[0.0, 0.0], [l, 0.0], [l, l], [0.0, l]],
-        "triangles": [[0, 1, 2], [0, 2, 3]],
-    });
-    std::fs::write(dir.join("pair.json"), mesh.to_string()).unwrap();
-    let scene = serde_json::json!({
-        "title": "two triangles, one diagonal joint, in compression",
-        "bodies": [{
-            "name": "pair",
-            "mesh": dir.join("pair.json").display().to_string(),
-            "materials": { "*": { "young": 30e9, "poisson": 0.2, "density": 2500.0, "plane": "stress" } },
-            "thickness": 0.01
-        }],
-        "fracture": {
-            "regions": [ { "body": "pair" } ],
-            "material": {
-                "tensile_strength": 3e6, "cohesion": 1e6, "friction_angle_deg": 30.0,
-                "fracture_energy_i": 10.0, "fracture_energy_ii": 10.0,
-                "penalty_normal": penalty, "penalty_tangential": penalty
-            }
-        },
-        "contact": {
-            "walls": [
-                { "name": "top", "point": [0.0, l], "normal": [0.0, -1.0], "velocity": [0.0, -speed], "ramp": ramp },
-                { "name": "bottom", "point": [0.0, 0.0], "normal": [0.0, 1.0] }
-            ]
-        },
-        "integrator": { "scheme": "central-difference", "time_step": "auto", "safety": safety },
-        "duration": duration,
-        "output": { "frames": 2 },
-        "histories": { "every": 1, "probes": [ "energy" ] }
-    });
-    let p = dir.join("pair.scene.json");
-    std::fs::write(&p, scene.to_string()).unwrap();
-    p
-}
-
 /// Runs a scene; `Err` carries the solver's message.
 fn try_run(scene: &std::path::Path) -> Result<(Outcome, std::path::PathBuf), String> {
     let mut l = driver::load(scene).map_err(|e| e.to_string())?;
@@ -107,7 +56,18 @@ const EXPECTED: f64 = 4.732_050_807_568_877e6; // 2 c/(1 - tan 30 deg), c = 1 MP
 #[test]
 fn joint_penalty_of_1000_e_stays_finite_and_balanced() {
     // p = p_t = 1000 E = 3e13 Pa: the joints set the time step (about 10 times smaller)
-    let scene = pair_scene("fx-penalty", 3e13, 0.02, 1e-4, 0.9, 1.2e-3);
+    let scene = common::diagonal_pair_scene(
+        "fx-penalty",
+        &common::PairScene {
+            penalty: 3e13,
+            speed: 0.02,
+            ramp: 1e-4,
+            safety: 0.9,
+            duration: 1.2e-3,
+            frames: 2,
+            every: 1,
+        },
+    );
     let (o, out) = try_run(&scene).unwrap_or_else(|e| panic!("{e}"));
     assert_outputs_finite(&out);
     let (sigma, res, events) = pair_figures(&o, &out);
@@ -128,7 +88,18 @@ fn platen_at_a_tenth_of_the_wave_speed_stays_finite_or_stops_with_a_clear_messag
     // c = sqrt(E/rho) = 3464 m/s; the platen reaches 350 m/s in 0.1 us and crushes the square
     // by a third in 10 us (stresses of 10 GPa, rho c v = 3 GPa). The run either stays finite,
     // or stops with the contact stage's message naming the time and the fix.
-    let scene = pair_scene("fx-fast", 3e11, 350.0, 1e-7, 0.9, 1e-5);
+    let scene = common::diagonal_pair_scene(
+        "fx-fast",
+        &common::PairScene {
+            penalty: 3e11,
+            speed: 350.0,
+            ramp: 1e-7,
+            safety: 0.9,
+            duration: 1e-5,
+            frames: 2,
+            every: 1,
+        },
+    );
     match try_run(&scene) {
         Ok((o, out)) => {
             assert_outputs_finite(&out);
@@ -172,7 +143,18 @@ fn platen_at_a_tenth_of_the_wave_speed_stays_finite_or_stops_with_a_clear_messag
 fn joint_breaking_at_0_99_of_the_predicted_stable_step_stays_finite_and_balanced() {
     // the auto step is 0.99 times 2/omega_max with omega_max^2 = omega_el^2 + omega_c^2 +
     // omega_j^2 (the joint's Gershgorin bound): the joint softens and breaks at that step
-    let scene = pair_scene("fx-limit", 3e11, 0.02, 1e-4, 0.99, 1.2e-3);
+    let scene = common::diagonal_pair_scene(
+        "fx-limit",
+        &common::PairScene {
+            penalty: 3e11,
+            speed: 0.02,
+            ramp: 1e-4,
+            safety: 0.99,
+            duration: 1.2e-3,
+            frames: 2,
+            every: 1,
+        },
+    );
     let (o, out) = try_run(&scene).unwrap_or_else(|e| panic!("{e}"));
     assert_outputs_finite(&out);
     let (sigma, res, events) = pair_figures(&o, &out);

@@ -181,55 +181,22 @@ fn brazilian_disc_run_well_past_the_split_closes_the_energy_balance_within_2_per
     );
 }
 
-/// A square of two triangles bonded by one joint along its diagonal, between a fixed
-/// frictionless floor and a frictionless platen moving down: the diagonal sees
-/// `sigma_n = tau = sigma/2` under the platen stress `sigma`, so it fails in shear at
-/// `sigma = 2 c/(1 - tan(phi))`; fully damaged, it stays closed (compression only, no
-/// friction) while the two wedges slide apart, and breaks when it opens (or has slid by a
-/// tenth of its length): contact takes over.
-fn pair_scene(tag: &str, speed: f64, duration: f64) -> std::path::PathBuf {
-    let dir = common::temp_dir(tag);
-    let l = 0.01;
-    let mesh = serde_json::json!({
-        "nodes": [[0.0, 0.0], [l, 0.0], [l, l], [0.0, l]],
-        "triangles": [[0, 1, 2], [0, 2, 3]],
-    });
-    std::fs::write(dir.join("pair.json"), mesh.to_string()).unwrap();
-    let scene = serde_json::json!({
-        "title": "two triangles, one diagonal joint, in compression",
-        "bodies": [{
-            "name": "pair",
-            "mesh": dir.join("pair.json").display().to_string(),
-            "materials": { "*": { "young": 30e9, "poisson": 0.2, "density": 2500.0, "plane": "stress" } },
-            "thickness": 0.01
-        }],
-        "fracture": {
-            "regions": [ { "body": "pair" } ],
-            "material": {
-                "tensile_strength": 3e6, "cohesion": 1e6, "friction_angle_deg": 30.0,
-                "fracture_energy_i": 10.0, "fracture_energy_ii": 10.0,
-                "penalty_normal": 300e9, "penalty_tangential": 300e9
-            }
-        },
-        "contact": {
-            "walls": [
-                { "name": "top", "point": [0.0, l], "normal": [0.0, -1.0], "velocity": [0.0, -speed], "ramp": 1e-4 },
-                { "name": "bottom", "point": [0.0, 0.0], "normal": [0.0, 1.0] }
-            ]
-        },
-        "integrator": { "scheme": "central-difference", "time_step": "auto", "safety": 0.9 },
-        "duration": duration,
-        "output": { "frames": 0 },
-        "histories": { "every": 20, "probes": [ "energy" ] }
-    });
-    let p = dir.join("pair.scene.json");
-    std::fs::write(&p, scene.to_string()).unwrap();
-    p
-}
-
 #[test]
 fn diagonal_pair_fails_in_shear_under_compression_and_hands_over_to_contact_with_closed_balance() {
-    let scene = pair_scene("pair-handover", 0.02, 1.5e-3);
+    // The pair of `common::diagonal_pair_scene`: 10 mm square cut along its diagonal, joint
+    // penalty 300 GPa, platen at 0.02 m/s.
+    let scene = common::diagonal_pair_scene(
+        "pair-handover",
+        &common::PairScene {
+            penalty: 300e9,
+            speed: 0.02,
+            ramp: 1e-4,
+            safety: 0.9,
+            duration: 1.5e-3,
+            frames: 0,
+            every: 20,
+        },
+    );
     let (o, out) = common::run(&scene);
     let (l, t, c, tan_phi) = (0.01, 0.01, 1e6, 30f64.to_radians().tan());
     let (h, rows) = csv(&out.join("walls.csv"));

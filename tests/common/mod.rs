@@ -153,3 +153,77 @@ pub fn recovered_stress(
     }
     out
 }
+
+/// The loading of [`diagonal_pair_scene`].
+#[derive(Debug, Clone, Copy)]
+pub struct PairScene {
+    /// Joint penalty, normal and tangential [Pa].
+    pub penalty: f64,
+    /// Platen speed [m/s].
+    pub speed: f64,
+    /// Ramp of the platen speed [s].
+    pub ramp: f64,
+    /// Safety factor on the automatic step.
+    pub safety: f64,
+    /// Duration [s].
+    pub duration: f64,
+    /// Frames written.
+    pub frames: u32,
+    /// History rows every this many steps.
+    pub every: u32,
+}
+
+/// Two triangles (a 10 mm square cut along its diagonal) bonded by one joint, between a fixed
+/// frictionless floor and a frictionless platen moving down at `speed` (ramped over `ramp`):
+/// the diagonal fails in shear under compression at `sigma = 2 c/(1 - tan(phi))` = 4.73 MPa
+/// and the two wedges slide apart. Fully damaged, the joint stays closed (compression only,
+/// no friction) while the wedges slide, and breaks when it opens (or has slid by a tenth of
+/// its length): contact takes over.
+pub fn diagonal_pair_scene(tag: &str, s: &PairScene) -> PathBuf {
+    let PairScene {
+        penalty,
+        speed,
+        ramp,
+        safety,
+        duration,
+        frames,
+        every,
+    } = *s;
+    let dir = temp_dir(tag);
+    let l = 0.01;
+    let mesh = serde_json::json!({
+        "nodes": [[0.0, 0.0], [l, 0.0], [l, l], [0.0, l]],
+        "triangles": [[0, 1, 2], [0, 2, 3]],
+    });
+    std::fs::write(dir.join("pair.json"), mesh.to_string()).unwrap();
+    let scene = serde_json::json!({
+        "title": "two triangles, one diagonal joint, in compression",
+        "bodies": [{
+            "name": "pair",
+            "mesh": dir.join("pair.json").display().to_string(),
+            "materials": { "*": { "young": 30e9, "poisson": 0.2, "density": 2500.0, "plane": "stress" } },
+            "thickness": 0.01
+        }],
+        "fracture": {
+            "regions": [ { "body": "pair" } ],
+            "material": {
+                "tensile_strength": 3e6, "cohesion": 1e6, "friction_angle_deg": 30.0,
+                "fracture_energy_i": 10.0, "fracture_energy_ii": 10.0,
+                "penalty_normal": penalty, "penalty_tangential": penalty
+            }
+        },
+        "contact": {
+            "walls": [
+                { "name": "top", "point": [0.0, l], "normal": [0.0, -1.0], "velocity": [0.0, -speed], "ramp": ramp },
+                { "name": "bottom", "point": [0.0, 0.0], "normal": [0.0, 1.0] }
+            ]
+        },
+        "integrator": { "scheme": "central-difference", "time_step": "auto", "safety": safety },
+        "duration": duration,
+        "output": { "frames": frames },
+        "histories": { "every": every, "probes": [ "energy" ] }
+    });
+    let p = dir.join("pair.scene.json");
+    std::fs::write(&p, scene.to_string()).unwrap();
+    p
+}

@@ -27,10 +27,9 @@ use fdem_fracture::{FractureMode, JointSet, JointState, kinematics, point_tracti
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use vtkio::model::{
-    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType, Piece,
-    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+    Attribute, Attributes, CellType, Cells, DataArray, ElementType, UnstructuredGridPiece,
+    VertexNumbers,
 };
-use vtkio::xml::Compressor;
 
 use super::{Collection, FrameData, write_atomic};
 
@@ -207,27 +206,7 @@ pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
             ],
         },
     };
-    let vtk = Vtk {
-        version: Version::new_xml(1, 0),
-        title: String::new(),
-        byte_order: ByteOrder::LittleEndian,
-        file_path: None,
-        data: DataSet::UnstructuredGrid {
-            meta: None,
-            pieces: vec![Piece::Inline(Box::new(piece))],
-        },
-    };
-    let compressor = if level == 0 {
-        Compressor::None
-    } else {
-        Compressor::ZLib
-    };
-    let xml = vtk
-        .try_into_xml_format(compressor, level)
-        .map_err(|e| e.to_string())?;
-    let mut bytes = Vec::new();
-    xml.write(&mut bytes).map_err(|e| e.to_string())?;
-    Ok(bytes)
+    super::vtu::piece_bytes(piece, level)
 }
 
 /// The joint series of a run: `joints_NNNN.vtu` files and their collection `joints.pvd`,
@@ -279,6 +258,7 @@ impl JointSeries {
 mod tests {
     use super::*;
     use fdem_fracture::{Joint, JointMaterialInput};
+    use vtkio::model::{DataSet, Piece, Vtk};
 
     fn one_joint() -> (JointSet, Vec<[f64; 2]>) {
         let mat = JointMaterialInput {

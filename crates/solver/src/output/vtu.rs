@@ -103,6 +103,13 @@ pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
             .collect(),
         },
     };
+    piece_bytes(piece, level)
+}
+
+/// One unstructured-grid piece as the bytes of a `.vtu` file: zlib-compressed binary
+/// appended data at `level` (1-9), or uncompressed for 0. Shared by the triangle and joint
+/// series.
+pub(crate) fn piece_bytes(piece: UnstructuredGridPiece, level: u32) -> Result<Vec<u8>, String> {
     let vtk = Vtk {
         version: Version::new_xml(1, 0),
         title: String::new(),
