@@ -527,45 +527,32 @@ impl Contact {
     /// Adds all contact forces (normal + friction + damping) of the last pass to `f`, in
     /// couple order (deterministic).
     pub fn add_forces(&self, tris: &[[u32; 3]], f: &mut [V2]) {
-        for ((r, c), _) in self
-            .results
-            .iter()
-            .zip(&self.couples)
-            .zip(&self.flags)
-            .filter(|(_, f)| **f != 0)
-        {
-            if !r.active || r.fn_total == 0.0 {
-                continue;
-            }
-            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-            let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
-            for k in 0..6 {
-                let n = nodes[k] as usize;
-                f[n] = add(f[n], r.total[k]);
-            }
-        }
-        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
-            let t = &tris[c[1] as usize];
-            for k in 0..3 {
-                let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
-                let n = t[k] as usize;
-                f[n] = add(f[n], g);
-            }
-        }
+        self.scatter(
+            tris,
+            f,
+            |r| r.total,
+            |r| std::array::from_fn(|k| add(add(r.normal[k], r.friction[k]), r.damping[k])),
+        );
     }
 
     /// Adds one family of forces of the last pass to `f` (for separate work bookkeeping).
     pub fn add_family(&self, family: Family, tris: &[[u32; 3]], f: &mut [V2]) {
-        let pick6 = |r: &CoupleForce| match family {
-            Family::Normal => r.normal,
-            Family::Friction => r.friction,
-            Family::Damping => r.damping,
-        };
-        let pick3 = |r: &WallForce| match family {
-            Family::Normal => r.normal,
-            Family::Friction => r.friction,
-            Family::Damping => r.damping,
-        };
+        match family {
+            Family::Normal => self.scatter(tris, f, |r| r.normal, |r| r.normal),
+            Family::Friction => self.scatter(tris, f, |r| r.friction, |r| r.friction),
+            Family::Damping => self.scatter(tris, f, |r| r.damping, |r| r.damping),
+        }
+    }
+
+    /// Adds to `f`, in couple order then plane-pair order, the nodal forces that `couple`
+    /// picks from each couple in contact and `wall` from each plane pair.
+    fn scatter(
+        &self,
+        tris: &[[u32; 3]],
+        f: &mut [V2],
+        couple: impl Fn(&CoupleForce) -> [V2; 6],
+        wall: impl Fn(&WallForce) -> [V2; 3],
+    ) {
         for ((r, c), _) in self
             .results
             .iter()
@@ -578,7 +565,7 @@ impl Contact {
             }
             let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
             let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
-            let g = pick6(r);
+            let g = couple(r);
             for k in 0..6 {
                 let n = nodes[k] as usize;
                 f[n] = add(f[n], g[k]);
@@ -586,7 +573,7 @@ impl Contact {
         }
         for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
             let t = &tris[c[1] as usize];
-            let g = pick3(r);
+            let g = wall(r);
             for k in 0..3 {
                 let n = t[k] as usize;
                 f[n] = add(f[n], g[k]);

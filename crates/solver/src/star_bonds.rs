@@ -176,7 +176,7 @@ impl StarBonds {
 mod tests {
     use super::*;
     use fdem_contact::{Contact, ContactLaw, ContactLaws, ContactSettings};
-    use fdem_mesh::{Mesh, explode};
+    use fdem_mesh::{Exploded, Mesh, explode};
     use std::collections::BTreeSet;
 
     /// A structured `n x n` square mesh of side 1 (two triangles per cell, diagonals alternating).
@@ -240,6 +240,21 @@ mod tests {
         out
     }
 
+    /// The joints' node quadruples and triangle pairs of an exploded mesh, as plain ids.
+    fn joint_arrays(ex: &Exploded) -> (Vec<[u32; 4]>, Vec<[u32; 2]>) {
+        let jn = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.nodes.map(|n| n.0))
+            .collect();
+        let jt = ex
+            .internal_edges
+            .iter()
+            .map(|e| e.tris.map(|t| t.0))
+            .collect();
+        (jn, jt)
+    }
+
     fn as_set(pairs: &[[u32; 2]]) -> BTreeSet<[u32; 2]> {
         pairs
             .iter()
@@ -251,16 +266,7 @@ mod tests {
     fn bonded_set_equals_brute_force_after_a_sequence_of_breaks() {
         let mesh = square(5);
         let ex = explode(&mesh, None).expect("explode");
-        let jn: Vec<[u32; 4]> = ex
-            .internal_edges
-            .iter()
-            .map(|e| e.nodes.map(|n| n.0))
-            .collect();
-        let jt: Vec<[u32; 2]> = ex
-            .internal_edges
-            .iter()
-            .map(|e| e.tris.map(|t| t.0))
-            .collect();
+        let (jn, jt) = joint_arrays(&ex);
         let original: Vec<u32> = ex.original_node.iter().map(|n| n.0).collect();
         let tris = &ex.mesh.triangles;
         let mut sb = StarBonds::new(&jn, &jt, ex.mesh.nodes.len());
@@ -305,16 +311,7 @@ mod tests {
         // star breaks (any of its 8 joints; not between a and b): a couple.
         let mesh = square(2);
         let ex = explode(&mesh, None).expect("explode");
-        let jn: Vec<[u32; 4]> = ex
-            .internal_edges
-            .iter()
-            .map(|e| e.nodes.map(|n| n.0))
-            .collect();
-        let jt: Vec<[u32; 2]> = ex
-            .internal_edges
-            .iter()
-            .map(|e| e.tris.map(|t| t.0))
-            .collect();
+        let (jn, jt) = joint_arrays(&ex);
         let tris = ex.mesh.triangles.clone();
         let orig = |n: u32| ex.original_node[n as usize].0;
         // Triangles 0..2 are cell (0,0), 6..8 cell (1,1); both have a vertex at node 4.
