@@ -14,42 +14,9 @@ use fdem_contact::{
 use std::hint::black_box;
 use std::time::Duration;
 
-struct Packing {
-    x: Vec<[f64; 2]>,
-    v: Vec<[f64; 2]>,
-    tris: Vec<[u32; 3]>,
-}
-
-fn packing(n_tris: usize) -> Packing {
-    let side = ((n_tris / 2) as f64).sqrt().ceil() as usize;
-    let mut s = 0x1234_5678_9abc_def0u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let (mut x, mut v, mut tris) = (Vec::new(), Vec::new(), Vec::new());
-    'outer: for j in 0..side {
-        for i in 0..side {
-            let (a, b) = (i as f64, j as f64);
-            let corners = [[a, b], [a + 1.0, b], [a + 1.0, b + 1.0], [a, b + 1.0]];
-            for t in [[0, 1, 2], [0, 2, 3]] {
-                if tris.len() == n_tris {
-                    break 'outer;
-                }
-                let base = x.len() as u32;
-                for k in t {
-                    let c: [f64; 2] = corners[k];
-                    x.push([c[0] + 0.1 * rnd(), c[1] + 0.1 * rnd()]);
-                    v.push([rnd(), rnd()]);
-                }
-                tris.push([base, base + 1, base + 2]);
-            }
-        }
-    }
-    Packing { x, v, tris }
-}
+#[path = "common/packing.rs"]
+mod packing;
+use packing::packing;
 
 fn detection(c: &mut Criterion) {
     let mut g = c.benchmark_group("detection");

@@ -8,46 +8,16 @@
 use fdem_contact::{Contact, ContactLaw, ContactLaws, ContactSettings};
 use std::time::Instant;
 
-/// Positions, velocities, triangles.
-type Packing = (Vec<[f64; 2]>, Vec<[f64; 2]>, Vec<[u32; 3]>);
-
-fn packing(n_tris: usize) -> Packing {
-    let side = ((n_tris / 2) as f64).sqrt().ceil() as usize;
-    let mut s = 0x1234_5678_9abc_def0u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let (mut x, mut v, mut tris) = (Vec::new(), Vec::new(), Vec::new());
-    'outer: for j in 0..side {
-        for i in 0..side {
-            let (a, b) = (i as f64, j as f64);
-            let corners = [[a, b], [a + 1.0, b], [a + 1.0, b + 1.0], [a, b + 1.0]];
-            for t in [[0, 1, 2], [0, 2, 3]] {
-                if tris.len() == n_tris {
-                    break 'outer;
-                }
-                let base = x.len() as u32;
-                for k in t {
-                    let c: [f64; 2] = corners[k];
-                    x.push([c[0] + 0.1 * rnd(), c[1] + 0.1 * rnd()]);
-                    v.push([rnd(), rnd()]);
-                }
-                tris.push([base, base + 1, base + 2]);
-            }
-        }
-    }
-    (x, v, tris)
-}
+#[path = "../benches/common/packing.rs"]
+mod packing;
+use packing::packing;
 
 fn main() {
     let reps: usize = std::env::args()
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(20);
-    let (x, v, tris) = packing(100_000);
+    let packing::Packing { x, v, tris } = packing(100_000);
     for (mu, damping) in [(0.0, 0.0), (0.5, 0.0), (0.5, 1.0e5)] {
         let law = ContactLaw {
             mu,
