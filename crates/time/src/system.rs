@@ -147,7 +147,7 @@ pub fn finite_difference_gradient<S: SecondOrderSystem + ?Sized>(
     // The step moves the nodes by `sqrt(eps) |x|_inf` at most: well inside the range where
     // penalty laws are smooth (a joint's peak opening is ~1e-5 of the model size), and
     // `sqrt(eps)` above the rounding of the positions themselves (relative error of `G`
-    // ~1e-8). The former `eps^(1/3) max(|x|, 1)` moved them by 6 um in SI units, 50 peak
+    // ~1e-8). The former `eps^(1/3) max(|x|, 1)` moved them by 6 um in SI units, ~100 peak
     // openings of the Brazilian disc's joints: the difference then spanned the joint law's
     // nonlinear range and CHIN's probe went unstable below its predicted step
     // (docs/speed-vs-accuracy.md).
