@@ -17,8 +17,9 @@
 //! **Measured stability** (the observed limit): a fraction is stable when the scene run is
 //! (above) *and* its *stability probe* is: the scene's mesh, supports and stages (contact,
 //! joints) with no loads, no gravity and the walls at rest, started from a velocity field
-//! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the element
-//! forces), run for `omega_max t` = 5000 (796 periods of the element frequency bound); it is
+//! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the whole
+//! system's forces: elements, contact and joints), run for `omega_max t` = 5000 (796 periods
+//! of the frequency bound); it is
 //! unstable when the solver stops it or the mean `K + U + stored` (contact, joints) over its
 //! last fifth exceeds that over its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
 //! `omega_max t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_max t`: the
@@ -48,8 +49,12 @@
 //!     broken joints (`fractures.csv`), absolute difference.
 //!
 //! The side file may also hold `"set": {"/json/pointer": value, ...}` (changes to the scene for
-//! the study: a shorter or coarser version, written to `OUT/study-SCENE.json`), and default
-//! `"fractions"` and `"schemes"` (the command line wins).
+//! the study: a shorter or coarser version, written to `OUT/study-SCENE.json`), default
+//! `"fractions"` and `"schemes"` (the command line wins), and `"probe_from": T` [s]: the
+//! probes then start from the scene's state at `T` with the walls held there (bodies pressed
+//! together stay pressed: the contact is active through the probe), and their growth is
+//! measured against the high-mode field's own energy ([`ProbeStart`]). `"reference"` may be
+//! left out (errors against the reference run only).
 //!
 //! The primary `error` is the analytical one when declared, else the measure's when declared,
 //! else the displacements' against the reference. Cost: wall time of the run, force evaluations, element-steps per second.
