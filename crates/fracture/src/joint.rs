@@ -133,9 +133,75 @@ pub fn point_traction(
     law::<true>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
 }
 
-/// The law; with `FULL = false` (force passes) the mode indicator is not computed.
+/// The law; with `FULL = false` the mode indicator is not computed. An undamaged point
+/// that stays before both peaks takes [`pre_peak_point`] (the same operations, without the
+/// softening quantities and with few branches); every other point the general [`law_any`].
 #[inline(always)]
 fn law<const FULL: bool>(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    damage_old: f64,
+    mix_old: f64,
+    shear_secant_old: f64,
+) -> PointTraction {
+    if damage_old == 0.0
+        && let Some(pt) = pre_peak_point(mat, k, o, s, mix_old, shear_secant_old)
+    {
+        return pt;
+    }
+    law_any::<FULL>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
+}
+
+/// The law at an undamaged point, if it stays undamaged: `None` when the opening passes
+/// `o_p` or the slip passes `s_p` (where [`law_any`] computes the damage). Where it answers,
+/// its result is bit for bit that of [`law_any`]: with `D = 0` the damage terms vanish
+/// exactly (`<o - o_p> = 0`, `<|s| - s_p> = 0`), so only the pre-peak curves remain.
+#[inline(always)]
+fn pre_peak_point(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    mix_old: f64,
+    shear_secant_old: f64,
+) -> Option<PointTraction> {
+    let abs_s = s.abs();
+    let compr = o < 0.0;
+    let sigma_compr = k.kn * o;
+    let fs = if compr {
+        mat.shear_strength(sigma_compr)
+    } else {
+        mat.cohesion
+    };
+    let s_p = if compr { k.slip_per_fs * fs } else { k.s_p0 };
+    if o > k.o_p || abs_s > s_p {
+        return None;
+    }
+    let inv_s_p = if compr { 1.0 / s_p } else { k.inv_s_p0 };
+    let x = o * k.inv_o_p;
+    let (sigma, psi_n) = if compr {
+        (sigma_compr, 0.5 * sigma_compr * o)
+    } else {
+        (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
+    };
+    let k_law = fs * (2.0 - abs_s * inv_s_p) * inv_s_p;
+    let shear_secant = k_law.min(shear_secant_old);
+    let tau = shear_secant * s;
+    Some(PointTraction {
+        sigma,
+        tau,
+        damage: 0.0,
+        mode_mix: mix_old,
+        shear_secant,
+        stored: psi_n + 0.5 * tau * s,
+    })
+}
+
+/// The general law (any damage, any branch).
+#[inline(always)]
+fn law_any<const FULL: bool>(
     mat: &JointMaterial,
     k: &JointConsts,
     o: f64,
@@ -289,7 +355,7 @@ pub fn evaluate_forces(
 }
 
 #[inline(always)]
-fn evaluate_impl<const FULL: bool>(
+pub(crate) fn evaluate_impl<const FULL: bool>(
     mat: &JointMaterial,
     consts: &JointConsts,
     x: &JointNodes,

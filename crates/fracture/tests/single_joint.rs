@@ -65,21 +65,17 @@ impl Rig {
             &mut self.scratch,
             &mut self.events,
         );
-        // the commit sees the same positions and history as the force pass: same forces
-        let e = self.scratch.evals()[0];
-        assert_eq!(e.forces, trial_forces);
         assert_eq!(
             f, trial_forces,
             "one joint: the scattered forces are the joint's"
         );
-        [
-            (e.local[0] / area, e.local[1] / area),
-            (e.local[4] / area, e.local[5] / area),
-        ]
+        // the committed work conjugates [A sigma, A tau, o, s] per point
+        let e = self.state.last[0];
+        [(e[0] / area, e[1] / area), (e[4] / area, e[5] / area)]
     }
 
     fn hist(&self) -> JointHistory {
-        self.state.history[0]
+        self.state.history(0)
     }
 }
 

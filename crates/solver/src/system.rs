@@ -102,6 +102,8 @@ pub struct SceneSystem {
     /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
     /// force passes and end-of-step hooks (filled while the stage timers are on).
     pub contribution_times: Vec<f64>,
+    /// The part of [`SceneSystem::contribution_times`] spent in the end-of-step hooks [s].
+    pub contribution_end_times: Vec<f64>,
     /// Time of the last evaluation's external loads [s].
     pub evaluations: u64,
     timing: bool,
@@ -135,6 +137,7 @@ impl SceneSystem {
             force: vec![[0.0; 2]; n],
             timers: StageTimers::default(),
             contribution_times: Vec::new(),
+            contribution_end_times: Vec::new(),
             evaluations: 0,
             timing: true,
         }
@@ -254,16 +257,20 @@ impl SecondOrderSystem for SceneSystem {
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
             if self.timing {
-                self.contribution_times
-                    .resize(self.contributions.len(), 0.0);
-                for (c, ct) in self
+                let n = self.contributions.len();
+                self.contribution_times.resize(n, 0.0);
+                self.contribution_end_times.resize(n, 0.0);
+                for ((c, ct), ce) in self
                     .contributions
                     .iter_mut()
                     .zip(&mut self.contribution_times)
+                    .zip(&mut self.contribution_end_times)
                 {
                     let sc = Instant::now();
                     c.end_of_step(t, xn, vn);
-                    *ct += sc.elapsed().as_secs_f64();
+                    let dt = sc.elapsed().as_secs_f64();
+                    *ct += dt;
+                    *ce += dt;
                 }
             } else {
                 for c in &mut self.contributions {

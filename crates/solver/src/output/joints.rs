@@ -93,7 +93,7 @@ impl JointFrame {
             f.points.push([0.5 * (p[0] + s[0]), 0.5 * (p[1] + s[1])]);
             f.points.push([0.5 * (q[0] + r[0]), 0.5 * (q[1] + r[1])]);
             let k = kinematics(&xs, set.consts[j].h);
-            let h = &state.history[j];
+            let h = state.history(j);
             let intact = state.intact[j];
             let (sigma, tau) = if intact {
                 let m = &set.materials[set.material[j] as usize];
