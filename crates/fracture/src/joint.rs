@@ -167,25 +167,26 @@ fn pre_peak_point(
     mix_old: f64,
     shear_secant_old: f64,
 ) -> Option<PointTraction> {
+    // both branches (compression, tension) are computed and one is selected: the sign of
+    // the opening varies from joint to joint, a branch on it would often be mispredicted
     let abs_s = s.abs();
     let compr = o < 0.0;
     let sigma_compr = k.kn * o;
-    let fs = if compr {
-        mat.shear_strength(sigma_compr)
-    } else {
-        mat.cohesion
-    };
-    let s_p = if compr { k.slip_per_fs * fs } else { k.s_p0 };
+    let fs_compr = mat.shear_strength(sigma_compr);
+    let s_p_compr = k.slip_per_fs * fs_compr;
+    let inv_s_p_compr = 1.0 / s_p_compr;
+    let x = o * k.inv_o_p;
+    let sigma_tens = mat.ft * pre_peak(x);
+    let psi_tens = mat.ft * k.o_p * pre_peak_energy(x);
+    let psi_compr = 0.5 * sigma_compr * o;
+    let fs = select(compr, fs_compr, mat.cohesion);
+    let s_p = select(compr, s_p_compr, k.s_p0);
     if o > k.o_p || abs_s > s_p {
         return None;
     }
-    let inv_s_p = if compr { 1.0 / s_p } else { k.inv_s_p0 };
-    let x = o * k.inv_o_p;
-    let (sigma, psi_n) = if compr {
-        (sigma_compr, 0.5 * sigma_compr * o)
-    } else {
-        (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
-    };
+    let inv_s_p = select(compr, inv_s_p_compr, k.inv_s_p0);
+    let sigma = select(compr, sigma_compr, sigma_tens);
+    let psi_n = select(compr, psi_compr, psi_tens);
     let k_law = fs * (2.0 - abs_s * inv_s_p) * inv_s_p;
     let shear_secant = k_law.min(shear_secant_old);
     let tau = shear_secant * s;
@@ -199,8 +200,15 @@ fn pre_peak_point(
     })
 }
 
-/// The general law (any damage, any branch).
+/// `a` if `c`, else `b` (written for a conditional move, not a branch).
 #[inline(always)]
+fn select(c: bool, a: f64, b: f64) -> f64 {
+    f64::from_bits(if c { a.to_bits() } else { b.to_bits() })
+}
+
+/// The general law (any damage, any branch). Kept out of line: in a force pass most points
+/// take [`pre_peak_point`], and the hot loop stays small.
+#[inline(never)]
 fn law_any<const FULL: bool>(
     mat: &JointMaterial,
     k: &JointConsts,
@@ -364,13 +372,53 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
     shear_secant_old: [f64; 2],
     t: f64,
 ) -> JointEval {
+    let mut out = JointEval::default();
+    out.stored = evaluate_into::<FULL>(
+        mat,
+        consts,
+        x,
+        [damage_old, mix_old, shear_secant_old],
+        t,
+        EvalOut {
+            forces: &mut out.forces,
+            damage: &mut out.damage,
+            mode_mix: &mut out.mode_mix,
+            shear_secant: &mut out.shear_secant,
+            local: &mut out.local,
+        },
+    );
+    out
+}
+
+/// Where [`evaluate_into`] writes a joint's results (the fields of [`JointEval`]).
+pub(crate) struct EvalOut<'a> {
+    pub(crate) forces: &'a mut [[f64; 2]; 4],
+    pub(crate) damage: &'a mut [f64; 2],
+    pub(crate) mode_mix: &'a mut [f64; 2],
+    pub(crate) shear_secant: &'a mut [f64; 2],
+    pub(crate) local: &'a mut [f64; 8],
+}
+
+/// One joint's evaluation written in place (no [`JointEval`] in between); `old` is the
+/// committed damage, mode indicator and shear secant per point. Returns the stored energy.
+#[inline(always)]
+pub(crate) fn evaluate_into<const FULL: bool>(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    x: &JointNodes,
+    old: [[f64; 2]; 3],
+    t: f64,
+    out: EvalOut<'_>,
+) -> f64 {
+    let [damage_old, mix_old, shear_secant_old] = old;
     let h = consts.h;
     let k = kinematics(x, h);
     // Reference area: the forces are then exactly -d(A psi)/dx for a frozen history.
     let area = 0.5 * h * t;
-    let mut out = JointEval::default();
+    let mut stored = 0.0;
     let mut frame = 0.0;
     let mut q = [[0.0; 2]; 2];
+    let mut local = [0.0; 8];
     for i in 0..2 {
         let pt = law::<FULL>(
             mat,
@@ -384,23 +432,29 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
         out.shear_secant[i] = pt.shear_secant;
-        out.stored += area * pt.stored;
+        stored += area * pt.stored;
         let (a_sigma, a_tau) = (area * pt.sigma, area * pt.tau);
-        out.local[4 * i..4 * i + 4].copy_from_slice(&[a_sigma, a_tau, k.o[i], k.s[i]]);
+        local[4 * i] = a_sigma;
+        local[4 * i + 1] = a_tau;
+        local[4 * i + 2] = k.o[i];
+        local[4 * i + 3] = k.s[i];
         q[i] = [
             a_sigma * k.nn[0] + a_tau * k.tt[0],
             a_sigma * k.nn[1] + a_tau * k.tt[1],
         ];
         frame += a_tau * k.o[i] - a_sigma * k.s[i];
     }
+    *out.local = local;
     let c = 0.5 * frame / k.l.max(DEGENERATE * h);
     let cn = [c * k.nn[0], c * k.nn[1]];
     // P = 0, Q = 1, R = 2, S = 3
-    out.forces[0] = [q[0][0] + cn[0], q[0][1] + cn[1]];
-    out.forces[3] = [-q[0][0] + cn[0], -q[0][1] + cn[1]];
-    out.forces[1] = [q[1][0] - cn[0], q[1][1] - cn[1]];
-    out.forces[2] = [-q[1][0] - cn[0], -q[1][1] - cn[1]];
-    out
+    *out.forces = [
+        [q[0][0] + cn[0], q[0][1] + cn[1]],
+        [q[1][0] - cn[0], q[1][1] - cn[1]],
+        [-q[1][0] - cn[0], -q[1][1] - cn[1]],
+        [-q[0][0] + cn[0], -q[0][1] + cn[1]],
+    ];
+    stored
 }
 
 #[cfg(test)]

@@ -22,9 +22,9 @@
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::evaluate_impl;
+use crate::joint::{EvalOut, evaluate_into};
 use crate::set::{JointId, JointSet};
-use crate::state::{Histories, JointState};
+use crate::state::{JointHistory, JointState};
 
 /// A fully damaged joint closed in compression breaks once it has slid by this fraction of its
 /// reference length.
@@ -51,7 +51,7 @@ const BREAKS: u8 = 2;
 pub struct JointScratch {
     forces: Vec<[[f64; 2]; 4]>,
     /// Trial history of the last pass (the committed one after a commit swapped them).
-    trial: Histories,
+    trial: Vec<JointHistory>,
     /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
     flags: Vec<u8>,
     /// Positions of the last pass.
@@ -77,9 +77,7 @@ impl JointScratch {
 
     /// Sizes the buffers for `n` joints (no-op when they already are).
     fn fit(&mut self, n: usize) {
-        if self.trial.len() != n {
-            self.trial = Histories::new(n);
-        }
+        self.trial.resize(n, JointHistory::FRESH);
         self.forces.resize(n, [[0.0; 2]; 4]);
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
@@ -113,69 +111,71 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
     let n = set.len();
     scratch.fit(n);
     let th = set.thickness;
-    let t = &mut scratch.trial;
     (
         scratch.forces.par_chunks_mut(CHUNK),
-        t.damage.par_chunks_mut(CHUNK),
-        t.shear_secant.par_chunks_mut(CHUNK),
-        t.mode_mix.par_chunks_mut(CHUNK),
-        t.last.par_chunks_mut(CHUNK),
-        t.work.par_chunks_mut(CHUNK),
-        t.stored.par_chunks_mut(CHUNK),
-        t.dissipated.par_chunks_mut(CHUNK),
+        scratch.trial.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(|(c, (f, d, k, m, l, w, s, di, flag))| {
+        .for_each(|(c, (f, h, flag))| {
             let j0 = c * CHUNK;
+            // the committed history and the joint data of this chunk, cut to its length
+            let n = f.len().min(h.len());
+            let r = j0..j0 + n;
+            let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
+            let (nodes, consts, material) = (
+                &set.nodes[r.clone()],
+                &set.consts[r.clone()],
+                &set.material[r],
+            );
             let mut fl = 0u8;
-            for i in 0..f.len() {
-                let j = j0 + i;
-                let (d_old, last_old) = (state.damage[j], &state.last[j]);
-                if !state.intact[j] {
+            for i in 0..n {
+                let ho = &old[i];
+                if !intact[i] {
                     // a broken joint keeps its books; no force
                     f[i] = [[0.0; 2]; 4];
-                    d[i] = d_old;
-                    k[i] = state.shear_secant[j];
-                    m[i] = state.mode_mix[j];
-                    l[i] = *last_old;
-                    w[i] = state.work[j];
-                    s[i] = state.stored[j];
-                    di[i] = state.dissipated[j];
+                    h[i] = *ho;
                     continue;
                 }
-                let consts = &set.consts[j];
-                let e = evaluate_impl::<true>(
-                    &set.materials[set.material[j] as usize],
-                    consts,
-                    &set.gather(j, x),
-                    d_old,
-                    state.mode_mix[j],
-                    state.shear_secant[j],
+                let [np, nq, nr, ns] = nodes[i];
+                let xs = [
+                    x[np as usize],
+                    x[nq as usize],
+                    x[nr as usize],
+                    x[ns as usize],
+                ];
+                let hn = &mut h[i];
+                let stored = evaluate_into::<true>(
+                    &set.materials[material[i] as usize],
+                    &consts[i],
+                    &xs,
+                    [ho.damage, ho.mode_mix, ho.shear_secant],
                     th,
+                    EvalOut {
+                        forces: &mut f[i],
+                        damage: &mut hn.damage,
+                        mode_mix: &mut hn.mode_mix,
+                        shear_secant: &mut hn.shear_secant,
+                        local: &mut hn.last,
+                    },
                 );
                 // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
-                let (a, b) = (last_old, &e.local);
+                let (a, b) = (&ho.last, &hn.last);
                 let mut dw = 0.0;
                 for p in 0..2 {
                     let q = 4 * p;
                     dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
                         + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
                 }
-                w[i] = state.work[j] + dw;
-                di[i] = state.dissipated[j] + (dw - (e.stored - state.stored[j]));
-                s[i] = e.stored;
-                d[i] = e.damage;
-                k[i] = e.shear_secant;
-                m[i] = e.mode_mix;
-                l[i] = e.local;
-                f[i] = e.forces;
-                if d_old == [0.0; 2] && e.damage != [0.0; 2] {
+                hn.work = ho.work + dw;
+                hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
+                hn.stored = stored;
+                if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
                     fl |= SOFTENED;
                 }
-                if e.damage[0] >= 1.0 && e.damage[1] >= 1.0 && breaks(b, consts.h) {
+                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
                     fl |= BREAKS;
                 }
             }
@@ -222,9 +222,9 @@ pub fn accumulate_joint_forces(
         .for_each(|(c, ((fc, xl), xc))| {
             xl.copy_from_slice(xc);
             let i0 = c * NODE_CHUNK;
-            for (k, fi) in fc.iter_mut().enumerate() {
-                let i = i0 + k;
-                for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
+            let off = &offsets[i0..i0 + fc.len() + 1];
+            for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
+                for &js in &slots[w[0] as usize..w[1] as usize] {
                     let fe = forces[(js >> 2) as usize][(js & 3) as usize];
                     fi[0] += fe[0];
                     fi[1] += fe[1];
@@ -236,13 +236,19 @@ pub fn accumulate_joint_forces(
 
 /// True when `a` and `b` hold the same positions (`==` on every coordinate).
 fn same_positions(a: &[[f64; 2]], b: &[[f64; 2]], par: bool) -> bool {
+    // no early exit inside a chunk: the loop vectorises
+    let same = |p: &[[f64; 2]], q: &[[f64; 2]]| {
+        p.iter()
+            .zip(q)
+            .fold(true, |acc, (u, v)| acc & (u[0] == v[0]) & (u[1] == v[1]))
+    };
     a.len() == b.len()
         && if par {
             a.par_chunks(NODE_CHUNK)
                 .zip(b.par_chunks(NODE_CHUNK))
-                .all(|(p, q)| p == q)
+                .all(|(p, q)| same(p, q))
         } else {
-            a == b
+            same(a, b)
         }
 }
 
@@ -270,7 +276,7 @@ pub fn commit_joints(
     if !reuse {
         trial_pass(set, state, x, scratch);
     }
-    state.swap_histories(&mut scratch.trial);
+    std::mem::swap(&mut state.history, &mut scratch.trial);
     state.generation += 1;
     scratch.softened.clear();
     let mut n_new = 0;
@@ -282,20 +288,20 @@ pub fn commit_joints(
             if !state.intact[j] {
                 continue;
             }
-            let d = state.damage[j];
-            // the arrays swapped: the scratch holds the damage before the step
-            if fl & SOFTENED != 0 && scratch.trial.damage[j] == [0.0; 2] && d != [0.0; 2] {
+            let h = &mut state.history[j];
+            // the arrays swapped: the scratch holds the history before the step
+            if fl & SOFTENED != 0 && scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2] {
                 scratch.softened.push(j as u32);
             }
             if fl & BREAKS != 0
-                && d[0] >= 1.0
-                && d[1] >= 1.0
-                && breaks(&state.last[j], set.consts[j].h)
+                && h.damage[0] >= 1.0
+                && h.damage[1] >= 1.0
+                && breaks(&h.last, set.consts[j].h)
             {
                 state.intact[j] = false;
                 state.broken_at[j] = Some(time);
                 let p = set.gather(j, x);
-                let mix = 0.5 * (state.mode_mix[j][0] + state.mode_mix[j][1]);
+                let mix = h.mode_mix();
                 events.push(FractureEvent {
                     joint: JointId(j as u32),
                     triangles: set.triangles[j],
@@ -306,12 +312,12 @@ pub fn commit_joints(
                     ],
                     mode: FractureMode::from_mix(mix),
                     mode_mix: mix,
-                    energy_released: state.dissipated[j],
-                    stored_at_break: state.stored[j],
+                    energy_released: h.dissipated,
+                    stored_at_break: h.stored,
                 });
-                state.released_at_break += state.stored[j];
-                state.stored[j] = 0.0;
-                state.last[j] = [0.0; 8];
+                state.released_at_break += h.stored;
+                h.stored = 0.0;
+                h.last = [0.0; 8];
                 state.n_broken += 1;
                 n_new += 1;
             }

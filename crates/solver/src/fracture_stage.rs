@@ -310,7 +310,7 @@ impl ForceContribution for FractureStage {
             }
         } else {
             for (j, r) in self.star_released.iter_mut().enumerate() {
-                let d = self.state.damage[j];
+                let d = self.state.history[j].damage;
                 if !self.state.intact[j] || d[0] > 0.0 || d[1] > 0.0 {
                     release(j, r);
                 }

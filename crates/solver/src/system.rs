@@ -15,9 +15,15 @@ use std::time::Instant;
 
 use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
+use rayon::prelude::*;
 
 use crate::model::{Model, ramp_factor, ramp_integral};
 use crate::output::FrameData;
+
+/// Below this many DOFs the element-wise loops of the system run serially.
+const PAR_MIN_DOFS: usize = 1 << 16;
+/// DOFs per rayon task in the element-wise loops.
+const DOF_CHUNK: usize = 1 << 14;
 
 /// A force term beyond the elements and the loads (contact, joints, ...), plugged into
 /// [`SceneSystem::contributions`]. An empty list costs nothing.
@@ -160,9 +166,8 @@ impl SceneSystem {
         let clock = |on: bool| on.then(Instant::now);
         let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
         let s = clock(self.timing);
-        self.force.fill([0.0; 2]);
         self.elements
-            .internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+            .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
         self.timers.internal_forces += secs(s);
         if !self.model.loads.is_empty() || self.model.gravity.is_some() {
             let s = clock(self.timing);
@@ -226,12 +231,20 @@ impl SecondOrderSystem for SceneSystem {
 
     fn acceleration(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
         self.evaluate(t, x, v);
-        for ((ai, f), im) in a
-            .iter_mut()
-            .zip(self.force.as_flattened())
-            .zip(&self.inv_mass)
-        {
-            *ai = f * im;
+        // a = f / m, element-wise (in parallel for large systems: same result)
+        let kernel = |a: &mut [f64], f: &[f64], im: &[f64]| {
+            for ((ai, f), im) in a.iter_mut().zip(f).zip(im) {
+                *ai = f * im;
+            }
+        };
+        let f = self.force.as_flattened();
+        if a.len() >= PAR_MIN_DOFS {
+            a.par_chunks_mut(DOF_CHUNK)
+                .zip(f.par_chunks(DOF_CHUNK))
+                .zip(self.inv_mass.par_chunks(DOF_CHUNK))
+                .for_each(|((a, f), im)| kernel(a, f, im));
+        } else {
+            kernel(a, f, &self.inv_mass);
         }
     }
 
