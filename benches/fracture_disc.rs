@@ -149,8 +149,12 @@ fn bench(c: &mut Criterion) {
         finals[0] == finals[1],
         "1 and 2 threads give different final states"
     );
+    // FNV-1a over the bits: compare runs of different builds
+    let hash = finals[0].0.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b).wrapping_mul(0x0100_0000_01b3)
+    });
     eprintln!(
-        "1 and 2 threads: final positions and velocities bit-identical ({} values, {} broken)",
+        "1 and 2 threads: final positions and velocities bit-identical ({} values, {} broken, hash {hash:016x})",
         finals[0].0.len(),
         finals[0].1
     );

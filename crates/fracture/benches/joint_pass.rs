@@ -33,9 +33,10 @@ fn bench(c: &mut Criterion) {
             .iter()
             .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
             .collect();
-        let state = JointState::new(&set, &x);
+        let mut state = JointState::new(&set, &x);
         let mut scratch = JointScratch::new(set.len());
         let mut f = vec![[0.0; 2]; x.len()];
+        let mut events = Vec::new();
         // CPU time per joint on one thread (user + system time of the process from
         // /proc/self/stat): less sensitive than wall time to other jobs sharing the cores
         if let Some(t0) = cpu_seconds() {
@@ -56,6 +57,21 @@ fn bench(c: &mut Criterion) {
                     1e3 / ns
                 );
             }
+            // a whole step of the joint stage: the force pass and the commit at its positions
+            let t0 = cpu_seconds();
+            pool.install(|| {
+                for k in 0..reps {
+                    accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+                    commit_joints(&set, &mut state, &x, k as f64, &mut scratch, &mut events);
+                }
+            });
+            if let (Some(t0), Some(t1)) = (t0, cpu_seconds()) {
+                let ns = (t1 - t0) * 1e9 / (reps * set.len()) as f64;
+                println!(
+                    "{name}: {ns:.1} CPU-ns per joint-step (pass + commit) on 1 thread ({:.1} M joint-steps per CPU-second)",
+                    1e3 / ns
+                );
+            }
         }
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -68,6 +84,17 @@ fn bench(c: &mut Criterion) {
                     b.iter(|| {
                         pool.install(|| {
                             accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f)
+                        })
+                    })
+                },
+            );
+            g.bench_function(
+                format!("{name}_step_{}_joints_{threads}_threads", set.len()),
+                |b| {
+                    b.iter(|| {
+                        pool.install(|| {
+                            accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+                            commit_joints(&set, &mut state, &x, 1.0, &mut scratch, &mut events)
                         })
                     })
                 },

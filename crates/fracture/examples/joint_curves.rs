@@ -40,8 +40,8 @@ fn drive(path: &[(f64, f64)]) -> Vec<[f64; 4]> {
         let mut f = [[0.0; 2]; 4];
         accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
         commit_joints(&set, &mut state, &x, k as f64, &mut scratch, &mut events);
-        let e = scratch.evals()[0];
-        out.push([o, s, e.local[0] / (0.5 * H), e.local[1] / (0.5 * H)]);
+        let e = state.history[0].last;
+        out.push([o, s, e[0] / (0.5 * H), e[1] / (0.5 * H)]);
     }
     out
 }

@@ -133,9 +133,76 @@ pub fn point_traction(
     law::<true>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
 }
 
-/// The law; with `FULL = false` (force passes) the mode indicator is not computed.
+/// The law; with `FULL = false` the mode indicator is not computed. An undamaged point
+/// that stays before both peaks takes [`pre_peak_point`] (the same operations, without the
+/// softening quantities and with few branches); every other point the general [`law_any`].
 #[inline(always)]
 fn law<const FULL: bool>(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    damage_old: f64,
+    mix_old: f64,
+    shear_secant_old: f64,
+) -> PointTraction {
+    if damage_old == 0.0
+        && let Some(pt) = pre_peak_point(mat, k, o, s, mix_old, shear_secant_old)
+    {
+        return pt;
+    }
+    law_any::<FULL>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
+}
+
+/// The law at an undamaged point, if it stays undamaged: `None` when the opening passes
+/// `o_p` or the slip passes `s_p` (where [`law_any`] computes the damage). Where it answers,
+/// its result is bit for bit that of [`law_any`]: with `D = 0` the damage terms vanish
+/// exactly (`<o - o_p> = 0`, `<|s| - s_p> = 0`), so only the pre-peak curves remain.
+#[inline(always)]
+fn pre_peak_point(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    mix_old: f64,
+    shear_secant_old: f64,
+) -> Option<PointTraction> {
+    let abs_s = s.abs();
+    let compr = o < 0.0;
+    let sigma_compr = k.kn * o;
+    let fs = if compr {
+        mat.shear_strength(sigma_compr)
+    } else {
+        mat.cohesion
+    };
+    let s_p = if compr { k.slip_per_fs * fs } else { k.s_p0 };
+    if o > k.o_p || abs_s > s_p {
+        return None;
+    }
+    let inv_s_p = if compr { 1.0 / s_p } else { k.inv_s_p0 };
+    let (sigma, psi_n) = if compr {
+        (sigma_compr, 0.5 * sigma_compr * o)
+    } else {
+        let x = o * k.inv_o_p;
+        (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
+    };
+    let k_law = fs * (2.0 - abs_s * inv_s_p) * inv_s_p;
+    let shear_secant = k_law.min(shear_secant_old);
+    let tau = shear_secant * s;
+    Some(PointTraction {
+        sigma,
+        tau,
+        damage: 0.0,
+        mode_mix: mix_old,
+        shear_secant,
+        stored: psi_n + 0.5 * tau * s,
+    })
+}
+
+/// The general law (any damage, any branch). Kept out of line: in a force pass most points
+/// take [`pre_peak_point`], and the hot loop stays small.
+#[inline(never)]
+fn law_any<const FULL: bool>(
     mat: &JointMaterial,
     k: &JointConsts,
     o: f64,
@@ -289,7 +356,7 @@ pub fn evaluate_forces(
 }
 
 #[inline(always)]
-fn evaluate_impl<const FULL: bool>(
+pub(crate) fn evaluate_impl<const FULL: bool>(
     mat: &JointMaterial,
     consts: &JointConsts,
     x: &JointNodes,
@@ -298,13 +365,53 @@ fn evaluate_impl<const FULL: bool>(
     shear_secant_old: [f64; 2],
     t: f64,
 ) -> JointEval {
+    let mut out = JointEval::default();
+    out.stored = evaluate_into::<FULL>(
+        mat,
+        consts,
+        x,
+        [damage_old, mix_old, shear_secant_old],
+        t,
+        EvalOut {
+            forces: &mut out.forces,
+            damage: &mut out.damage,
+            mode_mix: &mut out.mode_mix,
+            shear_secant: &mut out.shear_secant,
+            local: &mut out.local,
+        },
+    );
+    out
+}
+
+/// Where [`evaluate_into`] writes a joint's results (the fields of [`JointEval`]).
+pub(crate) struct EvalOut<'a> {
+    pub(crate) forces: &'a mut [[f64; 2]; 4],
+    pub(crate) damage: &'a mut [f64; 2],
+    pub(crate) mode_mix: &'a mut [f64; 2],
+    pub(crate) shear_secant: &'a mut [f64; 2],
+    pub(crate) local: &'a mut [f64; 8],
+}
+
+/// One joint's evaluation written in place (no [`JointEval`] in between); `old` is the
+/// committed damage, mode indicator and shear secant per point. Returns the stored energy.
+#[inline(always)]
+pub(crate) fn evaluate_into<const FULL: bool>(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    x: &JointNodes,
+    old: [[f64; 2]; 3],
+    t: f64,
+    out: EvalOut<'_>,
+) -> f64 {
+    let [damage_old, mix_old, shear_secant_old] = old;
     let h = consts.h;
     let k = kinematics(x, h);
     // Reference area: the forces are then exactly -d(A psi)/dx for a frozen history.
     let area = 0.5 * h * t;
-    let mut out = JointEval::default();
+    let mut stored = 0.0;
     let mut frame = 0.0;
     let mut q = [[0.0; 2]; 2];
+    let mut local = [0.0; 8];
     for i in 0..2 {
         let pt = law::<FULL>(
             mat,
@@ -318,23 +425,29 @@ fn evaluate_impl<const FULL: bool>(
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
         out.shear_secant[i] = pt.shear_secant;
-        out.stored += area * pt.stored;
+        stored += area * pt.stored;
         let (a_sigma, a_tau) = (area * pt.sigma, area * pt.tau);
-        out.local[4 * i..4 * i + 4].copy_from_slice(&[a_sigma, a_tau, k.o[i], k.s[i]]);
+        local[4 * i] = a_sigma;
+        local[4 * i + 1] = a_tau;
+        local[4 * i + 2] = k.o[i];
+        local[4 * i + 3] = k.s[i];
         q[i] = [
             a_sigma * k.nn[0] + a_tau * k.tt[0],
             a_sigma * k.nn[1] + a_tau * k.tt[1],
         ];
         frame += a_tau * k.o[i] - a_sigma * k.s[i];
     }
+    *out.local = local;
     let c = 0.5 * frame / k.l.max(DEGENERATE * h);
     let cn = [c * k.nn[0], c * k.nn[1]];
     // P = 0, Q = 1, R = 2, S = 3
-    out.forces[0] = [q[0][0] + cn[0], q[0][1] + cn[1]];
-    out.forces[3] = [-q[0][0] + cn[0], -q[0][1] + cn[1]];
-    out.forces[1] = [q[1][0] - cn[0], q[1][1] - cn[1]];
-    out.forces[2] = [-q[1][0] - cn[0], -q[1][1] - cn[1]];
-    out
+    *out.forces = [
+        [q[0][0] + cn[0], q[0][1] + cn[1]],
+        [q[1][0] - cn[0], q[1][1] - cn[1]],
+        [-q[1][0] - cn[0], -q[1][1] - cn[1]],
+        [-q[0][0] + cn[0], -q[0][1] + cn[1]],
+    ];
+    stored
 }
 
 #[cfg(test)]
@@ -414,6 +527,57 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn pre_peak_fast_path_is_the_general_law_bit_for_bit() {
+        // undamaged points over openings and slips on both sides of the peaks (tension and
+        // compression, s_p growing with compression), fresh and softened shear secants: where
+        // the fast path answers, every field equals the general law's bit for bit
+        let m = mat();
+        let k = m.consts(0.02);
+        let bits = |p: &PointTraction| {
+            [
+                p.sigma,
+                p.tau,
+                p.damage,
+                p.mode_mix,
+                p.shear_secant,
+                p.stored,
+            ]
+            .map(f64::to_bits)
+        };
+        let (mut taken, mut declined) = (0, 0);
+        let mut r = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            (r >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for n in 0..20_000 {
+            let o = 3.0 * k.o_p * rnd();
+            let s = 3.0 * k.s_p0 * rnd();
+            let secant = if n % 2 == 0 {
+                f64::INFINITY
+            } else {
+                (1.0 + rnd()) * m.cohesion / k.s_p0
+            };
+            let mix = 0.5 * (1.0 + rnd());
+            match pre_peak_point(&m, &k, o, s, mix, secant) {
+                Some(fast) => {
+                    taken += 1;
+                    let any = law_any::<true>(&m, &k, o, s, 0.0, mix, secant);
+                    assert_eq!(bits(&fast), bits(&any), "o = {o:e}, s = {s:e}");
+                }
+                None => declined += 1,
+            }
+        }
+        // both cases occur (the fast path is not vacuous, the general law is reached)
+        assert!(
+            taken > 2_000 && declined > 2_000,
+            "{taken} taken, {declined} declined"
+        );
     }
 
     #[test]

@@ -15,10 +15,12 @@
 //!   secant history `k_t = min(k_t_old, tau_law/|s|)` (the law's shear depends on sigma and
 //!   has no potential: without the history a joint can create energy), nodal forces on the
 //!   reference area `h t/2` that conserve linear and angular momentum exactly.
-//! - [`pass`]: the parallel force pass ([`accumulate_joint_forces`], read-only on history) and
-//!   the end-of-step [`commit_joints`] (damage, energy books, breaking when fully damaged and
-//!   open (or slid by `h/10`), events); the commit reuses the force pass's evaluations at
-//!   the same positions.
+//! - [`pass`]: the parallel force pass ([`accumulate_joint_forces`], read-only on the
+//!   committed history; it writes the forces and the whole trial history, the energy books
+//!   advanced by the trapezoidal rule included, into the caller's scratch) and the end-of-step
+//!   [`commit_joints`] (damage, energy books, breaking when fully damaged and open (or slid by
+//!   `h/10`), events); at the positions of the last pass the commit swaps the trial arrays
+//!   in (structure of arrays, [`state`]) instead of evaluating again.
 //! - [`timestep`]: the joints' bound on `omega^2` for the stable time step.
 //! - [`events`]: a broken joint reported as data ([`FractureEvent`]): the solver hands the
 //!   two triangles to contact; this crate does not depend on contact.

@@ -1,15 +1,28 @@
 //! The joint-force pass over all joints and the end-of-step commit.
 //!
-//! Both evaluate every intact joint in parallel (rayon) into a per-joint buffer owned by the
-//! caller ([`JointScratch`]), then work through the buffer serially in joint order: forces are
-//! scattered into the node array, history and events are updated. Results are bit-identical
-//! whatever the number of threads, and nothing is allocated per step (except when an event is
-//! pushed to the caller's vector).
+//! One fused pass ([`accumulate_joint_forces`]) evaluates every intact joint at the given
+//! positions with the committed history: its four nodal forces go into a per-joint buffer,
+//! and everything the commit needs (trial damage, mode indicator and shear secant, the work
+//! conjugates `[A sigma, A tau, o, s]`, the stored energy, and the work and dissipation books
+//! advanced by the trapezoidal rule) goes into the trial arrays of the caller's
+//! [`JointScratch`], one array per field. The pass runs in parallel over fixed chunks of
+//! [`CHUNK`] joints; each chunk also records whether one of its joints softened for the
+//! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
+//! the [`JointSet`]) and adds the sum to the node force.
+//!
+//! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
+//! central-difference step) swaps the trial arrays with the committed ones (no copy, no
+//! re-evaluation); at other positions it runs the pass first. Breaking and the list of newly
+//! softened joints then visit only the flagged chunks, in joint order.
+//!
+//! Results are bit-identical whatever the number of threads (each joint's values depend on
+//! that joint only, the chunks are fixed, and the node sums run in a fixed order), and nothing
+//! is allocated per step (except when an event is pushed to the caller's vector).
 
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{JointEval, evaluate};
+use crate::joint::{EvalOut, evaluate_into};
 use crate::set::{JointId, JointSet};
 use crate::state::{JointHistory, JointState};
 
@@ -17,70 +30,71 @@ use crate::state::{JointHistory, JointState};
 /// reference length.
 pub const SLID: f64 = 0.1;
 
-/// Joints per rayon task: below this, splitting costs more than it gains.
-const MIN_CHUNK: usize = 512;
+/// Joints per chunk: the unit of a rayon task and of the per-chunk flags. Fixed, so that the
+/// chunks (and the results) do not depend on the number of threads.
+pub const CHUNK: usize = 1024;
 
 /// Below this many joints the passes run on the calling thread: waking rayon's workers
 /// several times per step costs more than the work (and much more on a loaded machine).
-const PAR_MIN: usize = 8 * MIN_CHUNK;
+const PAR_MIN: usize = 4 * CHUNK;
+
+/// Nodes per rayon task in the gather.
+const NODE_CHUNK: usize = 4 * CHUNK;
+
+/// Chunk flag: a joint of the chunk got its first damage.
+const SOFTENED: u8 = 1;
+/// Chunk flag: a joint of the chunk is fully damaged at both points and open or slid.
+const BREAKS: u8 = 2;
 
 /// Per-joint scratch of the pass, owned by the stepping code.
 #[derive(Debug, Clone, Default)]
 pub struct JointScratch {
     forces: Vec<[[f64; 2]; 4]>,
-    evals: Vec<JointEval>,
-    /// Positions of the last force pass, whose full evaluations `evals` holds (valid while
-    /// `evals_valid`: no commit since).
+    /// Trial history of the last pass (the committed one after a commit swapped them).
+    trial: Vec<JointHistory>,
+    /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
+    flags: Vec<u8>,
+    /// Positions of the last pass.
     x_last: Vec<[f64; 2]>,
-    evals_valid: bool,
+    /// The generation of the state whose trial `trial` holds at `x_last`, until a commit.
+    valid: Option<u64>,
+    /// Joints whose damage became positive at the last commit.
+    softened: Vec<u32>,
 }
 
-/// Runs `f(j, &mut out[j])` over all entries, in parallel for large sets.
-fn for_each_joint<T: Send>(out: &mut [T], f: impl Fn(usize, &mut T) + Sync + Send) {
-    if out.len() >= PAR_MIN {
-        out.par_iter_mut()
-            .with_min_len(MIN_CHUNK)
-            .enumerate()
-            .for_each(|(j, o)| f(j, o));
-    } else {
-        out.iter_mut().enumerate().for_each(|(j, o)| f(j, o));
-    }
+/// Minimum number of chunks per rayon task: everything on the calling thread for small sets.
+fn min_chunks(n_joints: usize) -> usize {
+    if n_joints >= PAR_MIN { 1 } else { usize::MAX }
 }
 
 impl JointScratch {
     /// Scratch for `n_joints` joints.
     pub fn new(n_joints: usize) -> Self {
-        JointScratch {
-            forces: vec![[[0.0; 2]; 4]; n_joints],
-            evals: vec![JointEval::default(); n_joints],
-            x_last: Vec::new(),
-            evals_valid: false,
+        let mut s = JointScratch::default();
+        s.fit(n_joints);
+        s
+    }
+
+    /// Sizes the buffers for `n` joints (no-op when they already are).
+    fn fit(&mut self, n: usize) {
+        self.trial.resize(n, JointHistory::FRESH);
+        self.forces.resize(n, [[0.0; 2]; 4]);
+        self.flags.resize(n.div_ceil(CHUNK), 0);
+        if self.softened.capacity() == 0 {
+            self.softened.reserve(256);
         }
     }
 
-    /// The full evaluations of the last force pass or commit (zero for broken joints).
-    pub fn evals(&self) -> &[JointEval] {
-        &self.evals
-    }
-
-    /// The nodal forces (P, Q, R, S) of the last force pass (zero for broken joints).
+    /// The nodal forces (P, Q, R, S) of the last pass (zero for broken joints).
     pub fn forces(&self) -> &[[[f64; 2]; 4]] {
         &self.forces
     }
-}
 
-#[inline]
-fn eval_joint(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> JointEval {
-    if !state.intact[j] {
-        return JointEval::default();
+    /// The joints whose damage became positive (at either point, from zero at both) at the
+    /// last commit, in increasing order.
+    pub fn newly_softened(&self) -> &[u32] {
+        &self.softened
     }
-    evaluate(
-        &set.materials[set.material[j] as usize],
-        &set.consts[j],
-        &set.gather(j, x),
-        &state.point_history(j),
-        set.thickness,
-    )
 }
 
 fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
@@ -89,15 +103,102 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
         set.n_nodes,
         "positions must have one entry per node"
     );
-    assert_eq!(
-        state.damage.len(),
-        set.len(),
-        "state belongs to another joint set"
-    );
+    assert_eq!(state.len(), set.len(), "state belongs to another joint set");
+}
+
+/// The fused pass: forces and trial history of every joint at `x` into `scratch`.
+fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
+    let n = set.len();
+    scratch.fit(n);
+    let th = set.thickness;
+    (
+        scratch.forces.par_chunks_mut(CHUNK),
+        scratch.trial.par_chunks_mut(CHUNK),
+        scratch.flags.par_iter_mut(),
+    )
+        .into_par_iter()
+        .with_min_len(min_chunks(n))
+        .enumerate()
+        .for_each(|(c, (f, h, flag))| {
+            let j0 = c * CHUNK;
+            // the committed history and the joint data of this chunk, cut to its length
+            let n = f.len().min(h.len());
+            let r = j0..j0 + n;
+            let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
+            let (nodes, consts, material) = (
+                &set.nodes[r.clone()],
+                &set.consts[r.clone()],
+                &set.material[r],
+            );
+            let mut fl = 0u8;
+            for i in 0..n {
+                let ho = &old[i];
+                if !intact[i] {
+                    // a broken joint keeps its books; no force
+                    f[i] = [[0.0; 2]; 4];
+                    h[i] = *ho;
+                    continue;
+                }
+                let [np, nq, nr, ns] = nodes[i];
+                let xs = [
+                    x[np as usize],
+                    x[nq as usize],
+                    x[nr as usize],
+                    x[ns as usize],
+                ];
+                let hn = &mut h[i];
+                let stored = evaluate_into::<true>(
+                    &set.materials[material[i] as usize],
+                    &consts[i],
+                    &xs,
+                    [ho.damage, ho.mode_mix, ho.shear_secant],
+                    th,
+                    EvalOut {
+                        forces: &mut f[i],
+                        damage: &mut hn.damage,
+                        mode_mix: &mut hn.mode_mix,
+                        shear_secant: &mut hn.shear_secant,
+                        local: &mut hn.last,
+                    },
+                );
+                // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
+                let (a, b) = (&ho.last, &hn.last);
+                let mut dw = 0.0;
+                for p in 0..2 {
+                    let q = 4 * p;
+                    dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
+                        + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
+                }
+                hn.work = ho.work + dw;
+                hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
+                hn.stored = stored;
+                if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
+                    fl |= SOFTENED;
+                }
+                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
+                    fl |= BREAKS;
+                }
+            }
+            *flag = fl;
+        });
+}
+
+/// Fully damaged (z(1) = 0: no tension, no shear) and open at both points: the joint carries
+/// no force, so removing it changes no force and no energy, and the faces reach contact
+/// without overlap. A fully damaged joint closed at a point keeps carrying that compression
+/// (frictionless) until it opens, or until it has slid by a tenth of its length (its
+/// kinematics no longer describe the faces well: contact takes over, with the energy jump the
+/// solver measures). `local` is `[A sigma, A tau, o, s]` per point, `h` the reference length.
+#[inline]
+fn breaks(local: &[f64; 8], h: f64) -> bool {
+    let open = local[2] >= 0.0 && local[6] >= 0.0;
+    let slid = local[3].abs().max(local[7].abs()) >= SLID * h;
+    open || slid
 }
 
 /// Adds the forces of every intact joint at positions `x` to `f` (one entry per node). Reads
-/// the committed history only: call it at every force evaluation, trial stages included.
+/// the committed history only (the trial history goes to `scratch`): call it at every force
+/// evaluation, trial stages included.
 pub fn accumulate_joint_forces(
     set: &JointSet,
     state: &JointState,
@@ -107,42 +208,55 @@ pub fn accumulate_joint_forces(
 ) {
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
     check_sizes(set, state, x);
-    scratch.forces.resize(set.len(), [[0.0; 2]; 4]);
-    scratch.evals.resize(set.len(), JointEval::default());
-    // Full evaluations (forces, trial damage, work conjugates, stored energy): the commit at
-    // the same positions (the end of a central-difference step) reuses them.
-    for_each_joint(&mut scratch.evals, |j, out| {
-        *out = eval_joint(set, state, x, j)
-    });
-    let evals = &scratch.evals;
-    for_each_joint(&mut scratch.forces, |j, out| *out = evals[j].forces);
-    scratch.x_last.clear();
-    scratch.x_last.extend_from_slice(x);
-    scratch.evals_valid = true;
-    // gather per node over its (joint, slot) list in joint order: parallel and deterministic
+    trial_pass(set, state, x, scratch);
+    scratch.x_last.resize(x.len(), [0.0; 2]);
+    // gather per node over its (joint, slot) list in joint order (parallel and
+    // deterministic); the positions are kept for the commit on the way
     let forces = &scratch.forces;
     let (offsets, slots) = (&set.node_offsets, &set.node_slots);
-    let gather = |i: usize, fi: &mut [f64; 2]| {
-        for &js in &slots[offsets[i] as usize..offsets[i + 1] as usize] {
-            let fe = forces[(js >> 2) as usize][(js & 3) as usize];
-            fi[0] += fe[0];
-            fi[1] += fe[1];
-        }
+    f.par_chunks_mut(NODE_CHUNK)
+        .zip(scratch.x_last.par_chunks_mut(NODE_CHUNK))
+        .zip(x.par_chunks(NODE_CHUNK))
+        .with_min_len(min_chunks(set.len()))
+        .enumerate()
+        .for_each(|(c, ((fc, xl), xc))| {
+            xl.copy_from_slice(xc);
+            let i0 = c * NODE_CHUNK;
+            let off = &offsets[i0..i0 + fc.len() + 1];
+            for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
+                for &js in &slots[w[0] as usize..w[1] as usize] {
+                    let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+                    fi[0] += fe[0];
+                    fi[1] += fe[1];
+                }
+            }
+        });
+    scratch.valid = Some(state.generation);
+}
+
+/// True when `a` and `b` hold the same positions (`==` on every coordinate).
+fn same_positions(a: &[[f64; 2]], b: &[[f64; 2]], par: bool) -> bool {
+    // no early exit inside a chunk: the loop vectorises
+    let same = |p: &[[f64; 2]], q: &[[f64; 2]]| {
+        p.iter()
+            .zip(q)
+            .fold(true, |acc, (u, v)| acc & (u[0] == v[0]) & (u[1] == v[1]))
     };
-    if set.len() >= PAR_MIN {
-        f.par_iter_mut()
-            .with_min_len(4 * MIN_CHUNK)
-            .enumerate()
-            .for_each(|(i, fi)| gather(i, fi));
-    } else {
-        f.iter_mut().enumerate().for_each(|(i, fi)| gather(i, fi));
-    }
+    a.len() == b.len()
+        && if par {
+            a.par_chunks(NODE_CHUNK)
+                .zip(b.par_chunks(NODE_CHUNK))
+                .all(|(p, q)| same(p, q))
+        } else {
+            same(a, b)
+        }
 }
 
 /// End-of-step commit at the step's final positions `x` and time `time`: damage grows to its
 /// trial value (it never heals), the work done in the step is added with the trapezoidal rule,
 /// stored and dissipated energy are updated, and joints whose two points reached `D = 1`
-/// break. One [`FractureEvent`] per new break is pushed to `events`, in joint order. Returns
+/// break. One [`FractureEvent`] per new break is pushed to `events`, in joint order; the
+/// joints softened for the first time are listed in [`JointScratch::newly_softened`]. Returns
 /// the number of joints that broke.
 pub fn commit_joints(
     set: &JointSet,
@@ -153,89 +267,60 @@ pub fn commit_joints(
     events: &mut Vec<FractureEvent>,
 ) -> usize {
     check_sizes(set, state, x);
-    scratch.evals.resize(set.len(), JointEval::default());
-    // reuse the last force pass's evaluations when it was at these positions (bitwise) with
-    // this history; otherwise evaluate
-    let reuse = scratch.evals_valid && scratch.x_last.as_slice() == x;
-    scratch.evals_valid = false;
+    // reuse the last pass's trial when it was at these positions with this history;
+    // otherwise evaluate
+    let n = set.len();
+    let reuse =
+        scratch.valid == Some(state.generation) && same_positions(&scratch.x_last, x, n >= PAR_MIN);
+    scratch.valid = None;
     if !reuse {
-        let st: &JointState = state;
-        for_each_joint(&mut scratch.evals, |j, out| {
-            *out = eval_joint(set, st, x, j)
-        });
+        trial_pass(set, state, x, scratch);
     }
-    let update =
-        |h: &mut JointHistory, d: &mut [f64; 2], k: &mut [f64; 2], e: &JointEval, intact: bool| {
-            if !intact {
-                return;
-            }
-            let mut dw = 0.0;
-            for k in 0..2 {
-                let (a, b) = (&h.last[4 * k..4 * k + 4], &e.local[4 * k..4 * k + 4]);
-                dw += 0.5 * (a[0] + b[0]) * (b[2] - a[2]) + 0.5 * (a[1] + b[1]) * (b[3] - a[3]);
-            }
-            h.work += dw;
-            h.dissipated += dw - (e.stored - h.stored);
-            h.stored = e.stored;
-            *d = e.damage;
-            *k = e.shear_secant;
-            h.mode_mix = e.mode_mix;
-            h.last = e.local;
-        };
-    if set.len() >= PAR_MIN {
-        state
-            .history
-            .par_iter_mut()
-            .with_min_len(MIN_CHUNK)
-            .zip(state.damage.par_iter_mut())
-            .zip(state.shear_secant.par_iter_mut())
-            .zip(scratch.evals.par_iter())
-            .zip(state.intact.par_iter())
-            .for_each(|((((h, d), k), e), &i)| update(h, d, k, e, i));
-    } else {
-        state
-            .history
-            .iter_mut()
-            .zip(state.damage.iter_mut())
-            .zip(state.shear_secant.iter_mut())
-            .zip(scratch.evals.iter())
-            .zip(state.intact.iter())
-            .for_each(|((((h, d), k), e), &i)| update(h, d, k, e, i));
-    }
+    std::mem::swap(&mut state.history, &mut scratch.trial);
+    state.generation += 1;
+    scratch.softened.clear();
     let mut n_new = 0;
-    for (j, h) in state.history.iter_mut().enumerate() {
-        let d = state.damage[j];
-        // Fully damaged (z(1) = 0: no tension, no shear) and open at both points: the
-        // joint carries no force, so removing it changes no force and no energy, and the
-        // faces reach contact without overlap. A fully damaged joint closed at a point keeps
-        // carrying that compression (frictionless) until it opens, or until it has slid by
-        // a tenth of its length (its kinematics no longer describe the faces well: contact
-        // takes over, with the energy jump the solver measures).
-        let open = h.last[2] >= 0.0 && h.last[6] >= 0.0;
-        let slid = h.last[3].abs().max(h.last[7].abs()) >= SLID * set.consts[j].h;
-        if state.intact[j] && d[0] >= 1.0 && d[1] >= 1.0 && (open || slid) {
-            state.intact[j] = false;
-            h.broken_at = Some(time);
-            let p = set.gather(j, x);
-            let mix = h.mode_mix();
-            events.push(FractureEvent {
-                joint: JointId(j as u32),
-                triangles: set.triangles[j],
-                time,
-                position: [
-                    0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
-                    0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]),
-                ],
-                mode: FractureMode::from_mix(mix),
-                mode_mix: mix,
-                energy_released: h.dissipated,
-                stored_at_break: h.stored,
-            });
-            state.released_at_break += h.stored;
-            h.stored = 0.0;
-            h.last = [0.0; 8];
-            state.n_broken += 1;
-            n_new += 1;
+    for (c, &fl) in scratch.flags.iter().enumerate() {
+        if fl == 0 {
+            continue;
+        }
+        for j in c * CHUNK..((c + 1) * CHUNK).min(n) {
+            if !state.intact[j] {
+                continue;
+            }
+            let h = &mut state.history[j];
+            // the arrays swapped: the scratch holds the history before the step
+            if fl & SOFTENED != 0 && scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2] {
+                scratch.softened.push(j as u32);
+            }
+            if fl & BREAKS != 0
+                && h.damage[0] >= 1.0
+                && h.damage[1] >= 1.0
+                && breaks(&h.last, set.consts[j].h)
+            {
+                state.intact[j] = false;
+                state.broken_at[j] = Some(time);
+                let p = set.gather(j, x);
+                let mix = h.mode_mix();
+                events.push(FractureEvent {
+                    joint: JointId(j as u32),
+                    triangles: set.triangles[j],
+                    time,
+                    position: [
+                        0.25 * (p[0][0] + p[1][0] + p[2][0] + p[3][0]),
+                        0.25 * (p[0][1] + p[1][1] + p[2][1] + p[3][1]),
+                    ],
+                    mode: FractureMode::from_mix(mix),
+                    mode_mix: mix,
+                    energy_released: h.dissipated,
+                    stored_at_break: h.stored,
+                });
+                state.released_at_break += h.stored;
+                h.stored = 0.0;
+                h.last = [0.0; 8];
+                state.n_broken += 1;
+                n_new += 1;
+            }
         }
     }
     n_new

@@ -65,6 +65,10 @@ pub struct Elements {
     /// Triangles with at least one node in each block, in increasing order (a triangle whose
     /// nodes lie in two or three blocks is listed, and evaluated, in each).
     pub block_tris: Vec<u32>,
+    /// True when triangle `t` has the nodes `3t, 3t+1, 3t+2` and there are no other nodes (a
+    /// wholly exploded mesh: each node belongs to one triangle): the force kernels then add
+    /// each triangle's forces to its own nodes directly (no buffer, no gather).
+    pub owned_nodes: bool,
 }
 
 impl Elements {
@@ -200,6 +204,11 @@ impl Elements {
                 }
             }
         }
+        let owned_nodes = n_nodes == 3 * tris.len()
+            && tris.iter().enumerate().all(|(t, td)| {
+                let b = 3 * t as u32;
+                td.nodes == [b, b + 1, b + 2]
+            });
         Ok(Elements {
             tris,
             materials: consts,
@@ -211,6 +220,7 @@ impl Elements {
             block_nodes,
             block_offsets,
             block_tris,
+            owned_nodes,
         })
     }
 

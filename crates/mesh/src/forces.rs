@@ -14,7 +14,11 @@
 //! 1. each triangle writes its three nodal forces into its own slots of a preallocated buffer;
 //! 2. each node sums its slots in increasing slot order (a fixed CSR list) and adds the sum.
 //!
-//! Neither allocates per call (the buffer lives in a [`ForceScratch`] made once).
+//! Neither allocates per call (the buffer lives in a [`ForceScratch`] made once). On a wholly
+//! exploded mesh (triangle `t` owns the nodes `3t..3t+3`, [`Elements::owned_nodes`]) each
+//! triangle adds its forces to its own nodes directly, in parallel over fixed chunks of
+//! triangles: no buffer and no gather, and the same sums as the two-pass kernel bit for bit
+//! (each node has one slot: `f_i += 0 + f_slot`).
 
 use crate::elements::{Elements, MaterialConsts, TriData};
 use crate::material::ElasticLaw;
@@ -102,7 +106,61 @@ impl Elements {
         f: &mut [[f64; 2]],
         scratch: &mut ForceScratch,
     ) {
-        self.internal_forces_buffered(x, v, f, scratch);
+        if self.owned_nodes {
+            self.owned::<false>(x, v, f);
+        } else {
+            self.internal_forces_buffered(x, v, f, scratch);
+        }
+    }
+
+    /// Sets `f` to the internal nodal forces: [`Elements::internal_forces`] into a zeroed
+    /// array, bit for bit, without the separate zeroing pass on a wholly exploded mesh.
+    pub fn set_internal_forces(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+    ) {
+        if self.owned_nodes {
+            self.owned::<true>(x, v, f);
+        } else {
+            f.fill([0.0; 2]);
+            self.internal_forces_buffered(x, v, f, scratch);
+        }
+    }
+
+    /// The kernel of a wholly exploded mesh: each triangle adds (`SET`: writes, as if onto
+    /// zero) its forces to its own three nodes, in parallel over fixed chunks.
+    fn owned<const SET: bool>(&self, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        assert!(x.len() >= self.n_nodes && f.len() >= self.n_nodes);
+        let mats = &self.materials[..];
+        let viscous = self.viscous;
+        if viscous {
+            assert!(v.len() >= self.n_nodes);
+        }
+        f[..self.n_nodes]
+            .par_chunks_mut(3 * TRI_CHUNK)
+            .zip(self.tris.par_chunks(TRI_CHUNK))
+            .for_each(|(fc, tc)| {
+                for (fa, td) in fc.chunks_exact_mut(3).zip(tc) {
+                    let ft = if viscous {
+                        tri_force::<true>(td, mats, x, v)
+                    } else {
+                        tri_force::<false>(td, mats, x, v)
+                    };
+                    for (fi, p) in fa.iter_mut().zip(ft) {
+                        // the gather's node sum over one slot, `0 + f_slot`, then `f_i += sum`
+                        let s = [0.0 + p[0], 0.0 + p[1]];
+                        if SET {
+                            *fi = [0.0 + s[0], 0.0 + s[1]];
+                        } else {
+                            fi[0] += s[0];
+                            fi[1] += s[1];
+                        }
+                    }
+                }
+            });
     }
 
     /// The owner-computes variant of [`Elements::internal_forces`] (node blocks, one pass, no

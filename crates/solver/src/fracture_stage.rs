@@ -203,6 +203,8 @@ pub struct FractureStage {
     stars: StarBonds,
     /// Per joint: its stars released (the joint softened or broke).
     star_released: Vec<bool>,
+    /// True once the first end-of-step hook has scanned every joint for damage.
+    stars_scanned: bool,
     /// Rebuilds of the bonded list and their wall time [s] (reported in the details).
     rebuilds: u64,
     rebuild_s: f64,
@@ -244,6 +246,7 @@ impl FractureStage {
                 events: Vec::new(),
                 stars,
                 star_released: vec![false; n_joints],
+                stars_scanned: false,
                 rebuilds: 0,
                 rebuild_s: 0.0,
                 bonded: bonded.clone(),
@@ -263,9 +266,9 @@ impl FractureStage {
         let b = self.state.intact.iter().map(|i| !i).collect();
         let t = self
             .state
-            .history
+            .broken_at
             .iter()
-            .map(|h| h.broken_at.unwrap_or(-1.0))
+            .map(|b| b.unwrap_or(-1.0))
             .collect();
         (d, b, t)
     }
@@ -291,16 +294,28 @@ impl ForceContribution for FractureStage {
             &mut self.events,
         );
         // Stars stop bonding at the first softening of one of their joints (damage > 0 at
-        // either point) or its break: O(joints) flags per step, a rebuild only on a change.
+        // either point) or its break (a break follows a softening, and damage never heals):
+        // one scan of every joint at the first step (a joint may start damaged), then only
+        // the joints the commit lists as newly softened; a rebuild only on a change.
         let mut released = false;
-        for (j, r) in self.star_released.iter_mut().enumerate() {
+        let mut release = |j: usize, r: &mut bool| {
             if !*r {
-                let d = self.state.damage[j];
+                *r = true;
+                released |= self.stars.break_joint(j);
+            }
+        };
+        if self.stars_scanned {
+            for &j in self.scratch.newly_softened() {
+                release(j as usize, &mut self.star_released[j as usize]);
+            }
+        } else {
+            for (j, r) in self.star_released.iter_mut().enumerate() {
+                let d = self.state.history[j].damage;
                 if !self.state.intact[j] || d[0] > 0.0 || d[1] > 0.0 {
-                    *r = true;
-                    released |= self.stars.break_joint(j);
+                    release(j, r);
                 }
             }
+            self.stars_scanned = true;
         }
         if n == 0 && !released {
             return;

@@ -78,6 +78,9 @@ pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::V
         if let (Some(obj), Some(t)) = (d.as_object_mut(), sys.contribution_times.get(i)) {
             // wall time of the stage's force passes and end-of-step hooks [s]
             obj.insert("wall_s".into(), serde_json::json!(t));
+            // of which in the end-of-step hooks (commits, re-detections) [s]
+            let e = sys.contribution_end_times.get(i).copied().unwrap_or(0.0);
+            obj.insert("end_of_step_s".into(), serde_json::json!(e));
         }
         details.insert(c.name().to_string(), d);
     }

@@ -15,9 +15,15 @@ use std::time::Instant;
 
 use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
+use rayon::prelude::*;
 
 use crate::model::{Model, ramp_factor, ramp_integral};
 use crate::output::FrameData;
+
+/// Below this many DOFs the element-wise loops of the system run serially.
+const PAR_MIN_DOFS: usize = 1 << 16;
+/// DOFs per rayon task in the element-wise loops.
+const DOF_CHUNK: usize = 1 << 14;
 
 /// A force term beyond the elements and the loads (contact, joints, ...), plugged into
 /// [`SceneSystem::contributions`]. An empty list costs nothing.
@@ -102,6 +108,8 @@ pub struct SceneSystem {
     /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
     /// force passes and end-of-step hooks (filled while the stage timers are on).
     pub contribution_times: Vec<f64>,
+    /// The part of [`SceneSystem::contribution_times`] spent in the end-of-step hooks [s].
+    pub contribution_end_times: Vec<f64>,
     /// Time of the last evaluation's external loads [s].
     pub evaluations: u64,
     timing: bool,
@@ -135,6 +143,7 @@ impl SceneSystem {
             force: vec![[0.0; 2]; n],
             timers: StageTimers::default(),
             contribution_times: Vec::new(),
+            contribution_end_times: Vec::new(),
             evaluations: 0,
             timing: true,
         }
@@ -157,9 +166,8 @@ impl SceneSystem {
         let clock = |on: bool| on.then(Instant::now);
         let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
         let s = clock(self.timing);
-        self.force.fill([0.0; 2]);
         self.elements
-            .internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+            .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
         self.timers.internal_forces += secs(s);
         if !self.model.loads.is_empty() || self.model.gravity.is_some() {
             let s = clock(self.timing);
@@ -223,12 +231,20 @@ impl SecondOrderSystem for SceneSystem {
 
     fn acceleration(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
         self.evaluate(t, x, v);
-        for ((ai, f), im) in a
-            .iter_mut()
-            .zip(self.force.as_flattened())
-            .zip(&self.inv_mass)
-        {
-            *ai = f * im;
+        // a = f / m, element-wise (in parallel for large systems: same result)
+        let kernel = |a: &mut [f64], f: &[f64], im: &[f64]| {
+            for ((ai, f), im) in a.iter_mut().zip(f).zip(im) {
+                *ai = f * im;
+            }
+        };
+        let f = self.force.as_flattened();
+        if a.len() >= PAR_MIN_DOFS {
+            a.par_chunks_mut(DOF_CHUNK)
+                .zip(f.par_chunks(DOF_CHUNK))
+                .zip(self.inv_mass.par_chunks(DOF_CHUNK))
+                .for_each(|((a, f), im)| kernel(a, f, im));
+        } else {
+            kernel(a, f, &self.inv_mass);
         }
     }
 
@@ -254,16 +270,20 @@ impl SecondOrderSystem for SceneSystem {
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
             if self.timing {
-                self.contribution_times
-                    .resize(self.contributions.len(), 0.0);
-                for (c, ct) in self
+                let n = self.contributions.len();
+                self.contribution_times.resize(n, 0.0);
+                self.contribution_end_times.resize(n, 0.0);
+                for ((c, ct), ce) in self
                     .contributions
                     .iter_mut()
                     .zip(&mut self.contribution_times)
+                    .zip(&mut self.contribution_end_times)
                 {
                     let sc = Instant::now();
                     c.end_of_step(t, xn, vn);
-                    *ct += sc.elapsed().as_secs_f64();
+                    let dt = sc.elapsed().as_secs_f64();
+                    *ct += dt;
+                    *ce += dt;
                 }
             } else {
                 for c in &mut self.contributions {

@@ -103,9 +103,9 @@ impl JointFrame {
                         &set.consts[j],
                         k.o[i],
                         k.s[i],
-                        state.damage[j][i],
+                        h.damage[i],
                         h.mode_mix[i],
-                        state.shear_secant[j][i],
+                        h.shear_secant[i],
                     )
                 });
                 (0.5 * (t[0].sigma + t[1].sigma), 0.5 * (t[0].tau + t[1].tau))
@@ -122,7 +122,7 @@ impl JointFrame {
             f.mode.push(mode_code(d, mix));
             f.mode_mix.push(mix);
             f.broken.push(i32::from(!intact));
-            f.time_of_failure.push(match h.broken_at {
+            f.time_of_failure.push(match state.broken_at[j] {
                 Some(t) if !intact => t,
                 _ => -1.0,
             });
