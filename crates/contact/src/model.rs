@@ -3,7 +3,9 @@
 //!
 //! Per step the solver calls, in order:
 //! 1. [`Contact::update_detection`] (redetects only when a node or a plane has moved `b/2`
-//!    since the last detection, or the bonded list / topology changed);
+//!    since the last detection, or the bonded list was set / topology changed); pairs that
+//!    stop being bonded are released by [`Contact::release_pairs`], which adds the couples
+//!    among them that the last detection would have listed, without a re-detection;
 //! 2. [`Contact::compute_forces`] any number of times (trial stages included): it reads the
 //!    committed friction history and writes only trial values;
 //! 3. [`Contact::add_forces`] (or [`Contact::add_family`]) to scatter into the node forces;
@@ -172,6 +174,9 @@ pub struct Contact {
     scratch_couples: Vec<[u32; 2]>,
     scratch_ft: Vec<[f64; 6]>,
     scratch_wall_ft: Vec<f64>,
+    /// Couples added by the last [`Contact::release_pairs`], sorted.
+    added: Vec<[u32; 2]>,
+    n_released_couples: u64,
     friction_dissipated: f64,
     stats: ContactStats,
 }
@@ -207,16 +212,111 @@ impl Contact {
             scratch_couples: Vec::new(),
             scratch_ft: Vec::new(),
             scratch_wall_ft: Vec::new(),
+            added: Vec::new(),
+            n_released_couples: 0,
             friction_dissipated: 0.0,
             stats: ContactStats::default(),
         }
     }
 
-    /// Sets the bonded pairs (intact joints): they are never contact couples. Call again with
-    /// the new list when joints break; the next [`Self::update_detection`] redetects.
+    /// Sets the bonded pairs (intact joints): they are never contact couples. The next
+    /// [`Self::update_detection`] redetects. When joints break, [`Self::release_pairs`] is the
+    /// cheap way to thin the list (no re-detection).
     pub fn set_bonded(&mut self, n_tris: usize, pairs: &[[u32; 2]]) {
         self.excl.set_bonded(n_tris, pairs);
         self.stale = true;
+    }
+
+    /// Releases bonded pairs (broken joints, stars that stopped bonding): from now on they
+    /// are not excluded. Without a new detection: while the last detection is current (not
+    /// stale, same triangle count), a released pair becomes a couple at once exactly when
+    /// that detection would have listed it with the new exclusions (its bounding circles at
+    /// the detection positions within the buffer `b`, `|c_i - c_j| <= r_i + r_j + b`, and no
+    /// shared node); it starts with no friction history. The other released pairs were more
+    /// than `b` apart at the detection, so they cannot touch before the refresh criterion
+    /// triggers the next detection, which lists them when they have come close. When the
+    /// detection is not current, the next [`Self::update_detection`] redetects anyway.
+    ///
+    /// The couple list stays sorted (merged from the back, in place: `O(couples + released)`,
+    /// no allocation once the buffers are large enough). Pairs in any orientation; pairs that
+    /// were not bonded, repeated, or naming a triangle `>= tris.len()` are harmless. Returns
+    /// the number of couples added ([`Self::added_couples`] lists them).
+    pub fn release_pairs(&mut self, pairs: &[[u32; 2]], tris: &[[u32; 3]]) -> usize {
+        let n = tris.len();
+        let current = !self.stale && n == self.n_tris_det && self.circles.len() == n;
+        self.added.clear();
+        for p in pairs {
+            let (i, j) = (p[0].min(p[1]), p[0].max(p[1]));
+            if (j as usize) >= n || i == j || !self.excl.unbond(i, j) {
+                continue;
+            }
+            if current
+                && self.circles.near(i as usize, j as usize, self.buffer)
+                && !self.excl.excluded(tris, i, j)
+            {
+                self.added.push([i, j]);
+            }
+        }
+        if self.added.is_empty() {
+            return 0;
+        }
+        // Each pair was bonded, hence not a couple; unbond succeeded once per pair, so the
+        // list holds no repeats. Sorted, it merges into the sorted couples.
+        self.added.sort_unstable();
+        self.merge_added();
+        self.n_released_couples += self.added.len() as u64;
+        self.added.len()
+    }
+
+    /// Merges the sorted `added` couples (none of them present) into the sorted couple list
+    /// from the back, moving each couple's committed and trial friction and its flag; a moved
+    /// couple's result slot moves only when its flag says it may hold a force (the force pass
+    /// rewrites every other slot it reads). New couples: no friction, flag set.
+    fn merge_added(&mut self) {
+        let (n_old, k) = (self.couples.len(), self.added.len());
+        let n = n_old + k;
+        self.results.resize(n_old, CoupleForce::default());
+        self.flags.resize(n_old, 1);
+        self.couples.resize(n, [0, 0]);
+        self.ft.resize(n, [0.0; 6]);
+        self.ft_trial.resize(n, [0.0; 6]);
+        self.flags.resize(n, 1);
+        self.results.resize(n, CoupleForce::default());
+        let (mut i, mut a, mut w) = (n_old, k, n);
+        while a > 0 {
+            w -= 1;
+            if i > 0 && self.couples[i - 1] > self.added[a - 1] {
+                i -= 1;
+                self.couples[w] = self.couples[i];
+                self.ft[w] = self.ft[i];
+                self.ft_trial[w] = self.ft_trial[i];
+                self.flags[w] = self.flags[i];
+                if self.flags[i] != 0 {
+                    self.results[w] = self.results[i];
+                }
+            } else {
+                a -= 1;
+                self.couples[w] = self.added[a];
+                self.ft[w] = [0.0; 6];
+                self.ft_trial[w] = [0.0; 6];
+                self.flags[w] = 1;
+            }
+        }
+    }
+
+    /// The couples added by the last [`Self::release_pairs`] call, sorted.
+    pub fn added_couples(&self) -> &[[u32; 2]] {
+        &self.added
+    }
+
+    /// Number of couples added by [`Self::release_pairs`] so far (without a detection).
+    pub fn n_released_couples(&self) -> u64 {
+        self.n_released_couples
+    }
+
+    /// Number of bonded pairs still excluded.
+    pub fn n_bonded(&self) -> usize {
+        self.excl.len()
     }
 
     /// Forces a new detection at the next [`Self::update_detection`].
@@ -607,22 +707,7 @@ impl Contact {
     /// summed in couple order), the committed tangential spring energy and the dissipation.
     pub fn energy(&self, x: &[V2], tris: &[[u32; 3]], material: &[u32]) -> ContactEnergy {
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
-        let per: Vec<f64> = self
-            .couples
-            .par_iter()
-            .with_min_len(512)
-            .map(|c| {
-                let law = self.laws.get(mat(c[0]), mat(c[1]));
-                if !law.enabled {
-                    return 0.0;
-                }
-                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-                let xc = ti.map(|n| x[n as usize]);
-                let xt = tj.map(|n| x[n as usize]);
-                pair_energy(&xc, &xt, law.penalty)
-            })
-            .collect();
-        let mut potential: f64 = per.iter().sum();
+        let mut potential = self.potential_of(&self.couples, x, tris, material);
         for c in &self.wall_pairs {
             let Some(plane) = self.walls.get(c[0] as usize) else {
                 continue;
@@ -646,6 +731,34 @@ impl Contact {
             friction_stored,
             friction_dissipated: self.friction_dissipated,
         }
+    }
+
+    /// Contact potential `sum p int (phi_c + phi_t) dA` of the given triangle couples at
+    /// positions `x` \[J/m\] (parallel, summed in list order: the same sum for any thread
+    /// count), e.g. of [`Self::added_couples`]. `material` as in [`Self::compute_forces`].
+    pub fn potential_of(
+        &self,
+        couples: &[[u32; 2]],
+        x: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+    ) -> f64 {
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let pot = |c: &[u32; 2]| {
+            let law = self.laws.get(mat(c[0]), mat(c[1]));
+            if !law.enabled {
+                return 0.0;
+            }
+            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+            let xc = ti.map(|n| x[n as usize]);
+            let xt = tj.map(|n| x[n as usize]);
+            pair_energy(&xc, &xt, law.penalty)
+        };
+        if couples.len() < 512 {
+            return couples.iter().map(pot).sum();
+        }
+        let per: Vec<f64> = couples.par_iter().with_min_len(512).map(pot).collect();
+        per.iter().sum()
     }
 
     /// Largest node displacement since the last detection \[m\] (for diagnostics).
