@@ -15,9 +15,10 @@
 //! scatters serially in couple order, so the result is bit-identical for any thread count;
 //! once the buffers have grown to the largest couple count, a step allocates nothing.
 //!
-//! Layout for speed: the vertices and vertex box of every triangle are gathered once per pass
-//! into a table (`tri_x`, `tri_box`), so a couple reads two contiguous records instead of six
-//! scattered nodes, and is rejected on its boxes before any other work. One byte per couple
+//! Layout for speed: the vertices and vertex box of every triangle that is in a couple or a
+//! plane candidate are gathered once per pass into a table (`tri_x`, `tri_box`), so a couple
+//! reads two contiguous records instead of six scattered nodes, and is rejected on its boxes
+//! before any other work. One byte per couple
 //! (`flags`) says whether its result slot holds a force; only couples that overlap write
 //! their slot, and the statistics and the scatter read only flagged slots. A couple that was
 //! not flagged before and stays without force touches nothing but its flag (its trial
@@ -32,6 +33,7 @@ use crate::exclusions::Exclusions;
 use crate::friction::stored_energy;
 use crate::geom::{V2, add, dot, norm, sub};
 use crate::laws::{BroadPhase, ContactLaws, ContactSettings};
+use crate::narrow::separated;
 use crate::nbs::Nbs;
 use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
@@ -164,9 +166,13 @@ pub struct Contact {
     results: Vec<CoupleForce>,
     /// Per couple: 1 when its `results` slot may hold a force (or an invalid report).
     flags: Vec<u8>,
-    /// Per triangle, this pass: vertices and vertex box `[xmin, xmax, ymin, ymax]`.
+    /// Per triangle, this pass: vertices and vertex box `[xmin, xmax, ymin, ymax]` (gathered
+    /// only for the triangles `tri_used` marks).
     tri_x: Vec<[V2; 3]>,
     tri_box: Vec<[f64; 4]>,
+    /// Per triangle: 1 when it is in a couple or a plane candidate (set at each detection,
+    /// and by releases).
+    tri_used: Vec<u8>,
     wall_pairs: Vec<[u32; 2]>,
     wall_ft: Vec<f64>,
     wall_ft_trial: Vec<f64>,
@@ -174,6 +180,8 @@ pub struct Contact {
     scratch_couples: Vec<[u32; 2]>,
     scratch_ft: Vec<[f64; 6]>,
     scratch_wall_ft: Vec<f64>,
+    /// Per candidate of a detection: kept by the narrow filter.
+    keep: Vec<u8>,
     /// Couples added by the last [`Contact::release_pairs`], sorted.
     added: Vec<[u32; 2]>,
     n_released_couples: u64,
@@ -205,6 +213,7 @@ impl Contact {
             flags: Vec::new(),
             tri_x: Vec::new(),
             tri_box: Vec::new(),
+            tri_used: Vec::new(),
             wall_pairs: Vec::new(),
             wall_ft: Vec::new(),
             wall_ft_trial: Vec::new(),
@@ -212,6 +221,7 @@ impl Contact {
             scratch_couples: Vec::new(),
             scratch_ft: Vec::new(),
             scratch_wall_ft: Vec::new(),
+            keep: Vec::new(),
             added: Vec::new(),
             n_released_couples: 0,
             friction_dissipated: 0.0,
@@ -230,12 +240,14 @@ impl Contact {
     /// Releases bonded pairs (broken joints, stars that stopped bonding): from now on they
     /// are not excluded. Without a new detection: while the last detection is current (not
     /// stale, same triangle count), a released pair becomes a couple at once exactly when
-    /// that detection would have listed it with the new exclusions (its bounding circles at
-    /// the detection positions within the buffer `b`, `|c_i - c_j| <= r_i + r_j + b`, and no
-    /// shared node); it starts with no friction history. The other released pairs were more
-    /// than `b` apart at the detection, so they cannot touch before the refresh criterion
-    /// triggers the next detection, which lists them when they have come close. When the
-    /// detection is not current, the next [`Self::update_detection`] redetects anyway.
+    /// that detection would have listed it with the new exclusions (its criterion at the
+    /// detection positions: bounding circles within the buffer `b`,
+    /// `|c_i - c_j| <= r_i + r_j + b`, no shared node, and with the narrow filter no edge line
+    /// separating the triangles by more than `b`); it starts with no friction history. The
+    /// other released pairs were more than `b` apart at the detection, so they cannot touch
+    /// before the refresh criterion triggers the next detection, which lists them when they
+    /// have come close. When the detection is not current, the next
+    /// [`Self::update_detection`] redetects anyway.
     ///
     /// The couple list stays sorted (merged from the back, in place: `O(couples + released)`,
     /// no allocation once the buffers are large enough). Pairs in any orientation; pairs that
@@ -250,10 +262,7 @@ impl Contact {
             if (j as usize) >= n || i == j || !self.excl.unbond(i, j) {
                 continue;
             }
-            if current
-                && self.circles.near(i as usize, j as usize, self.buffer)
-                && !self.excl.excluded(tris, i, j)
-            {
+            if current && self.detection_keeps(i, j, tris) {
                 self.added.push([i, j]);
             }
         }
@@ -266,6 +275,16 @@ impl Contact {
         self.merge_added();
         self.n_released_couples += self.added.len() as u64;
         self.added.len()
+    }
+
+    /// The couple criterion of the last detection, at its positions: bounding circles within
+    /// the buffer, not excluded, and (with the narrow filter) not separated by more than `b`.
+    fn detection_keeps(&self, i: u32, j: u32, tris: &[[u32; 3]]) -> bool {
+        let b = self.buffer;
+        let v = |t: u32| tris[t as usize].map(|n| self.x_det[n as usize]);
+        self.circles.near(i as usize, j as usize, b)
+            && !self.excl.excluded(tris, i, j)
+            && !(self.settings.narrow && separated(&v(i), &v(j), b))
     }
 
     /// Merges the sorted `added` couples (none of them present) into the sorted couple list
@@ -282,6 +301,10 @@ impl Contact {
         self.ft_trial.resize(n, [0.0; 6]);
         self.flags.resize(n, 1);
         self.results.resize(n, CoupleForce::default());
+        for c in &self.added {
+            self.tri_used[c[0] as usize] = 1;
+            self.tri_used[c[1] as usize] = 1;
+        }
         let (mut i, mut a, mut w) = (n_old, k, n);
         while a > 0 {
             w -= 1;
@@ -369,14 +392,21 @@ impl Contact {
         if !need {
             let half = 0.5 * self.buffer;
             let h2 = half * half;
-            need = x.iter().zip(&self.x_det).any(|(a, b)| {
-                let d = sub(*a, *b);
-                let d2 = d[0] * d[0] + d[1] * d[1];
-                d2 >= h2 || d2.is_nan()
-            }) || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
-                let s = dot(sub(w.point, *p0), w.normal).abs();
-                s >= half || s.is_nan()
-            });
+            // Branch-free per chunk (vectorises), chunks in parallel; NaN counts as moved.
+            need = x
+                .par_chunks(8192)
+                .zip(self.x_det.par_chunks(8192))
+                .any(|(xa, xb)| {
+                    xa.iter().zip(xb).fold(false, |moved, (a, b)| {
+                        let d = sub(*a, *b);
+                        let d2 = d[0] * d[0] + d[1] * d[1];
+                        moved | (d2 >= h2) | d2.is_nan()
+                    })
+                })
+                || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
+                    let s = dot(sub(w.point, *p0), w.normal).abs();
+                    s >= half || s.is_nan()
+                });
         }
         if need {
             self.detect(x, tris);
@@ -407,6 +437,21 @@ impl Contact {
                 self.parry
                     .find_couples(&self.circles, b, tris, &self.excl, &mut found)
             }
+        }
+        if self.settings.narrow {
+            // Narrow filter (crate::narrow), per candidate in parallel, then a serial retain.
+            self.keep.clear();
+            self.keep.resize(found.len(), 0);
+            self.keep
+                .par_iter_mut()
+                .zip(found.par_iter())
+                .with_min_len(1024)
+                .for_each(|(k, c)| {
+                    let v = |t: u32| tris[t as usize].map(|n| x[n as usize]);
+                    *k = !separated(&v(c[0]), &v(c[1]), b) as u8;
+                });
+            let mut keep = self.keep.iter();
+            found.retain(|_| keep.next().is_some_and(|k| *k != 0));
         }
         // Carry the committed friction of couples found again (both lists sorted).
         self.scratch_ft.clear();
@@ -461,6 +506,17 @@ impl Contact {
         self.wall_ft_trial.clear();
         self.wall_ft_trial.extend_from_slice(&self.wall_ft);
 
+        // The triangles the force pass reads.
+        self.tri_used.clear();
+        self.tri_used.resize(tris.len(), 0);
+        for c in &self.couples {
+            self.tri_used[c[0] as usize] = 1;
+            self.tri_used[c[1] as usize] = 1;
+        }
+        for c in &self.wall_pairs {
+            self.tri_used[c[1] as usize] = 1;
+        }
+
         self.x_det.clear();
         self.x_det.extend_from_slice(x);
         self.wall_det.clear();
@@ -486,15 +542,19 @@ impl Contact {
         let laws = &self.laws;
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
         let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
-        // Vertices and boxes of every triangle, once.
+        // Vertices and boxes of every triangle in a couple or plane candidate, once.
         self.tri_x.resize(tris.len(), [[0.0; 2]; 3]);
         self.tri_box.resize(tris.len(), [0.0; 4]);
+        self.tri_used.resize(tris.len(), 1);
         self.tri_x
             .par_iter_mut()
             .zip(self.tri_box.par_iter_mut())
-            .zip(tris.par_iter())
+            .zip(tris.par_iter().zip(self.tri_used.par_iter()))
             .with_min_len(4096)
-            .for_each(|((tx, tb), t)| {
+            .for_each(|((tx, tb), (t, used))| {
+                if *used == 0 {
+                    return;
+                }
                 *tx = t.map(|n| x[n as usize]);
                 *tb = [
                     tx[0][0].min(tx[1][0]).min(tx[2][0]),
