@@ -320,6 +320,10 @@ impl ForceContribution for FractureStage {
             }
         }
         let n_released = b.released.len() - n_before;
+        if Arc::strong_count(&self.bonded) == 1 {
+            // No contact stage takes them (a scene without contact): keep nothing.
+            b.released.clear();
+        }
         drop(b);
         if n_released > 0 {
             self.releases += 1;
