@@ -289,8 +289,9 @@ impl Contact {
 
     /// Merges the sorted `added` couples (none of them present) into the sorted couple list
     /// from the back, moving each couple's committed and trial friction and its flag; a moved
-    /// couple's result slot moves only when its flag says it may hold a force (the force pass
-    /// rewrites every other slot it reads). New couples: no friction, flag set.
+    /// couple's result slot moves only when its flag says it may hold a force, otherwise only
+    /// its `active` is cleared (so `couple_results` stays truthful). New couples: no friction,
+    /// flag set, not active until the next force pass.
     fn merge_added(&mut self) {
         let (n_old, k) = (self.couples.len(), self.added.len());
         let n = n_old + k;
@@ -316,6 +317,8 @@ impl Contact {
                 self.flags[w] = self.flags[i];
                 if self.flags[i] != 0 {
                     self.results[w] = self.results[i];
+                } else {
+                    self.results[w].active = false;
                 }
             } else {
                 a -= 1;
@@ -323,6 +326,7 @@ impl Contact {
                 self.ft[w] = [0.0; 6];
                 self.ft_trial[w] = [0.0; 6];
                 self.flags[w] = 1;
+                self.results[w].active = false;
             }
         }
     }

@@ -32,8 +32,21 @@ fn cloud(rng: &mut Rng, n: usize, side: f64) -> (Vec<[f64; 2]>, Vec<[u32; 3]>) {
     (x, tris)
 }
 
-/// Couples and scattered forces of a fresh contact model with `bonded` detecting at `x_det`,
-/// evaluated at `x`.
+/// The couples whose result says active, in couple order.
+fn active(c: &Contact) -> Vec<[u32; 2]> {
+    c.couples()
+        .iter()
+        .zip(c.couple_results())
+        .filter(|(_, r)| r.active)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+/// Couples, scattered forces, active couples.
+type Fresh = (Vec<[u32; 2]>, Vec<[f64; 2]>, Vec<[u32; 2]>);
+
+/// Couples, scattered forces and active couples of a fresh contact model with `bonded`
+/// detecting at `x_det`, evaluated at `x`.
 fn fresh(
     buffer: f64,
     bp: (BroadPhase, bool),
@@ -41,14 +54,14 @@ fn fresh(
     x_det: &[[f64; 2]],
     x: &[[f64; 2]],
     tris: &[[u32; 3]],
-) -> (Vec<[u32; 2]>, Vec<[f64; 2]>) {
+) -> Fresh {
     let mut c = contact(buffer, bp);
     c.set_bonded(tris.len(), bonded);
     c.detect(x_det, tris);
     c.compute_forces(x, &[], tris, &[], 1e-3);
     let mut f = vec![[0.0; 2]; x.len()];
     c.add_forces(tris, &mut f);
-    (c.couples().to_vec(), f)
+    (c.couples().to_vec(), f, active(&c))
 }
 
 fn sequence_of_releases_matches_full_detections(bp: (BroadPhase, bool)) {
@@ -133,8 +146,13 @@ fn sequence_of_releases_matches_full_detections(bp: (BroadPhase, bool)) {
         c.compute_forces(&x, &[], &tris, &[], 1e-3);
         f.iter_mut().for_each(|v| *v = [0.0; 2]);
         c.add_forces(&tris, &mut f);
-        let (want, f_want) = fresh(b, bp, &bonded, &x_det, &x, &tris);
+        let (want, f_want, active_want) = fresh(b, bp, &bonded, &x_det, &x, &tris);
         assert_eq!(c.couples(), &want[..], "step {step}: couples differ");
+        assert_eq!(
+            active(&c),
+            active_want,
+            "step {step}: active results differ"
+        );
         assert!(
             f.iter()
                 .zip(&f_want)
