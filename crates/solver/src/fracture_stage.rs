@@ -304,16 +304,29 @@ impl ForceContribution for FractureStage {
         let t0 = std::time::Instant::now();
         let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
         let n_before = b.released.len();
-        for (j, st) in self.bond_state.iter_mut().enumerate() {
-            if *st == 2 {
+        // Chunks of joints scanned branch-free (vectorises); a chunk with a change is then
+        // walked joint by joint.
+        const CHUNK: usize = 256;
+        let (intact, damage) = (&self.state.intact, &self.state.damage);
+        for (c, sts) in self.bond_state.chunks_mut(CHUNK).enumerate() {
+            let r = c * CHUNK..c * CHUNK + sts.len();
+            let (ic, dc) = (&intact[r.clone()], &damage[r]);
+            let change = sts.iter().zip(ic).zip(dc).fold(false, |any, ((st, i), d)| {
+                let softened = (d[0] > 0.0) | (d[1] > 0.0);
+                any | ((*st != 2) & (!*i | ((*st == 0) & softened)))
+            });
+            if !change {
                 continue;
             }
-            if !self.state.intact[j] {
-                self.stars.break_joint(j, &mut b.released);
-                *st = 2;
-            } else if *st == 0 {
-                let d = self.state.damage[j];
-                if d[0] > 0.0 || d[1] > 0.0 {
+            for (k, st) in sts.iter_mut().enumerate() {
+                let j = c * CHUNK + k;
+                if *st == 2 {
+                    continue;
+                }
+                if !ic[k] {
+                    self.stars.break_joint(j, &mut b.released);
+                    *st = 2;
+                } else if *st == 0 && (dc[k][0] > 0.0 || dc[k][1] > 0.0) {
                     self.stars.release_stars(j, &mut b.released);
                     *st = 1;
                 }
