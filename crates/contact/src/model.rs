@@ -800,6 +800,8 @@ impl Contact {
     /// Contact potential `sum p int (phi_c + phi_t) dA` of the given triangle couples at
     /// positions `x` \[J/m\] (parallel, summed in list order: the same sum for any thread
     /// count), e.g. of [`Self::added_couples`]. `material` as in [`Self::compute_forces`].
+    /// Below 512 couples it runs serially and allocates nothing; above, one `Vec<f64>` of
+    /// per-couple values keeps the sum in list order.
     pub fn potential_of(
         &self,
         couples: &[[u32; 2]],
