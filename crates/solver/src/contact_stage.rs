@@ -483,10 +483,12 @@ impl ForceContribution for ContactStage {
         if let Some(b) = &self.bonded {
             let mut b = b.lock().unwrap_or_else(|e| e.into_inner());
             if !self.bonded_set {
+                // The list at set-up; releases already queued are applied below (the
+                // detection is stale then, so they only leave the exclusions).
                 self.contact.set_bonded(self.tris.len(), &b.initial);
-                b.released.clear();
                 self.bonded_set = true;
-            } else if !b.released.is_empty() {
+            }
+            if !b.released.is_empty() {
                 // Joints softened or broke: the released pairs that the last detection would
                 // have listed become contact couples now (no re-detection; the others are more
                 // than the buffer apart and the next regular detection finds them when they
