@@ -166,7 +166,7 @@ impl StarBonds {
             joint_released: vec![false; tris.len()],
             n_bonded: 0,
         };
-        sb.n_bonded = sb.count_bonded();
+        sb.n_bonded = sb.bonded().count();
         sb
     }
 
@@ -239,14 +239,18 @@ impl StarBonds {
     /// pairs)`; the solver lists it once at set-up and then only releases pairs.
     pub fn pairs(&self, out: &mut Vec<[u32; 2]>) {
         out.clear();
-        out.extend(
-            self.joint_tris
-                .iter()
-                .zip(&self.joint_released)
-                .filter(|(_, r)| !**r)
-                .map(|(p, _)| *p),
-        );
-        out.extend(self.vertex_pairs.iter().filter_map(|&([a, b], s)| {
+        out.extend(self.bonded());
+    }
+
+    /// The bonded set, each pair once (see [`Self::pairs`]).
+    fn bonded(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        let joints = self
+            .joint_tris
+            .iter()
+            .zip(&self.joint_released)
+            .filter(|(_, r)| !**r)
+            .map(|(p, _)| *p);
+        let vertex = self.vertex_pairs.iter().filter_map(|&([a, b], s)| {
             // Listed once: by the first intact star that holds it.
             let first = self.tri_stars[a as usize]
                 .iter()
@@ -254,13 +258,8 @@ impl StarBonds {
                 .filter(|&&t| self.star_intact[t as usize])
                 .min();
             (first == Some(&s)).then_some([a, b])
-        }));
-    }
-
-    fn count_bonded(&self) -> usize {
-        let mut out = Vec::new();
-        self.pairs(&mut out);
-        out.len()
+        });
+        joints.chain(vertex)
     }
 }
 
