@@ -118,6 +118,10 @@ pub struct ContactSettings {
     pub buffer: f64,
     /// Broad phase (default NBS).
     pub broad_phase: BroadPhase,
+    /// Narrow filter at detection (default true): drop candidate couples that an edge line of
+    /// one triangle separates from the other by more than `b` ([`crate::narrow`]). Off: every
+    /// pair of bounding circles within `b` is a couple.
+    pub narrow: bool,
     /// Largest `phi` reached on any contacting edge before [`crate::ContactStats::check`]
     /// reports too deep a penetration (0..1; `phi = 3 d/H`). Default 0.5 (d = H/6).
     pub max_phi: f64,
@@ -128,6 +132,7 @@ impl Default for ContactSettings {
         ContactSettings {
             buffer: 0.0,
             broad_phase: BroadPhase::Nbs,
+            narrow: true,
             max_phi: 0.5,
         }
     }

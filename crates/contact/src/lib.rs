@@ -21,7 +21,8 @@
 //! * Rigid plane: a target of infinite altitude, `f_T = p int_{plane∩T} phi_T ds n` ([`walls`]).
 //! * Detection: NBS binning with bounding circles and buffer b, refreshed when a node has
 //!   moved `b/2` since the last detection ([`nbs`]); parry2d's BVH as the alternative
-//!   ([`broad_parry`]).
+//!   ([`broad_parry`]); candidates whose triangles an edge line separates by more than `b`
+//!   are dropped ([`narrow`]).
 //!
 //! See docs/contact.md for the derivations, validation figures and performance.
 
@@ -33,6 +34,7 @@ pub mod friction;
 mod geom;
 pub mod laws;
 pub mod model;
+pub mod narrow;
 pub mod nbs;
 pub mod potential_tri_tri;
 pub mod walls;

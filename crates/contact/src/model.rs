@@ -3,7 +3,9 @@
 //!
 //! Per step the solver calls, in order:
 //! 1. [`Contact::update_detection`] (redetects only when a node or a plane has moved `b/2`
-//!    since the last detection, or the bonded list / topology changed);
+//!    since the last detection, or the bonded list was set / topology changed); pairs that
+//!    stop being bonded are released by [`Contact::release_pairs`], which adds the couples
+//!    among them that the last detection would have listed, without a re-detection;
 //! 2. [`Contact::compute_forces`] any number of times (trial stages included): it reads the
 //!    committed friction history and writes only trial values;
 //! 3. [`Contact::add_forces`] (or [`Contact::add_family`]) to scatter into the node forces;
@@ -13,9 +15,10 @@
 //! scatters serially in couple order, so the result is bit-identical for any thread count;
 //! once the buffers have grown to the largest couple count, a step allocates nothing.
 //!
-//! Layout for speed: the vertices and vertex box of every triangle are gathered once per pass
-//! into a table (`tri_x`, `tri_box`), so a couple reads two contiguous records instead of six
-//! scattered nodes, and is rejected on its boxes before any other work. One byte per couple
+//! Layout for speed: the vertices and vertex box of every triangle that is in a couple or a
+//! plane candidate are gathered once per pass into a table (`tri_x`, `tri_box`), so a couple
+//! reads two contiguous records instead of six scattered nodes, and is rejected on its boxes
+//! before any other work. One byte per couple
 //! (`flags`) says whether its result slot holds a force; only couples that overlap write
 //! their slot, and the statistics and the scatter read only flagged slots. A couple that was
 //! not flagged before and stays without force touches nothing but its flag (its trial
@@ -30,6 +33,7 @@ use crate::exclusions::Exclusions;
 use crate::friction::stored_energy;
 use crate::geom::{V2, add, dot, norm, sub};
 use crate::laws::{BroadPhase, ContactLaws, ContactSettings};
+use crate::narrow::separated;
 use crate::nbs::Nbs;
 use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
@@ -162,9 +166,13 @@ pub struct Contact {
     results: Vec<CoupleForce>,
     /// Per couple: 1 when its `results` slot may hold a force (or an invalid report).
     flags: Vec<u8>,
-    /// Per triangle, this pass: vertices and vertex box `[xmin, xmax, ymin, ymax]`.
+    /// Per triangle, this pass: vertices and vertex box `[xmin, xmax, ymin, ymax]` (gathered
+    /// only for the triangles `tri_used` marks).
     tri_x: Vec<[V2; 3]>,
     tri_box: Vec<[f64; 4]>,
+    /// Per triangle: 1 when it is in a couple or a plane candidate (set at each detection,
+    /// and by releases).
+    tri_used: Vec<u8>,
     wall_pairs: Vec<[u32; 2]>,
     wall_ft: Vec<f64>,
     wall_ft_trial: Vec<f64>,
@@ -172,6 +180,11 @@ pub struct Contact {
     scratch_couples: Vec<[u32; 2]>,
     scratch_ft: Vec<[f64; 6]>,
     scratch_wall_ft: Vec<f64>,
+    /// Per candidate of a detection: kept by the narrow filter.
+    keep: Vec<u8>,
+    /// Couples added by the last [`Contact::release_pairs`], sorted.
+    added: Vec<[u32; 2]>,
+    n_released_couples: u64,
     friction_dissipated: f64,
     stats: ContactStats,
 }
@@ -200,6 +213,7 @@ impl Contact {
             flags: Vec::new(),
             tri_x: Vec::new(),
             tri_box: Vec::new(),
+            tri_used: Vec::new(),
             wall_pairs: Vec::new(),
             wall_ft: Vec::new(),
             wall_ft_trial: Vec::new(),
@@ -207,16 +221,129 @@ impl Contact {
             scratch_couples: Vec::new(),
             scratch_ft: Vec::new(),
             scratch_wall_ft: Vec::new(),
+            keep: Vec::new(),
+            added: Vec::new(),
+            n_released_couples: 0,
             friction_dissipated: 0.0,
             stats: ContactStats::default(),
         }
     }
 
-    /// Sets the bonded pairs (intact joints): they are never contact couples. Call again with
-    /// the new list when joints break; the next [`Self::update_detection`] redetects.
+    /// Sets the bonded pairs (intact joints): they are never contact couples. The next
+    /// [`Self::update_detection`] redetects. When joints break, [`Self::release_pairs`] is the
+    /// cheap way to thin the list (no re-detection).
     pub fn set_bonded(&mut self, n_tris: usize, pairs: &[[u32; 2]]) {
         self.excl.set_bonded(n_tris, pairs);
         self.stale = true;
+    }
+
+    /// Releases bonded pairs (broken joints, stars that stopped bonding): from now on they
+    /// are not excluded. Without a new detection: while the last detection is current (not
+    /// stale, same triangle count), a released pair becomes a couple at once exactly when
+    /// that detection would have listed it with the new exclusions (its criterion at the
+    /// detection positions: bounding circles within the buffer `b`,
+    /// `|c_i - c_j| <= r_i + r_j + b`, no shared node, and with the narrow filter no edge line
+    /// separating the triangles by more than `b`); it starts with no friction history. The
+    /// other released pairs were more than `b` apart at the detection, so they cannot touch
+    /// before the refresh criterion triggers the next detection, which lists them when they
+    /// have come close. When the detection is not current, the next
+    /// [`Self::update_detection`] redetects anyway.
+    ///
+    /// The couple list stays sorted (merged from the back, in place: `O(couples + released)`,
+    /// no allocation once the buffers are large enough). Pairs in any orientation; pairs that
+    /// were not bonded, repeated, or naming a triangle `>= tris.len()` are harmless. Returns
+    /// the number of couples added ([`Self::added_couples`] lists them).
+    pub fn release_pairs(&mut self, pairs: &[[u32; 2]], tris: &[[u32; 3]]) -> usize {
+        let n = tris.len();
+        let current = !self.stale && n == self.n_tris_det && self.circles.len() == n;
+        self.added.clear();
+        for p in pairs {
+            let (i, j) = (p[0].min(p[1]), p[0].max(p[1]));
+            if (j as usize) >= n || i == j || !self.excl.unbond(i, j) {
+                continue;
+            }
+            if current && self.detection_keeps(i, j, tris) {
+                self.added.push([i, j]);
+            }
+        }
+        if self.added.is_empty() {
+            return 0;
+        }
+        // Each pair was bonded, hence not a couple; unbond succeeded once per pair, so the
+        // list holds no repeats. Sorted, it merges into the sorted couples.
+        self.added.sort_unstable();
+        self.merge_added();
+        self.n_released_couples += self.added.len() as u64;
+        self.added.len()
+    }
+
+    /// The couple criterion of the last detection, at its positions: bounding circles within
+    /// the buffer, not excluded, and (with the narrow filter) not separated by more than `b`.
+    fn detection_keeps(&self, i: u32, j: u32, tris: &[[u32; 3]]) -> bool {
+        let b = self.buffer;
+        let v = |t: u32| tris[t as usize].map(|n| self.x_det[n as usize]);
+        self.circles.near(i as usize, j as usize, b)
+            && !self.excl.excluded(tris, i, j)
+            && !(self.settings.narrow && separated(&v(i), &v(j), b))
+    }
+
+    /// Merges the sorted `added` couples (none of them present) into the sorted couple list
+    /// from the back, moving each couple's committed and trial friction and its flag; a moved
+    /// couple's result slot moves only when its flag says it may hold a force, otherwise only
+    /// its `active` is cleared (so `couple_results` stays truthful). New couples: no friction,
+    /// flag set, not active until the next force pass.
+    fn merge_added(&mut self) {
+        let (n_old, k) = (self.couples.len(), self.added.len());
+        let n = n_old + k;
+        self.results.resize(n_old, CoupleForce::default());
+        self.flags.resize(n_old, 1);
+        self.couples.resize(n, [0, 0]);
+        self.ft.resize(n, [0.0; 6]);
+        self.ft_trial.resize(n, [0.0; 6]);
+        self.flags.resize(n, 1);
+        self.results.resize(n, CoupleForce::default());
+        for c in &self.added {
+            self.tri_used[c[0] as usize] = 1;
+            self.tri_used[c[1] as usize] = 1;
+        }
+        let (mut i, mut a, mut w) = (n_old, k, n);
+        while a > 0 {
+            w -= 1;
+            if i > 0 && self.couples[i - 1] > self.added[a - 1] {
+                i -= 1;
+                self.couples[w] = self.couples[i];
+                self.ft[w] = self.ft[i];
+                self.ft_trial[w] = self.ft_trial[i];
+                self.flags[w] = self.flags[i];
+                if self.flags[i] != 0 {
+                    self.results[w] = self.results[i];
+                } else {
+                    self.results[w].active = false;
+                }
+            } else {
+                a -= 1;
+                self.couples[w] = self.added[a];
+                self.ft[w] = [0.0; 6];
+                self.ft_trial[w] = [0.0; 6];
+                self.flags[w] = 1;
+                self.results[w].active = false;
+            }
+        }
+    }
+
+    /// The couples added by the last [`Self::release_pairs`] call, sorted.
+    pub fn added_couples(&self) -> &[[u32; 2]] {
+        &self.added
+    }
+
+    /// Number of couples added by [`Self::release_pairs`] so far (without a detection).
+    pub fn n_released_couples(&self) -> u64 {
+        self.n_released_couples
+    }
+
+    /// Number of bonded pairs still excluded.
+    pub fn n_bonded(&self) -> usize {
+        self.excl.len()
     }
 
     /// Forces a new detection at the next [`Self::update_detection`].
@@ -269,14 +396,21 @@ impl Contact {
         if !need {
             let half = 0.5 * self.buffer;
             let h2 = half * half;
-            need = x.iter().zip(&self.x_det).any(|(a, b)| {
-                let d = sub(*a, *b);
-                let d2 = d[0] * d[0] + d[1] * d[1];
-                d2 >= h2 || d2.is_nan()
-            }) || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
-                let s = dot(sub(w.point, *p0), w.normal).abs();
-                s >= half || s.is_nan()
-            });
+            // Branch-free per chunk (vectorises), chunks in parallel; NaN counts as moved.
+            need = x
+                .par_chunks(8192)
+                .zip(self.x_det.par_chunks(8192))
+                .any(|(xa, xb)| {
+                    xa.iter().zip(xb).fold(false, |moved, (a, b)| {
+                        let d = sub(*a, *b);
+                        let d2 = d[0] * d[0] + d[1] * d[1];
+                        moved | (d2 >= h2) | d2.is_nan()
+                    })
+                })
+                || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
+                    let s = dot(sub(w.point, *p0), w.normal).abs();
+                    s >= half || s.is_nan()
+                });
         }
         if need {
             self.detect(x, tris);
@@ -307,6 +441,21 @@ impl Contact {
                 self.parry
                     .find_couples(&self.circles, b, tris, &self.excl, &mut found)
             }
+        }
+        if self.settings.narrow {
+            // Narrow filter (crate::narrow), per candidate in parallel, then a serial retain.
+            self.keep.clear();
+            self.keep.resize(found.len(), 0);
+            self.keep
+                .par_iter_mut()
+                .zip(found.par_iter())
+                .with_min_len(1024)
+                .for_each(|(k, c)| {
+                    let v = |t: u32| tris[t as usize].map(|n| x[n as usize]);
+                    *k = !separated(&v(c[0]), &v(c[1]), b) as u8;
+                });
+            let mut keep = self.keep.iter();
+            found.retain(|_| keep.next().is_some_and(|k| *k != 0));
         }
         // Carry the committed friction of couples found again (both lists sorted).
         self.scratch_ft.clear();
@@ -361,6 +510,17 @@ impl Contact {
         self.wall_ft_trial.clear();
         self.wall_ft_trial.extend_from_slice(&self.wall_ft);
 
+        // The triangles the force pass reads.
+        self.tri_used.clear();
+        self.tri_used.resize(tris.len(), 0);
+        for c in &self.couples {
+            self.tri_used[c[0] as usize] = 1;
+            self.tri_used[c[1] as usize] = 1;
+        }
+        for c in &self.wall_pairs {
+            self.tri_used[c[1] as usize] = 1;
+        }
+
         self.x_det.clear();
         self.x_det.extend_from_slice(x);
         self.wall_det.clear();
@@ -386,15 +546,19 @@ impl Contact {
         let laws = &self.laws;
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
         let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
-        // Vertices and boxes of every triangle, once.
+        // Vertices and boxes of every triangle in a couple or plane candidate, once.
         self.tri_x.resize(tris.len(), [[0.0; 2]; 3]);
         self.tri_box.resize(tris.len(), [0.0; 4]);
+        self.tri_used.resize(tris.len(), 1);
         self.tri_x
             .par_iter_mut()
             .zip(self.tri_box.par_iter_mut())
-            .zip(tris.par_iter())
+            .zip(tris.par_iter().zip(self.tri_used.par_iter()))
             .with_min_len(4096)
-            .for_each(|((tx, tb), t)| {
+            .for_each(|((tx, tb), (t, used))| {
+                if *used == 0 {
+                    return;
+                }
                 *tx = t.map(|n| x[n as usize]);
                 *tb = [
                     tx[0][0].min(tx[1][0]).min(tx[2][0]),
@@ -607,22 +771,7 @@ impl Contact {
     /// summed in couple order), the committed tangential spring energy and the dissipation.
     pub fn energy(&self, x: &[V2], tris: &[[u32; 3]], material: &[u32]) -> ContactEnergy {
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
-        let per: Vec<f64> = self
-            .couples
-            .par_iter()
-            .with_min_len(512)
-            .map(|c| {
-                let law = self.laws.get(mat(c[0]), mat(c[1]));
-                if !law.enabled {
-                    return 0.0;
-                }
-                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-                let xc = ti.map(|n| x[n as usize]);
-                let xt = tj.map(|n| x[n as usize]);
-                pair_energy(&xc, &xt, law.penalty)
-            })
-            .collect();
-        let mut potential: f64 = per.iter().sum();
+        let mut potential = self.potential_of(&self.couples, x, tris, material);
         for c in &self.wall_pairs {
             let Some(plane) = self.walls.get(c[0] as usize) else {
                 continue;
@@ -646,6 +795,36 @@ impl Contact {
             friction_stored,
             friction_dissipated: self.friction_dissipated,
         }
+    }
+
+    /// Contact potential `sum p int (phi_c + phi_t) dA` of the given triangle couples at
+    /// positions `x` \[J/m\] (parallel, summed in list order: the same sum for any thread
+    /// count), e.g. of [`Self::added_couples`]. `material` as in [`Self::compute_forces`].
+    /// Below 512 couples it runs serially and allocates nothing; above, one `Vec<f64>` of
+    /// per-couple values keeps the sum in list order.
+    pub fn potential_of(
+        &self,
+        couples: &[[u32; 2]],
+        x: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+    ) -> f64 {
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let pot = |c: &[u32; 2]| {
+            let law = self.laws.get(mat(c[0]), mat(c[1]));
+            if !law.enabled {
+                return 0.0;
+            }
+            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+            let xc = ti.map(|n| x[n as usize]);
+            let xt = tj.map(|n| x[n as usize]);
+            pair_energy(&xc, &xt, law.penalty)
+        };
+        if couples.len() < 512 {
+            return couples.iter().map(pot).sum();
+        }
+        let per: Vec<f64> = couples.par_iter().with_min_len(512).map(pot).collect();
+        per.iter().sum()
     }
 
     /// Largest node displacement since the last detection \[m\] (for diagnostics).

@@ -357,9 +357,14 @@ pub struct ContactStage {
     reactions: Vec<[f64; 2]>,
     prev_force: Vec<[f64; 2]>,
     prev_disp: Vec<[f64; 2]>,
-    /// Bonded triangle pairs (intact joints), refreshed by the fracture stage.
+    /// Bonded triangle pairs (intact joints and stars), released by the fracture stage.
     pub bonded: Option<Arc<Mutex<BondedPairs>>>,
-    bonded_version: u64,
+    /// The initial bonded list was handed to the contact model.
+    bonded_set: bool,
+    /// The released pairs being handed over (swapped with `BondedPairs::released`).
+    released: Vec<[u32; 2]>,
+    /// Wall time of the hand-overs of released pairs (release and switch-jump energy) [s].
+    release_s: f64,
     /// Sum over the joint -> contact hand-overs of the contact potential they brought in [J].
     switch_jump: f64,
     report: Arc<Mutex<ContactReport>>,
@@ -368,13 +373,17 @@ pub struct ContactStage {
     steps: u64,
 }
 
-/// Triangle pairs bonded by intact joints, with a version counter bumped when joints break.
+/// Triangle pairs bonded by the fracture stage (intact joints, intact stars), passed to the
+/// contact stage as data: the list at set-up, then the pairs released since.
 #[derive(Debug, Clone, Default)]
 pub struct BondedPairs {
-    /// The pairs.
-    pub pairs: Vec<[u32; 2]>,
-    /// Bumped whenever `pairs` changes.
-    pub version: u64,
+    /// The bonded pairs at set-up (the contact stage's exclusion list at its first force
+    /// evaluation).
+    pub initial: Vec<[u32; 2]>,
+    /// Pairs released since the contact stage last took them (appended by the fracture
+    /// stage at the end of a step, taken and cleared by the contact stage at its next force
+    /// evaluation; each pair once over the run).
+    pub released: Vec<[u32; 2]>,
 }
 
 impl ContactStage {
@@ -440,7 +449,9 @@ impl ContactStage {
             prev_force: vec![[0.0; 2]; nw],
             prev_disp: vec![[0.0; 2]; nw],
             bonded: None,
-            bonded_version: u64::MAX,
+            bonded_set: false,
+            released: Vec::new(),
+            release_s: 0.0,
             switch_jump: 0.0,
             report: report.clone(),
             csv,
@@ -470,24 +481,28 @@ impl ForceContribution for ContactStage {
 
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
         if let Some(b) = &self.bonded {
-            let b = b.lock().unwrap_or_else(|e| e.into_inner());
-            if b.version != self.bonded_version {
-                // Joints broke: their triangle pairs become contact couples. Measure the
-                // contact potential the new couples bring in at these positions (the energy
-                // jump of the joint -> contact hand-over; 0 when the faces do not overlap).
-                let first = self.bonded_version == u64::MAX;
-                let before = if first {
-                    0.0
-                } else {
-                    self.contact.energy(x, &self.tris, &self.labels).potential
-                };
-                self.contact.set_bonded(self.tris.len(), &b.pairs);
-                self.bonded_version = b.version;
-                if !first {
-                    self.contact.update_detection(x, &self.tris);
-                    let after = self.contact.energy(x, &self.tris, &self.labels).potential;
-                    self.switch_jump += after - before;
-                }
+            let mut b = b.lock().unwrap_or_else(|e| e.into_inner());
+            if !self.bonded_set {
+                // The list at set-up; releases already queued are applied below (the
+                // detection is stale then, so they only leave the exclusions).
+                self.contact.set_bonded(self.tris.len(), &b.initial);
+                self.bonded_set = true;
+            }
+            if !b.released.is_empty() {
+                // Joints softened or broke: the released pairs that the last detection would
+                // have listed become contact couples now (no re-detection; the others are more
+                // than the buffer apart and the next regular detection finds them when they
+                // come close). Book the contact potential the new couples bring in at these
+                // positions (the energy jump of the joint -> contact hand-over; 0 when the
+                // faces do not overlap).
+                let t0 = std::time::Instant::now();
+                std::mem::swap(&mut self.released, &mut b.released);
+                drop(b);
+                self.contact.release_pairs(&self.released, &self.tris);
+                self.released.clear();
+                let c = &self.contact;
+                self.switch_jump += c.potential_of(c.added_couples(), x, &self.tris, &self.labels);
+                self.release_s += t0.elapsed().as_secs_f64();
             }
         }
         self.place_walls(t);
@@ -604,6 +619,8 @@ impl ForceContribution for ContactStage {
                 "max_phi": r.max_phi,
                 "max_depth_over_altitude": r.max_depth_over_altitude,
                 "detections": r.detections,
+                "released_couples": self.contact.n_released_couples(),
+                "release_s": self.release_s,
                 "active_couples": r.active_couples,
                 "wall_force": r.wall_force,
             }),

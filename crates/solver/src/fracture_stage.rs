@@ -10,9 +10,10 @@
 //! of triangles around an original (pre-explode) node whose star of joints is intact
 //! ([`crate::star_bonds`]): in an intact mesh no triangle is a contact couple of its edge or
 //! vertex neighbours. A break removes its joint's pair; the first softening (damage > 0) or
-//! break of a joint unbonds the vertex pairs of the stars of its two end nodes (the list is
-//! rebuilt once per step with such changes, `O(joints)`), so these faces become contact
-//! couples. (Releasing only at breaks let triangles slide along fully damaged, unbroken joints
+//! break of a joint unbonds the vertex pairs of the stars of its two end nodes; the pairs that
+//! leave the bonded set are appended to `BondedPairs::released` (no rebuild of the list), and
+//! the contact stage hands them to the contact crate, which adds the close ones as couples
+//! without a re-detection. (Releasing only at breaks let triangles slide along fully damaged, unbroken joints
 //! into their vertex neighbours, and the overlaps entered contact at once when a star broke:
 //! docs/fracture.md section 13.) Physics caveat: non-adjacent triangles of an intact star
 //! could only overlap after their edge neighbours' joints are crushed by more than the joint
@@ -201,13 +202,16 @@ pub struct FractureStage {
     scratch: JointScratch,
     events: Vec<FractureEvent>,
     stars: StarBonds,
-    /// Per joint: its stars released (the joint softened or broke).
-    star_released: Vec<bool>,
+    /// Per joint: 0 nothing released, 1 its stars released (it softened), 2 its stars and
+    /// its own pair released (it broke).
+    bond_state: Vec<u8>,
+    /// Steps that released pairs, pairs released, and the wall time of the releases [s]
+    /// (reported in the details).
+    releases: u64,
+    released_pairs: u64,
+    release_s: f64,
     /// True once the first end-of-step hook has scanned every joint for damage.
     stars_scanned: bool,
-    /// Rebuilds of the bonded list and their wall time [s] (reported in the details).
-    rebuilds: u64,
-    rebuild_s: f64,
     bonded: Arc<Mutex<BondedPairs>>,
     report: Arc<Mutex<FractureReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
@@ -225,9 +229,12 @@ impl FractureStage {
         let scratch = JointScratch::new(set.len());
         let n_joints = set.len();
         let stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
-        let mut pairs = Vec::new();
-        stars.pairs(&state.intact, &mut pairs);
-        let bonded = Arc::new(Mutex::new(BondedPairs { pairs, version: 0 }));
+        let mut initial = Vec::new();
+        stars.pairs(&mut initial);
+        let bonded = Arc::new(Mutex::new(BondedPairs {
+            initial,
+            released: Vec::new(),
+        }));
         let report = Arc::new(Mutex::new(FractureReport {
             joints: set.len(),
             ..Default::default()
@@ -245,10 +252,11 @@ impl FractureStage {
                 scratch,
                 events: Vec::new(),
                 stars,
-                star_released: vec![false; n_joints],
+                bond_state: vec![0; n_joints],
+                releases: 0,
+                released_pairs: 0,
+                release_s: 0.0,
                 stars_scanned: false,
-                rebuilds: 0,
-                rebuild_s: 0.0,
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
@@ -294,40 +302,51 @@ impl ForceContribution for FractureStage {
             &mut self.events,
         );
         // Stars stop bonding at the first softening of one of their joints (damage > 0 at
-        // either point) or its break (a break follows a softening, and damage never heals):
-        // one scan of every joint at the first step (a joint may start damaged), then only
-        // the joints the commit lists as newly softened; a rebuild only on a change.
-        let mut released = false;
-        let mut release = |j: usize, r: &mut bool| {
-            if !*r {
-                *r = true;
-                released |= self.stars.break_joint(j);
-            }
-        };
+        // either point) or its break, and a break releases the joint's own pair. One scan of
+        // every joint at the first step (a joint may start damaged or broken), then only the
+        // joints the commit lists as newly softened or broken; the pairs that leave the
+        // bonded set go to the contact stage.
+        let t0 = std::time::Instant::now();
+        let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
+        let n_before = b.released.len();
         if self.stars_scanned {
             for &j in self.scratch.newly_softened() {
-                release(j as usize, &mut self.star_released[j as usize]);
+                let j = j as usize;
+                if self.bond_state[j] == 0 {
+                    self.stars.release_stars(j, &mut b.released);
+                    self.bond_state[j] = 1;
+                }
+            }
+            for e in &self.events {
+                let j = e.joint.0 as usize;
+                if self.bond_state[j] != 2 {
+                    self.stars.break_joint(j, &mut b.released);
+                    self.bond_state[j] = 2;
+                }
             }
         } else {
-            for (j, r) in self.star_released.iter_mut().enumerate() {
+            for (j, st) in self.bond_state.iter_mut().enumerate() {
                 let d = self.state.history[j].damage;
-                if !self.state.intact[j] || d[0] > 0.0 || d[1] > 0.0 {
-                    release(j, r);
+                if !self.state.intact[j] {
+                    self.stars.break_joint(j, &mut b.released);
+                    *st = 2;
+                } else if d[0] > 0.0 || d[1] > 0.0 {
+                    self.stars.release_stars(j, &mut b.released);
+                    *st = 1;
                 }
             }
             self.stars_scanned = true;
         }
-        if n == 0 && !released {
-            return;
+        let n_released = b.released.len() - n_before;
+        if Arc::strong_count(&self.bonded) == 1 {
+            // No contact stage takes them (a scene without contact): keep nothing.
+            b.released.clear();
         }
-        {
-            let t0 = std::time::Instant::now();
-            let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
-            let b = &mut *b;
-            self.stars.pairs(&self.state.intact, &mut b.pairs);
-            b.version += 1;
-            self.rebuilds += 1;
-            self.rebuild_s += t0.elapsed().as_secs_f64();
+        drop(b);
+        if n_released > 0 {
+            self.releases += 1;
+            self.released_pairs += n_released as u64;
+            self.release_s += t0.elapsed().as_secs_f64();
         }
         if n == 0 {
             return;
@@ -373,9 +392,10 @@ impl ForceContribution for FractureStage {
             details: serde_json::json!({
                 "joints": self.set.len(),
                 "broken": self.state.n_broken,
-                "bonded_pairs": self.bonded.lock().map_or(0, |b| b.pairs.len()),
-                "bonded_rebuilds": self.rebuilds,
-                "bonded_rebuild_s": self.rebuild_s,
+                "bonded_pairs": self.stars.n_bonded(),
+                "bonded_releases": self.releases,
+                "released_pairs": self.released_pairs,
+                "bonded_release_s": self.release_s,
                 "stored": e.stored,
                 "dissipated": e.dissipated,
                 "released_at_break": e.released_at_break,

@@ -10,12 +10,16 @@
 //! the body or of a fracturing region is intact when all the joints it has are.
 //!
 //! Bonded set `B = { (T1, T2) of intact joints } U { (a, b) : a, b in star(c), c intact }`.
-//! A joint break marks the stars of its two end nodes broken (for good); pairs still bonded
-//! by an intact joint stay bonded. [`StarBonds::pairs`] rebuilds the list in `O(joints +
-//! vertex pairs)` (no sorting), once per batch of breaks. The fracture stage calls
-//! [`StarBonds::break_joint`] already at a joint's first softening (damage > 0), so that
-//! triangles cannot slide along fully damaged, unbroken joints into vertex neighbours that
-//! are not contact couples (docs/fracture.md section 13).
+//! A joint's first softening (damage > 0, as the fracture stage calls it) or break marks the
+//! stars of its two end nodes released, for good ([`StarBonds::release_stars`]); a break also
+//! removes the joint's own pair ([`StarBonds::break_joint`]); pairs still held by an intact
+//! joint or another intact star stay bonded. Both calls append exactly the pairs that leave
+//! `B` (each pair once over the run), in `O(pairs of the released stars)`: the solver lists
+//! `B` once at set-up ([`StarBonds::pairs`], `O(joints + vertex pairs)`, no sorting) and then
+//! hands only released pairs to the contact crate (`Contact::release_pairs`, no
+//! re-detection). Releasing at the first softening keeps triangles from sliding along fully
+//! damaged, unbroken joints into vertex neighbours that are not contact couples
+//! (docs/fracture.md section 13).
 //!
 //! Physics caveat: two non-adjacent triangles of an intact star could only overlap after the
 //! joints between them and their edge neighbours are crushed by more than the joint penalty
@@ -24,18 +28,29 @@
 //! (triangles touching at a node without a chain of joints between them) are two classes here,
 //! which only keeps more couples in contact (conservative).
 
-/// The star structure of a joint set (reference topology; fixed at set-up).
+/// The star structure of a joint set (reference topology, fixed at set-up) and which bonds
+/// still hold.
 #[derive(Debug, Clone)]
 pub struct StarBonds {
     /// Per joint: its two triangles.
     joint_tris: Vec<[u32; 2]>,
     /// Per joint: the stars of its two end nodes.
     joint_stars: Vec<[u32; 2]>,
-    /// Vertex-neighbour pairs (sharing a star, no joint between them) and their star.
+    /// Vertex-neighbour pairs (sharing a star, no joint between them) and their star, grouped
+    /// by star: star `s` owns `vertex_pairs[star_off[s]..star_off[s + 1]]`.
     vertex_pairs: Vec<([u32; 2], u32)>,
+    star_off: Vec<u32>,
+    /// Per triangle: the stars of its vertices (`u32::MAX` where none).
+    tri_stars: Vec<[u32; 3]>,
     /// Per star: still intact.
     star_intact: Vec<bool>,
+    /// Per joint: its own pair released (the joint broke).
+    joint_released: Vec<bool>,
+    /// Pairs in the bonded set now.
+    n_bonded: usize,
 }
+
+const NONE: u32 = u32::MAX;
 
 fn find(parent: &mut [u32], mut a: u32) -> u32 {
     while parent[a as usize] != a {
@@ -65,7 +80,6 @@ impl StarBonds {
             union(&mut parent, n[1], n[2]);
         }
         // Dense star ids for the roots that appear in a joint.
-        const NONE: u32 = u32::MAX;
         let mut star_of_root = vec![NONE; n_nodes];
         let mut n_stars = 0u32;
         let mut joint_stars = Vec::with_capacity(nodes.len());
@@ -80,6 +94,21 @@ impl StarBonds {
                 s[k] = star_of_root[r];
             }
             joint_stars.push(s);
+        }
+        // Per triangle: its stars (the two end stars of each of its joints; at most three).
+        let n_tris = tris.iter().flatten().max().map_or(0, |m| *m as usize + 1);
+        let mut tri_stars = vec![[NONE; 3]; n_tris];
+        for (t, s) in tris.iter().zip(&joint_stars) {
+            for &tri in t {
+                for &si in s {
+                    let ts = &mut tri_stars[tri as usize];
+                    if !ts.contains(&si)
+                        && let Some(slot) = ts.iter_mut().find(|x| **x == NONE)
+                    {
+                        *slot = si;
+                    }
+                }
+            }
         }
         // Per star: its triangles and its joints (compressed rows).
         let ns = n_stars as usize;
@@ -100,8 +129,10 @@ impl StarBonds {
             }
         }
         let mut vertex_pairs = Vec::new();
+        let mut star_off = Vec::with_capacity(ns + 1);
         let mut star_tris: Vec<u32> = Vec::new();
         for s in 0..ns {
+            star_off.push(vertex_pairs.len() as u32);
             let js = &star_joints[off[s] as usize..off[s + 1] as usize];
             star_tris.clear();
             for &j in js {
@@ -124,12 +155,19 @@ impl StarBonds {
                 }
             }
         }
-        Self {
+        star_off.push(vertex_pairs.len() as u32);
+        let mut sb = Self {
             joint_tris: tris.to_vec(),
             joint_stars,
             vertex_pairs,
+            star_off,
+            tri_stars,
             star_intact: vec![true; ns],
-        }
+            joint_released: vec![false; tris.len()],
+            n_bonded: 0,
+        };
+        sb.n_bonded = sb.bonded().count();
+        sb
     }
 
     /// Number of stars (original nodes touched by a joint).
@@ -142,33 +180,86 @@ impl StarBonds {
         self.vertex_pairs.len()
     }
 
-    /// Joint `j` broke (or, as the fracture stage uses it, started to soften): the stars of
-    /// its two end nodes stop bonding. Returns true when a star was still bonding.
-    pub fn break_joint(&mut self, j: usize) -> bool {
+    /// Number of pairs in the bonded set now.
+    pub fn n_bonded(&self) -> usize {
+        self.n_bonded
+    }
+
+    /// True when an intact star other than `except` holds both triangles `a` and `b`.
+    fn held_by_star(&self, a: u32, b: u32, except: u32) -> bool {
+        let sb = &self.tri_stars[b as usize];
+        self.tri_stars[a as usize]
+            .iter()
+            .any(|&s| s != NONE && s != except && sb.contains(&s) && self.star_intact[s as usize])
+    }
+
+    /// Joint `j` softened or broke (as the fracture stage uses it: damage > 0 at a point): the
+    /// stars of its two end nodes stop bonding, for good. Appends to `released` the pairs
+    /// that thereby leave the bonded set (each pair exactly once over the run: a vertex pair
+    /// shared by another intact star stays until that one goes too) and returns true when a
+    /// star was still bonding.
+    pub fn release_stars(&mut self, j: usize, released: &mut Vec<[u32; 2]>) -> bool {
         let mut changed = false;
         for s in self.joint_stars[j] {
-            changed |= std::mem::replace(&mut self.star_intact[s as usize], false);
+            if !std::mem::replace(&mut self.star_intact[s as usize], false) {
+                continue;
+            }
+            changed = true;
+            let (lo, hi) = (self.star_off[s as usize], self.star_off[s as usize + 1]);
+            for k in lo as usize..hi as usize {
+                let [a, b] = self.vertex_pairs[k].0;
+                if !self.held_by_star(a, b, s) {
+                    released.push([a, b]);
+                    self.n_bonded -= 1;
+                }
+            }
         }
         changed
     }
 
-    /// Writes the bonded pairs into `out` (cleared first): the intact joints' pairs
-    /// (`intact[j]`), then the vertex pairs of the intact stars. No pair appears twice.
-    pub fn pairs(&self, intact: &[bool], out: &mut Vec<[u32; 2]>) {
+    /// Joint `j` broke: its stars are released ([`Self::release_stars`]), and its own pair
+    /// leaves the bonded set (appended to `released`, once; no intact star can hold it, its
+    /// two common stars being the joint's own). Returns true when something was still
+    /// bonding.
+    pub fn break_joint(&mut self, j: usize, released: &mut Vec<[u32; 2]>) -> bool {
+        let mut changed = self.release_stars(j, released);
+        if !std::mem::replace(&mut self.joint_released[j], true) {
+            changed = true;
+            let [a, b] = self.joint_tris[j];
+            if !self.held_by_star(a, b, NONE) {
+                released.push([a.min(b), a.max(b)]);
+                self.n_bonded -= 1;
+            }
+        }
+        changed
+    }
+
+    /// Writes the bonded set into `out` (cleared first): the pairs of the joints not broken,
+    /// then the vertex pairs of the intact stars. No pair appears twice. `O(joints + vertex
+    /// pairs)`; the solver lists it once at set-up and then only releases pairs.
+    pub fn pairs(&self, out: &mut Vec<[u32; 2]>) {
         out.clear();
-        out.extend(
-            self.joint_tris
+        out.extend(self.bonded());
+    }
+
+    /// The bonded set, each pair once (see [`Self::pairs`]).
+    fn bonded(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        let joints = self
+            .joint_tris
+            .iter()
+            .zip(&self.joint_released)
+            .filter(|(_, r)| !**r)
+            .map(|(p, _)| *p);
+        let vertex = self.vertex_pairs.iter().filter_map(|&([a, b], s)| {
+            // Listed once: by the first intact star that holds it.
+            let first = self.tri_stars[a as usize]
                 .iter()
-                .zip(intact)
-                .filter(|(_, i)| **i)
-                .map(|(p, _)| *p),
-        );
-        out.extend(
-            self.vertex_pairs
-                .iter()
-                .filter(|(_, s)| self.star_intact[*s as usize])
-                .map(|(p, _)| *p),
-        );
+                .filter(|&&t| t != NONE && self.tri_stars[b as usize].contains(&t))
+                .filter(|&&t| self.star_intact[t as usize])
+                .min();
+            (first == Some(&s)).then_some([a, b])
+        });
+        joints.chain(vertex)
     }
 }
 
@@ -204,25 +295,28 @@ mod tests {
         Mesh::from_nodes_triangles(nodes, tris).expect("valid mesh")
     }
 
-    /// The bonded set from its definition, with the explode's map to the original nodes.
+    /// The bonded set from its definition, with the explode's map to the original nodes:
+    /// the pairs of the joints not `broken`, and every pair around an original node none of
+    /// whose joints is `broken` or `softened`.
     fn brute_force(
         tris: &[[u32; 3]],
         original: &[u32],
         jn: &[[u32; 4]],
         jt: &[[u32; 2]],
-        intact: &[bool],
+        broken: &[bool],
+        softened: &[bool],
     ) -> BTreeSet<[u32; 2]> {
         let n_orig = original.iter().max().map_or(0, |m| *m as usize + 1);
         let mut star_ok = vec![true; n_orig];
         for (j, n) in jn.iter().enumerate() {
-            if !intact[j] {
+            if broken[j] || softened[j] {
                 star_ok[original[n[0] as usize] as usize] = false;
                 star_ok[original[n[1] as usize] as usize] = false;
             }
         }
         let mut out = BTreeSet::new();
         for (j, p) in jt.iter().enumerate() {
-            if intact[j] {
+            if !broken[j] {
                 out.insert([p[0].min(p[1]), p[0].max(p[1])]);
             }
         }
@@ -263,7 +357,7 @@ mod tests {
     }
 
     #[test]
-    fn bonded_set_equals_brute_force_after_a_sequence_of_breaks() {
+    fn released_pairs_keep_the_bonded_set_equal_to_brute_force() {
         let mesh = square(5);
         let ex = explode(&mesh, None).expect("explode");
         let (jn, jt) = joint_arrays(&ex);
@@ -278,29 +372,59 @@ mod tests {
             .collect();
         assert_eq!(touched.len(), mesh.nodes.len() - 2);
         assert_eq!(sb.n_stars(), touched.len(), "one star per original node");
-        let mut intact = vec![true; jn.len()];
+        let (mut broken, mut softened) = (vec![false; jn.len()], vec![false; jn.len()]);
         let mut out = Vec::new();
-        // Breaks in a fixed scrambled order, checked after each batch of 1, 2, 3, ... breaks.
-        let order: Vec<usize> = (0..jn.len()).map(|k| (k * 37 + 11) % jn.len()).collect();
-        let mut k = 0;
-        let mut batch = 1;
-        let mut checked = 0;
+        sb.pairs(&mut out);
+        // The set the contact stage holds: the initial list minus every released pair.
+        let mut held = as_set(&out);
+        assert_eq!(held.len(), out.len(), "a pair listed twice");
+        assert_eq!(sb.n_bonded(), out.len());
+        // Events in a fixed scrambled order, checked after each batch of 1, 2, 3, ... events;
+        // every third event breaks its joint, the others soften it (a softened joint may
+        // break later: the order visits each joint twice).
+        let n = jn.len();
+        let order: Vec<usize> = (0..2 * n).map(|k| (k * 37 + 11) % n).collect();
+        let (mut k, mut batch, mut checked, mut n_released) = (0, 1, 0, 0);
+        let mut released = Vec::new();
         while k < order.len() {
-            sb.pairs(&intact, &mut out);
-            let got = as_set(&out);
-            assert_eq!(got.len(), out.len(), "a pair listed twice");
-            assert_eq!(got, brute_force(tris, &original, &jn, &jt, &intact));
-            checked += 1;
-            for &j in order[k..(k + batch).min(order.len())].iter() {
-                intact[j] = false;
-                let _ = sb.break_joint(j);
+            released.clear();
+            for (e, &j) in order[k..(k + batch).min(order.len())].iter().enumerate() {
+                if (k + e) % 3 == 0 {
+                    broken[j] = true;
+                    let _ = sb.break_joint(j, &mut released);
+                } else {
+                    softened[j] = true;
+                    let _ = sb.release_stars(j, &mut released);
+                }
             }
+            for p in &released {
+                assert!(p[0] < p[1], "{p:?} not ordered");
+                assert!(held.remove(p), "{p:?} released but not bonded (or twice)");
+            }
+            n_released += released.len();
+            let want = brute_force(tris, &original, &jn, &jt, &broken, &softened);
+            assert_eq!(held, want, "incremental set after {k} events");
+            sb.pairs(&mut out);
+            assert_eq!(as_set(&out), want, "full listing after {k} events");
+            assert_eq!(out.len(), want.len(), "a pair listed twice");
+            assert_eq!(sb.n_bonded(), want.len());
+            checked += 1;
             k += batch;
             batch += 1;
         }
-        sb.pairs(&intact, &mut out);
+        for j in 0..n {
+            released.clear();
+            let _ = sb.break_joint(j, &mut released);
+            for p in &released {
+                assert!(held.remove(p), "{p:?} released but not bonded (or twice)");
+            }
+            n_released += released.len();
+        }
+        sb.pairs(&mut out);
         assert!(out.is_empty(), "all joints broken: nothing bonded");
-        assert!(checked >= 8, "only {checked} states checked");
+        assert!(held.is_empty() && sb.n_bonded() == 0);
+        assert!(checked >= 12, "only {checked} states checked");
+        assert!(n_released > 150, "only {n_released} pairs released");
     }
 
     #[test]
@@ -327,9 +451,8 @@ mod tests {
             x[n as usize][1] -= 0.3;
         }
         let mut sb = StarBonds::new(&jn, &jt, x.len());
-        let mut intact = vec![true; jn.len()];
         let mut out = Vec::new();
-        sb.pairs(&intact, &mut out);
+        sb.pairs(&mut out);
         let mut c = Contact::new(
             ContactSettings::default(),
             ContactLaws::uniform(1, ContactLaw::with_penalty(1e9)),
@@ -345,9 +468,19 @@ mod tests {
         let j = (0..jn.len())
             .find(|&j| orig(jn[j][0]) == 4 && !jt[j].contains(&a) && !jt[j].contains(&b))
             .expect("a joint of the centre's star away from a and b");
-        intact[j] = false;
-        assert!(sb.break_joint(j), "the centre's star was bonding");
-        sb.pairs(&intact, &mut out);
+        let mut released = Vec::new();
+        assert!(
+            sb.break_joint(j, &mut released),
+            "the centre's star was bonding"
+        );
+        assert!(released.contains(&[a.min(b), a.max(b)]), "(a, b) released");
+        // Released without a re-detection: (a, b) overlaps, so it is a couple at once.
+        let n_det = c.n_detections();
+        c.release_pairs(&released, &tris);
+        assert!(has(&c), "broken star: (a, b) must be a contact couple");
+        assert_eq!(c.n_detections(), n_det, "no re-detection");
+        // A full detection with the full list of the new bonded set agrees.
+        sb.pairs(&mut out);
         c.set_bonded(tris.len(), &out);
         c.detect(&x, &tris);
         assert!(has(&c), "broken star: (a, b) must be a contact couple");
