@@ -12,7 +12,10 @@
 //!
 //! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
 //! central-difference step) swaps the trial arrays with the committed ones (no copy, no
-//! re-evaluation); at other positions it runs the pass first. Breaking and the list of newly
+//! re-evaluation); at other positions it runs the pass first. The positions are compared
+//! bit for bit with a copy the pass keeps; a caller that knows the commit is at the last
+//! pass's positions (the solver, told by the time crate's FSAL schemes) turns that copy off
+//! ([`JointScratch::set_position_check`]) and commits with [`commit_joints_at_last_pass`]. Breaking and the list of newly
 //! softened joints then visit only the flagged chunks, in joint order.
 //!
 //! Results are bit-identical whatever the number of threads (each joint's values depend on
@@ -54,8 +57,11 @@ pub struct JointScratch {
     trial: Vec<JointHistory>,
     /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
     flags: Vec<u8>,
-    /// Positions of the last pass.
+    /// Positions of the last pass (not kept after [`JointScratch::set_position_check`]
+    /// turned the check off).
     x_last: Vec<[f64; 2]>,
+    /// True when the pass keeps no copy of its positions.
+    skip_position_copy: bool,
     /// The generation of the state whose trial `trial` holds at `x_last`, until a commit.
     valid: Option<u64>,
     /// Joints whose damage became positive at the last commit.
@@ -82,6 +88,17 @@ impl JointScratch {
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
             self.softened.reserve(256);
+        }
+    }
+
+    /// With `false`, the force pass keeps no copy of its positions (4.8 MB a pass for 3 x
+    /// 10^5 nodes) and [`commit_joints`] re-evaluates every joint: for callers that commit
+    /// with [`commit_joints_at_last_pass`] whenever the last pass was at the commit's
+    /// positions. Default `true`.
+    pub fn set_position_check(&mut self, on: bool) {
+        self.skip_position_copy = !on;
+        if !on {
+            self.x_last = Vec::new();
         }
     }
 
@@ -209,28 +226,39 @@ pub fn accumulate_joint_forces(
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
     check_sizes(set, state, x);
     trial_pass(set, state, x, scratch);
-    scratch.x_last.resize(x.len(), [0.0; 2]);
     // gather per node over its (joint, slot) list in joint order (parallel and
-    // deterministic); the positions are kept for the commit on the way
+    // deterministic); the positions are kept for the commit on the way, unless the caller
+    // turned the check off
     let forces = &scratch.forces;
     let (offsets, slots) = (&set.node_offsets, &set.node_slots);
-    f.par_chunks_mut(NODE_CHUNK)
-        .zip(scratch.x_last.par_chunks_mut(NODE_CHUNK))
-        .zip(x.par_chunks(NODE_CHUNK))
-        .with_min_len(min_chunks(set.len()))
-        .enumerate()
-        .for_each(|(c, ((fc, xl), xc))| {
-            xl.copy_from_slice(xc);
-            let i0 = c * NODE_CHUNK;
-            let off = &offsets[i0..i0 + fc.len() + 1];
-            for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
-                for &js in &slots[w[0] as usize..w[1] as usize] {
-                    let fe = forces[(js >> 2) as usize][(js & 3) as usize];
-                    fi[0] += fe[0];
-                    fi[1] += fe[1];
-                }
+    let gather = |c: usize, fc: &mut [[f64; 2]]| {
+        let i0 = c * NODE_CHUNK;
+        let off = &offsets[i0..i0 + fc.len() + 1];
+        for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
+            for &js in &slots[w[0] as usize..w[1] as usize] {
+                let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+                fi[0] += fe[0];
+                fi[1] += fe[1];
             }
-        });
+        }
+    };
+    if scratch.skip_position_copy {
+        f.par_chunks_mut(NODE_CHUNK)
+            .with_min_len(min_chunks(set.len()))
+            .enumerate()
+            .for_each(|(c, fc)| gather(c, fc));
+    } else {
+        scratch.x_last.resize(x.len(), [0.0; 2]);
+        f.par_chunks_mut(NODE_CHUNK)
+            .zip(scratch.x_last.par_chunks_mut(NODE_CHUNK))
+            .zip(x.par_chunks(NODE_CHUNK))
+            .with_min_len(min_chunks(set.len()))
+            .enumerate()
+            .for_each(|(c, ((fc, xl), xc))| {
+                xl.copy_from_slice(xc);
+                gather(c, fc);
+            });
+    }
     scratch.valid = Some(state.generation);
 }
 
@@ -269,9 +297,40 @@ pub fn commit_joints(
     check_sizes(set, state, x);
     // reuse the last pass's trial when it was at these positions with this history;
     // otherwise evaluate
+    let same =
+        !scratch.skip_position_copy && same_positions(&scratch.x_last, x, set.len() >= PAR_MIN);
+    commit(set, state, x, time, scratch, events, same)
+}
+
+/// [`commit_joints`] for a caller that knows that `x` are the positions of the last
+/// [`accumulate_joint_forces`] call, bit for bit (the end of a step of a scheme whose last
+/// force evaluation is at the final state): the trial history of that pass is committed
+/// without comparing the positions (it is still re-evaluated when the state was committed
+/// since that pass). Same results as [`commit_joints`].
+pub fn commit_joints_at_last_pass(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    time: f64,
+    scratch: &mut JointScratch,
+    events: &mut Vec<FractureEvent>,
+) -> usize {
+    check_sizes(set, state, x);
+    commit(set, state, x, time, scratch, events, true)
+}
+
+/// The commit; `at_last_pass`: the last pass was at `x`.
+fn commit(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    time: f64,
+    scratch: &mut JointScratch,
+    events: &mut Vec<FractureEvent>,
+    at_last_pass: bool,
+) -> usize {
     let n = set.len();
-    let reuse =
-        scratch.valid == Some(state.generation) && same_positions(&scratch.x_last, x, n >= PAR_MIN);
+    let reuse = at_last_pass && scratch.valid == Some(state.generation);
     scratch.valid = None;
     if !reuse {
         trial_pass(set, state, x, scratch);

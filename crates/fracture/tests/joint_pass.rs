@@ -237,3 +237,57 @@ fn time_step_bound_covers_the_largest_joint_frequency() {
         bound / lambda
     );
 }
+
+#[test]
+fn commit_at_last_pass_without_position_copy_matches_the_checked_commit() {
+    // Two runs of 6 steps, each step two force passes (a trial stage at other positions, then
+    // the final ones; a PC-like step in every third, whose last pass is at the trial
+    // positions): the checked commit (positions compared) and the commit told by the caller
+    // (no copy of the positions kept; told only when the last pass was at the final
+    // positions). Histories, energies and events equal bit for bit; some joints soften and
+    // break on the way, so the reused and the re-evaluated trials both matter.
+    let mesh = exploded_grid(12, 10, 0.01, 0.008);
+    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+    let run = |trusted: bool| {
+        let mut state = JointState::new(&set, &mesh.x);
+        let mut scratch = JointScratch::new(set.len());
+        scratch.set_position_check(!trusted);
+        let mut events = Vec::new();
+        let mut f = vec![[0.0; 2]; mesh.x.len()];
+        for step in 0..6u64 {
+            let amp = 2e-7 * 5f64.powi(step as i32);
+            let x_trial = perturbed(&mesh, amp, 100 + step);
+            let x_final = perturbed(&mesh, amp, 200 + step);
+            let last_at_final = step % 3 != 2;
+            accumulate_joint_forces(&set, &state, &x_trial, &mut scratch, &mut f);
+            if last_at_final {
+                accumulate_joint_forces(&set, &state, &x_final, &mut scratch, &mut f);
+            }
+            if trusted && last_at_final {
+                commit_joints_at_last_pass(
+                    &set,
+                    &mut state,
+                    &x_final,
+                    1.0,
+                    &mut scratch,
+                    &mut events,
+                );
+            } else {
+                commit_joints(&set, &mut state, &x_final, 1.0, &mut scratch, &mut events);
+            }
+        }
+        let e = state.energy();
+        (state.history, e, events)
+    };
+    let (h1, e1, ev1) = run(false);
+    let (h2, e2, ev2) = run(true);
+    let softened = h1.iter().filter(|h| h.damage != [0.0; 2]).count();
+    assert!(
+        softened > 0 && !ev1.is_empty(),
+        "{softened} softened, {} broken",
+        ev1.len()
+    );
+    assert_eq!(h1, h2, "histories differ");
+    assert_eq!(e1, e2, "energies differ");
+    assert_eq!(ev1, ev2, "events differ");
+}

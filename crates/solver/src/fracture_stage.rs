@@ -29,7 +29,7 @@ use std::sync::{Arc, Mutex};
 
 use fdem_fracture::{
     FractureEvent, Joint, JointMaterialInput, JointScratch, JointSet, JointState,
-    accumulate_joint_forces, commit_joints, joint_omega_sq_bound,
+    accumulate_joint_forces, commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
 };
 use fdem_mesh::Mesh;
 use serde::{Deserialize, Serialize};
@@ -226,7 +226,9 @@ impl FractureStage {
         out_dir: Option<&Path>,
     ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
         let state = JointState::new(&set, &model.x0);
-        let scratch = JointScratch::new(set.len());
+        let mut scratch = JointScratch::new(set.len());
+        // the time crate says when the commit is at the last pass's positions
+        scratch.set_position_check(false);
         let n_joints = set.len();
         let stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
         let mut initial = Vec::new();
@@ -282,18 +284,17 @@ impl FractureStage {
     }
 }
 
-impl ForceContribution for FractureStage {
-    fn name(&self) -> &str {
-        "fracture"
-    }
-
-    fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
-        accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
-    }
-
-    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
+impl FractureStage {
+    /// The commit (trusting the last pass's positions when `at_last_pass`), the star
+    /// releases and the events of an accepted step.
+    fn end_step(&mut self, t: f64, x: &[[f64; 2]], at_last_pass: bool) {
         self.events.clear();
-        let n = commit_joints(
+        let commit = if at_last_pass {
+            commit_joints_at_last_pass
+        } else {
+            commit_joints
+        };
+        let n = commit(
             &self.set,
             &mut self.state,
             x,
@@ -375,6 +376,24 @@ impl ForceContribution for FractureStage {
                 );
             }
         }
+    }
+}
+
+impl ForceContribution for FractureStage {
+    fn name(&self) -> &str {
+        "fracture"
+    }
+
+    fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
+    }
+
+    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
+        self.end_step(t, x, false);
+    }
+
+    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
+        self.end_step(t, x, true);
     }
 
     /// Hands the joints to the writer (the `joints_NNNN.vtu` series, `crate::output::joints`).

@@ -34,6 +34,14 @@ pub trait ForceContribution: Send {
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]);
     /// Commits history at the end of an accepted step (default: nothing).
     fn end_of_step(&mut self, _t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {}
+    /// Called instead of [`ForceContribution::end_of_step`] when the step's last
+    /// [`ForceContribution::add_forces`] call was at these positions `x`, bit for bit (the
+    /// time crate's [`SecondOrderSystem::end_of_step_at_last_evaluation`]): a term may reuse
+    /// that evaluation's trial history without checking the positions. Default:
+    /// [`ForceContribution::end_of_step`].
+    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
+        self.end_of_step(t, x, v);
+    }
     /// An upper bound on the highest frequency this term adds [rad/s] (default 0).
     fn frequency_bound(&self) -> f64 {
         0.0
@@ -266,6 +274,24 @@ impl SecondOrderSystem for SceneSystem {
     }
 
     fn end_of_step(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.end_contributions(t, x, v, false);
+    }
+
+    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.end_contributions(t, x, v, true);
+    }
+}
+
+impl SceneSystem {
+    /// The contributions' end-of-step hooks; `at_last` when the last evaluation was at `x`.
+    fn end_contributions(&mut self, t: f64, x: &[f64], v: &[f64], at_last: bool) {
+        let end = |c: &mut Box<dyn ForceContribution>, xn: &[[f64; 2]], vn: &[[f64; 2]]| {
+            if at_last {
+                c.end_of_step_at_last_evaluation(t, xn, vn);
+            } else {
+                c.end_of_step(t, xn, vn);
+            }
+        };
         if !self.contributions.is_empty() {
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
@@ -280,14 +306,14 @@ impl SecondOrderSystem for SceneSystem {
                     .zip(&mut self.contribution_end_times)
                 {
                     let sc = Instant::now();
-                    c.end_of_step(t, xn, vn);
+                    end(c, xn, vn);
                     let dt = sc.elapsed().as_secs_f64();
                     *ct += dt;
                     *ce += dt;
                 }
             } else {
                 for c in &mut self.contributions {
-                    c.end_of_step(t, xn, vn);
+                    end(c, xn, vn);
                 }
             }
         }

@@ -244,7 +244,13 @@ impl Core {
         fsal: bool,
     ) {
         state.t = t_new;
-        system.end_of_step(state.t, &state.x, &state.v);
+        // an FSAL step's last evaluation is at the final positions (the last constrain puts
+        // the prescribed DOFs back to the same values: `prescribe` is a function of `t`)
+        if fsal {
+            system.end_of_step_at_last_evaluation(state.t, &state.x, &state.v);
+        } else {
+            system.end_of_step(state.t, &state.x, &state.v);
+        }
         self.counters.steps += 1;
         self.a_time = if fsal { Some(t_new) } else { None };
     }

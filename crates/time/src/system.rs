@@ -92,6 +92,15 @@ pub trait SecondOrderSystem {
         let _ = (t, x, v);
     }
 
+    /// Called instead of [`end_of_step`](Self::end_of_step) when the step's last
+    /// [`acceleration`](Self::acceleration) call was at these positions `x` and time `t`,
+    /// bit for bit (the velocities may have changed since): central difference, CHIN, OMF30
+    /// and Forest & Ruth. A system may then reuse what that evaluation computed (trial
+    /// history) without checking the positions. Default: [`end_of_step`](Self::end_of_step).
+    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.end_of_step(t, x, v);
+    }
+
     /// Kinetic energy `1/2 sum v_i^2 / invm_i` over DOFs of finite mass (J).
     fn kinetic_energy(&self, v: &[f64]) -> f64 {
         v.iter()
