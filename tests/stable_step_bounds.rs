@@ -4,6 +4,8 @@
 //! below it (the step would be unstable) and should not be far above it (issue 7's factor 2 on
 //! the step). Derivations: docs/contact.md section 12, docs/fracture.md section 8.
 
+mod common;
+
 use std::path::Path;
 
 use fdem_solver::system::SceneSystem;
@@ -65,20 +67,7 @@ fn temp(name: &str) -> std::path::PathBuf {
 fn contact_bound_covers_the_flat_contact_frequency_within_a_factor_1_5() {
     let dir = temp("flat");
     let (n, l) = (4usize, 0.01);
-    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut nodes = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            nodes.push([l * i as f64 / n as f64, l * j as f64 / n as f64]);
-        }
-    }
-    let mut tris = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    let (nodes, tris) = common::structured_rectangle(n, n, l, l);
     let mesh = serde_json::json!({
         "nodes": nodes, "triangles": tris,
         "groups": [{"name": "b", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()}]

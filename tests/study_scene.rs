@@ -6,6 +6,8 @@
 //! and the stability probe is (a free run from the highest modes over `omega_max t` = 5000
 //! gains at most 1 % of energy: the time crate's growth tolerance 1e-6 per unit `omega t`).
 
+mod common;
+
 use std::process::Command;
 
 #[test]
@@ -15,19 +17,7 @@ fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
     std::fs::create_dir_all(&dir).unwrap();
     let (nx, ny, lx, ly) = (40usize, 2usize, 1.0, 0.05);
     let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let mut nodes = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            nodes.push([lx * i as f64 / nx as f64, ly * j as f64 / ny as f64]);
-        }
-    }
-    let mut tris = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    let (nodes, tris) = common::structured_rectangle(nx, ny, lx, ly);
     let edges = |p: Vec<u32>| -> Vec<[u32; 2]> { p.windows(2).map(|w| [w[0], w[1]]).collect() };
     let mesh = serde_json::json!({
         "nodes": nodes, "triangles": tris,
@@ -131,20 +121,7 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (n, l) = (4usize, 0.01);
-    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    let mut nodes = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            nodes.push([l * i as f64 / n as f64, l * j as f64 / n as f64]);
-        }
-    }
-    let mut tris = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    let (nodes, tris) = common::structured_rectangle(n, n, l, l);
     let mesh = serde_json::json!({
         "nodes": nodes, "triangles": tris,
         "groups": [{"name": "b", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()}]

@@ -227,3 +227,29 @@ pub fn diagonal_pair_scene(tag: &str, s: &PairScene) -> PathBuf {
     std::fs::write(&p, scene.to_string()).unwrap();
     p
 }
+
+/// A structured `nx` x `ny`-cell rectangle `[0, lx] x [0, ly]`, each cell cut into two CCW
+/// triangles along its rising diagonal: nodes (row by row from the bottom) and triangles, with
+/// `id(i, j) = j (nx + 1) + i` the node of column `i`, row `j`.
+pub fn structured_rectangle(
+    nx: usize,
+    ny: usize,
+    lx: f64,
+    ly: f64,
+) -> (Vec<[f64; 2]>, Vec<[u32; 3]>) {
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut nodes = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            nodes.push([lx * i as f64 / nx as f64, ly * j as f64 / ny as f64]);
+        }
+    }
+    let mut tris = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    (nodes, tris)
+}
