@@ -12,26 +12,10 @@
 mod common;
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use fdem_solver::driver::{self, Outcome, RunOptions};
+use fdem_solver::driver::Outcome;
 use serde_json::Value;
-
-/// Runs a scene into `<scene folder>/out` with the raw JSON dump of every frame.
-fn run_raw(scene: &Path) -> (Outcome, PathBuf) {
-    let mut l = driver::load(scene).unwrap_or_else(|e| panic!("{e}"));
-    let out = scene.parent().unwrap().join("out");
-    let o = driver::run_outcome(
-        &mut l,
-        &RunOptions {
-            out_dir: out.clone(),
-            raw: true,
-        },
-        &mut |_| {},
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
-    (o, out)
-}
 
 /// A CSV file as column names and text fields.
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -182,7 +166,7 @@ fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_a
         .abs();
 
     let scene = common::edited_example("notched-beam-fracture.json", "nb-fracture", |_| {});
-    let (o, out) = run_raw(&scene);
+    let (o, out) = common::run_raw(&scene);
     let (hh, rows) = common::histories(&out);
     let p: Vec<f64> = common::column(&hh, &rows, "reaction_y[load]")
         .iter()
@@ -274,7 +258,7 @@ fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64, f64) {
             w["law"]["friction"] = mu.into();
         }
     });
-    let (o, out) = run_raw(&scene);
+    let (o, out) = common::run_raw(&scene);
     let (h, rows) = csv(&out.join("walls.csv"));
     let p: Vec<f64> = col(&h, &rows, "force_y[top]").iter().map(|v| -v).collect();
     let ut = col(&h, &rows, "u_y[top]");

@@ -67,19 +67,10 @@ fn temp(name: &str) -> std::path::PathBuf {
 fn contact_bound_covers_the_flat_contact_frequency_within_a_factor_1_5() {
     let dir = temp("flat");
     let (n, l) = (4usize, 0.01);
-    let (nodes, tris) = common::structured_rectangle(n, n, l, l);
-    let mesh = serde_json::json!({
-        "nodes": nodes, "triangles": tris,
-        "groups": [{"name": "b", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()}]
-    });
-    std::fs::write(dir.join("block.json"), mesh.to_string()).unwrap();
-    let mat = serde_json::json!({ "b": { "young": 10e9, "poisson": 0.25, "density": 2500.0, "plane": "strain" } });
+    let bodies = common::two_blocks(&dir, n, l, l - 1e-6);
     let scene = serde_json::json!({
         "analysis": "dynamic",
-        "bodies": [
-            { "name": "left", "mesh": "block.json", "materials": mat },
-            { "name": "right", "mesh": "block.json", "materials": mat, "offset": [l - 1e-6, 0.0] }
-        ],
+        "bodies": bodies,
         "contact": {},
         "duration": 1e-5
     });

@@ -121,19 +121,10 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (n, l) = (4usize, 0.01);
-    let (nodes, tris) = common::structured_rectangle(n, n, l, l);
-    let mesh = serde_json::json!({
-        "nodes": nodes, "triangles": tris,
-        "groups": [{"name": "b", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()}]
-    });
-    std::fs::write(dir.join("block.json"), mesh.to_string()).unwrap();
-    let mat = serde_json::json!({ "b": { "young": 10e9, "poisson": 0.25, "density": 2500.0, "plane": "strain" } });
+    let bodies = common::two_blocks(&dir, n, l, l);
     let scene = serde_json::json!({
         "analysis": "dynamic",
-        "bodies": [
-            { "name": "left", "mesh": "block.json", "materials": mat },
-            { "name": "right", "mesh": "block.json", "materials": mat, "offset": [l, 0.0] }
-        ],
+        "bodies": bodies,
         "contact": { "walls": [
             { "name": "left", "point": [0.0, 0.0], "normal": [1.0, 0.0], "velocity": [0.05, 0.0], "ramp": 5e-5 },
             { "name": "right", "point": [2.0 * l, 0.0], "normal": [-1.0, 0.0], "velocity": [-0.05, 0.0], "ramp": 5e-5 }

@@ -40,13 +40,22 @@ pub fn edited_example(name: &str, tag: &str, edit: impl FnOnce(&mut serde_json::
 
 /// Runs a scene into `<scene folder>/out` and returns the outcome.
 pub fn run(scene: &Path) -> (Outcome, PathBuf) {
+    run_into(scene, false)
+}
+
+/// [`run`], also writing the raw JSON dump of every frame.
+pub fn run_raw(scene: &Path) -> (Outcome, PathBuf) {
+    run_into(scene, true)
+}
+
+fn run_into(scene: &Path, raw: bool) -> (Outcome, PathBuf) {
     let mut l = driver::load(scene).unwrap_or_else(|e| panic!("{e}"));
     let out = scene.parent().unwrap().join("out");
     let o = driver::run_outcome(
         &mut l,
         &RunOptions {
             out_dir: out.clone(),
-            raw: false,
+            raw,
         },
         &mut |_| {},
     )
@@ -252,4 +261,21 @@ pub fn structured_rectangle(
         }
     }
     (nodes, tris)
+}
+
+/// Writes `block.json` into `dir` (an `n` x `n`-cell square of side `l`, group `b`) and returns
+/// the `bodies` of two such blocks (E = 10 GPa, nu = 0.25, rho = 2500, plane strain), the
+/// second one offset by `gap_x` along x: the pressed-blocks contact scenes.
+pub fn two_blocks(dir: &Path, n: usize, l: f64, gap_x: f64) -> serde_json::Value {
+    let (nodes, tris) = structured_rectangle(n, n, l, l);
+    let mesh = serde_json::json!({
+        "nodes": nodes, "triangles": tris,
+        "groups": [{"name": "b", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()}]
+    });
+    std::fs::write(dir.join("block.json"), mesh.to_string()).unwrap();
+    let mat = serde_json::json!({ "b": { "young": 10e9, "poisson": 0.25, "density": 2500.0, "plane": "strain" } });
+    serde_json::json!([
+        { "name": "left", "mesh": "block.json", "materials": mat },
+        { "name": "right", "mesh": "block.json", "materials": mat, "offset": [gap_x, 0.0] }
+    ])
 }
