@@ -8,6 +8,7 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 #[test]
@@ -41,16 +42,7 @@ fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
         r#"{"reference": {"bar-arrival": {"probe": "u_x[right]", "length": 1.0, "wave_speed": 5000.0, "particle_velocity": 0.025}}}"#,
     )
     .unwrap();
-    let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(["study", "scene"])
-        .arg(dir.join("tiny.json"))
-        .arg("--out")
-        .arg(&out)
-        .args(["--fractions", "0.5,0.99,1.01"])
-        .output()
-        .expect("fdem runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = run_study(&dir.join("tiny.json"), "0.5,0.99,1.01");
     for f in [
         "runs.csv",
         "study.json",
@@ -117,9 +109,7 @@ fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
 /// `2 x 5.6925 / 3.1223` instead (the same holds on the 8 x 8-cell blocks: [2, 2.5)).
 #[test]
 fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
-    let dir = std::env::temp_dir().join(format!("fdem-study-pressed-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("study-pressed");
     let (n, l) = (4usize, 0.01);
     let bodies = common::two_blocks(&dir, n, l, l);
     let scene = serde_json::json!({
@@ -134,16 +124,7 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
     });
     std::fs::write(dir.join("pressed.json"), scene.to_string()).unwrap();
     std::fs::write(dir.join("pressed.study.json"), r#"{"probe_from": 1e-4}"#).unwrap();
-    let out = dir.join("out");
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(["study", "scene"])
-        .arg(dir.join("pressed.json"))
-        .arg("--out")
-        .arg(&out)
-        .args(["--fractions", "1.01,2"])
-        .output()
-        .expect("fdem runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = run_study(&dir.join("pressed.json"), "1.01,2");
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("study.json")).unwrap()).unwrap();
     let limits = v["limits"].as_array().unwrap();
@@ -189,4 +170,20 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
         .fold(f64::INFINITY, f64::min);
     eprintln!("smallest stored contact energy during a probe: {min_stored:.3e} J");
     assert!(min_stored > 0.0, "contact released during the probe");
+}
+
+/// Runs `fdem study scene SCENE --fractions FRACTIONS` into `<scene folder>/out` (asserting
+/// that it succeeds) and returns that folder.
+fn run_study(scene: &Path, fractions: &str) -> PathBuf {
+    let out = scene.parent().unwrap().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+        .args(["study", "scene"])
+        .arg(scene)
+        .arg("--out")
+        .arg(&out)
+        .args(["--fractions", fractions])
+        .output()
+        .expect("fdem runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    out
 }
