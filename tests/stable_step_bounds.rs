@@ -14,6 +14,13 @@ use fdem_time::SecondOrderSystem;
 /// Highest `omega` of the composed system at its reference state (power iteration, 1500
 /// steps from a fixed pseudo-random start; converged to 1e-4 on these meshes).
 fn top_frequency(l: &fdem_solver::Loaded, dir: &Path) -> f64 {
+    top_and_active(l, dir).0
+}
+
+/// [`top_frequency`] and the active bound `fdem_solver::stages::omega_active` at the same
+/// state (`l.model.x0`: the elements keep the reference shape they were built with, so a
+/// displaced `x0` is a deformed state with its stresses and its engaged contact).
+fn top_and_active(l: &fdem_solver::Loaded, dir: &Path) -> (f64, f64) {
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     sys.set_timing(false);
     fdem_solver::stages::attach(&l.scene, &l.file, &mut sys, l.dt, dir, u64::MAX).unwrap();
@@ -22,6 +29,9 @@ fn top_frequency(l: &fdem_solver::Loaded, dir: &Path) -> f64 {
     let zero = vec![0.0; n];
     let mut a0 = vec![0.0; n];
     sys.acceleration(0.0, &x0, &zero, &mut a0);
+    let we = l.elements.max_frequency_bound(&l.model.x0);
+    let wj = fdem_solver::stages::omega_joints(&l.scene, &l.model, &l.file).unwrap();
+    let active = fdem_solver::stages::omega_active(&mut sys, &l.model.x0, we, wj);
     let mut s = 1u64;
     let mut v: Vec<f64> = (0..n)
         .map(|_| {
@@ -50,7 +60,106 @@ fn top_frequency(l: &fdem_solver::Loaded, dir: &Path) -> f64 {
             .map(|((w, x), y)| w * (x - y) / eps)
             .sum();
     }
-    lam.max(0.0).sqrt()
+    (lam.max(0.0).sqrt(), active)
+}
+
+/// Runs `scene` to `t` with its own settings and returns it loaded with `x0` moved to the
+/// state at `t` (and the walls moved to where they are then, held there).
+fn state_at(scene: &Path, t: f64) -> fdem_solver::Loaded {
+    let mut l = fdem_solver::load(scene).unwrap();
+    l.scene.duration = Some(t);
+    l.scene.output.frames = 0;
+    let n = (t / l.dt).ceil();
+    l.dt = t / n;
+    l.n_steps = n as u64;
+    let out = scene.parent().unwrap().join("run");
+    let o = fdem_solver::driver::run_outcome(
+        &mut l,
+        &fdem_solver::RunOptions {
+            out_dir: out,
+            raw: false,
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    let mut l = fdem_solver::load(scene).unwrap();
+    for (x, u) in l.model.x0.iter_mut().zip(&o.last_frame.displacement) {
+        *x = [x[0] + u[0], x[1] + u[1]];
+    }
+    if let Some(c) = &mut l.scene.contact {
+        for w in &mut c.walls {
+            let r = fdem_solver::model::ramp_integral(t, w.ramp);
+            w.point = [w.point[0] + w.velocity[0] * r, w.point[1] + w.velocity[1] * r];
+            w.velocity = [0.0, 0.0];
+        }
+    }
+    l
+}
+
+/// The pressed blocks of [`contact_bound_covers_the_flat_contact_frequency_within_a_factor_1_5`]
+/// (overlapping flat by 1 um): the active bound (the engaged faces only) against the measured
+/// top frequency 1.267e7 rad/s. Measured: see the assertion.
+#[test]
+fn active_bound_covers_the_flat_contact_frequency() {
+    let dir = temp("active-flat");
+    let (n, l) = (4usize, 0.01);
+    let bodies = common::two_blocks(&dir, n, l, l - 1e-6);
+    let scene = serde_json::json!({
+        "analysis": "dynamic", "bodies": bodies, "contact": {}, "duration": 1e-5
+    });
+    std::fs::write(dir.join("flat.json"), scene.to_string()).unwrap();
+    let ld = fdem_solver::load(&dir.join("flat.json")).unwrap();
+    let (top, active) = top_and_active(&ld, &dir);
+    let ratio = active / top;
+    eprintln!(
+        "flat contact: top {top:.4e}, active {active:.4e} (a priori {:.4e}), ratio {ratio:.3}",
+        ld.omega_max
+    );
+    assert!((1.0..1.1).contains(&ratio), "active / top = {ratio}");
+}
+
+/// The study's disc collision (R/8 discs, 2 m/s, gap 0.1 mm) at peak compression (t = 100 us):
+/// curved contact over a short chord. Measured: see the assertion.
+#[test]
+fn active_bound_covers_the_collision_at_peak_compression() {
+    let scene = common::edited_example("disc-collision.json", "active-collision", |v| {
+        v["bodies"][0]["offset"] = serde_json::json!([-0.02505, 0.0]);
+        v["bodies"][1]["offset"] = serde_json::json!([0.02505, 0.0]);
+    });
+    let ld = state_at(&scene, 1e-4);
+    let dir = scene.parent().unwrap().to_path_buf();
+    let (top, active) = top_and_active(&ld, &dir);
+    let ratio = active / top;
+    eprintln!(
+        "collision at 100 us: top {top:.4e}, active {active:.4e} (a priori {:.4e}), ratio {ratio:.3}",
+        ld.omega_max
+    );
+    assert!((1.0..2.0).contains(&ratio), "active / top = {ratio}");
+}
+
+/// The fracture study's Brazilian disc (R/8 exploded ring mesh, joints intact at this state,
+/// platens at 0.2 m/s) near peak load (t = 170 us): the platens' curved contact with the disc
+/// and the joints. Measured: see the assertion.
+#[test]
+fn active_bound_covers_the_brazilian_disc_under_the_platens() {
+    let scene = common::edited_example("brazilian-disc-fracture.json", "active-disc", |v| {
+        let mesh = common::root().join("meshes/disc-small.msh");
+        v["bodies"][0]["mesh"] = serde_json::Value::String(mesh.display().to_string());
+        v["contact"]["walls"][0]["velocity"] = serde_json::json!([0.0, -0.2]);
+        v["contact"]["walls"][1]["velocity"] = serde_json::json!([0.0, 0.2]);
+        v["contact"]["walls"][0]["ramp"] = serde_json::json!(1e-5);
+        v["contact"]["walls"][1]["ramp"] = serde_json::json!(1e-5);
+        v["histories"] = serde_json::json!({ "every": 100, "probes": ["energy"] });
+    });
+    let ld = state_at(&scene, 1.7e-4);
+    let dir = scene.parent().unwrap().to_path_buf();
+    let (top, active) = top_and_active(&ld, &dir);
+    let ratio = active / top;
+    eprintln!(
+        "disc under the platens at 170 us: top {top:.4e}, active {active:.4e} (a priori {:.4e}), ratio {ratio:.3}",
+        ld.omega_max
+    );
+    assert!((1.0..2.0).contains(&ratio), "active / top = {ratio}");
 }
 
 fn temp(name: &str) -> std::path::PathBuf {

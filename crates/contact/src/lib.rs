@@ -26,6 +26,7 @@
 //!
 //! See docs/contact.md for the derivations, validation figures and performance.
 
+pub mod active_bound;
 pub mod bounding;
 pub mod broad_parry;
 pub mod couple;
@@ -39,6 +40,7 @@ pub mod nbs;
 pub mod potential_tri_tri;
 pub mod walls;
 
+pub use active_bound::ActiveBound;
 pub use bounding::{BoundingCircles, brute_force_couples};
 pub use couple::{CoupleForce, WallForce, couple_force, couple_force_into, wall_force};
 pub use exclusions::Exclusions;

@@ -22,7 +22,7 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-use fdem_contact::{Contact, ContactLaw, ContactLaws, ContactSettings, RigidPlane};
+use fdem_contact::{ActiveBound, Contact, ContactLaw, ContactLaws, ContactSettings, RigidPlane};
 use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
@@ -339,6 +339,11 @@ pub struct ContactReport {
     pub wall_displacement: Vec<[f64; 2]>,
     /// First error (penetration too deep), if any.
     pub error: Option<String>,
+    /// Largest active contact frequency bound over the run's end-of-step states [rad/s]
+    /// (`fdem_contact::active_bound`: the couples and walls engaged in each state).
+    pub omega_active_max: f64,
+    /// Time of that largest bound [s].
+    pub omega_active_max_time: f64,
 }
 
 struct WallMotion {
@@ -368,6 +373,10 @@ pub struct ContactStage {
     /// Sum over the joint -> contact hand-overs of the contact potential they brought in [J].
     switch_jump: f64,
     report: Arc<Mutex<ContactReport>>,
+    /// Scratch of the active frequency bound.
+    active: ActiveBound,
+    /// `1/sqrt(m_i)` per node (0 without mass).
+    inv_sqrt_mass: Vec<f64>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
     csv_every: u64,
     steps: u64,
@@ -454,6 +463,12 @@ impl ContactStage {
             release_s: 0.0,
             switch_jump: 0.0,
             report: report.clone(),
+            active: ActiveBound::new(),
+            inv_sqrt_mass: model
+                .mass
+                .iter()
+                .map(|m| if *m > 0.0 { 1.0 / m.sqrt() } else { 0.0 })
+                .collect(),
             csv,
             csv_every: csv_every.max(1),
             steps: 0,
@@ -558,12 +573,23 @@ impl ForceContribution for ContactStage {
             .push(("contact_active".into(), active));
     }
 
-    fn end_of_step(&mut self, t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {
+    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
         self.contact.commit();
         self.steps += 1;
+        let w2 = self.active.omega_sq(
+            &self.contact,
+            x,
+            &self.tris,
+            &self.labels,
+            &self.inv_sqrt_mass,
+        );
         // Work of the moving walls on the bodies (trapezoid rule on the walls' displacement).
         self.contact.wall_reactions(&mut self.reactions);
         let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        if w2.sqrt() > r.omega_active_max {
+            r.omega_active_max = w2.sqrt();
+            r.omega_active_max_time = t;
+        }
         for (k, m) in self.motion.iter().enumerate() {
             // Force of the wall on the bodies: minus the reaction on the wall; per unit
             // thickness already scaled by the thickness in the laws.
@@ -594,6 +620,19 @@ impl ForceContribution for ContactStage {
         }
     }
 
+    /// The contact engaged at the last force evaluation, its geometry at `x`
+    /// (`fdem_contact::active_bound`; docs/contact.md section 12).
+    fn active_frequency_bound(&mut self, x: &[[f64; 2]]) -> Option<f64> {
+        let w2 = self.active.omega_sq(
+            &self.contact,
+            x,
+            &self.tris,
+            &self.labels,
+            &self.inv_sqrt_mass,
+        );
+        Some(w2.sqrt())
+    }
+
     fn error(&self) -> Option<String> {
         self.report
             .lock()
@@ -622,6 +661,8 @@ impl ForceContribution for ContactStage {
                 "released_couples": self.contact.n_released_couples(),
                 "release_s": self.release_s,
                 "active_couples": r.active_couples,
+                "omega_active_max": r.omega_active_max,
+                "omega_active_max_time": r.omega_active_max_time,
                 "wall_force": r.wall_force,
             }),
         }

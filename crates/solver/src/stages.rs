@@ -34,6 +34,40 @@ pub fn omega_max(
     Ok((omega_el * omega_el + wc * wc + wj * wj).sqrt())
 }
 
+/// The joints' term of the frequency bound [rad/s] (0 without joints): the a-priori term,
+/// tight for intact joints (docs/fracture.md section 8); softening only lowers it.
+pub fn omega_joints(scene: &Scene, model: &Model, file: &Path) -> Result<f64, SceneError> {
+    Ok(match crate::fracture_stage::joint_set(scene, model, file)? {
+        Some(set) => crate::fracture_stage::omega_joints(&set, model),
+        None => 0.0,
+    })
+}
+
+/// The **active** frequency bound at positions `x` of a system whose stages are attached and
+/// whose forces were last evaluated at `x`:
+/// `omega^2 = omega_el^2 + omega_joints^2 + sum over the stages of their active term^2`
+/// (the contact engaged in that state, `fdem_contact::active_bound`, in place of the a-priori
+/// contact term that assumes every edge pressed flat; docs/contact.md section 12).
+pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_j: f64) -> f64 {
+    let mut w2 = omega_el * omega_el + omega_j * omega_j;
+    for c in &mut sys.contributions {
+        if let Some(w) = c.active_frequency_bound(x) {
+            w2 += w * w;
+        }
+    }
+    w2.sqrt()
+}
+
+/// The largest active contact bound over a run's end-of-step states [rad/s], from the run
+/// summary's stage details (`contact.omega_active_max`); 0 without contact.
+pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
+    stages
+        .get("contact")
+        .and_then(|c| c.get("omega_active_max"))
+        .and_then(|w| w.as_f64())
+        .unwrap_or(0.0)
+}
+
 /// Attaches the stages a scene needs to `sys` (time step `dt`, histories every `every` steps
 /// into `out_dir`): joints first, then contact (which excludes the intact joints' pairs).
 pub fn attach(

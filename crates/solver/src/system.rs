@@ -46,6 +46,13 @@ pub trait ForceContribution: Send {
     fn frequency_bound(&self) -> f64 {
         0.0
     }
+    /// The term's frequency bound from what is engaged at positions `x` (the state of its
+    /// last force evaluation) [rad/s]: at most [`ForceContribution::frequency_bound`]'s
+    /// reach for what the state engages. `None` (the default): the term has no such bound,
+    /// its a-priori one applies.
+    fn active_frequency_bound(&mut self, _x: &[[f64; 2]]) -> Option<f64> {
+        None
+    }
     /// Energies and state of this term at positions `x`, for the run summary (default: none).
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {
         StageReport::default()
