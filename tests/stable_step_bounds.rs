@@ -89,7 +89,10 @@ fn state_at(scene: &Path, t: f64) -> fdem_solver::Loaded {
     if let Some(c) = &mut l.scene.contact {
         for w in &mut c.walls {
             let r = fdem_solver::model::ramp_integral(t, w.ramp);
-            w.point = [w.point[0] + w.velocity[0] * r, w.point[1] + w.velocity[1] * r];
+            w.point = [
+                w.point[0] + w.velocity[0] * r,
+                w.point[1] + w.velocity[1] * r,
+            ];
             w.velocity = [0.0, 0.0];
         }
     }

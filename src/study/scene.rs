@@ -11,8 +11,9 @@
 //! 1e-5), while a growing mode shows first as a gain (OMF32 in its weak unstable band
 //! `h omega` in [3.122, 3.160], spectral radius 1.019, gains 0.35 % in 240 steps before it
 //! would blow up in a longer run). When every listed fraction is
-//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5, 3, 4, 5, 6, 8, 10, 12 and 16 until one is not: the
-//! observed limit lies between the largest stable fraction and the first unstable one.
+//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.5, 3, 4, 5, 6, 8, 10, 12 and 16
+//! (times `r`, below) until one is not: the observed limit lies between the largest stable
+//! fraction and the first unstable one.
 //!
 //! **Measured stability** (the observed limit): a fraction is stable when the scene run is
 //! (above) *and* its *stability probe* is: the scene's mesh, supports and stages (contact,
@@ -28,6 +29,20 @@
 //! the predicted step up, until one is unstable (after that every fraction counts unstable).
 //! Unlike the scene run alone, the probe also finds the weak growth of PC-4, PC-5 and OMF32
 //! past their limits.
+//!
+//! **Active prediction** (scenes with contact): the a-priori contact term of `omega_max`
+//! assumes every edge of every triangle pressed flat along its whole length, which a collision
+//! of curved bodies or a fracture whose crack faces never re-close does not reach. The study
+//! first runs the scene once with central difference at half its a-priori step and records at
+//! the end of every step the bound of the contact engaged in that state
+//! (`fdem_contact::active_bound`); the active bound is `sqrt(omega_el^2 + omega_joints^2 +
+//! omega_c,active^2)` with the largest engaged term over that run, and the active predicted
+//! step `h_active = r h_pred`, `r = omega_max / omega_active`. The listed fractions stay
+//! fractions of `h_pred` (the step a run takes by default), but once they are all stable the
+//! ladder goes on in units of the active prediction, `r x` 0.5, 0.7, 0.9, 1, 1.1, 1.2, 1.35,
+//! 1.5, 1.75, 2, 2.5, 3, 4, ... (the first above the last fraction run; without contact
+//! `r = 1` and this is the ladder above), and each scheme's limit is reported against both
+//! predictions (`observed_over_active_*`).
 //!
 //! Errors of a stable run:
 //! - `error_vs_reference`: `max_i |u_i - u_ref,i| / max_i |u_ref,i|` over the nodes at the final
@@ -96,12 +111,13 @@ pub struct SceneArgs {
 /// The default fractions of the predicted stable step.
 const DEFAULT_FRACTIONS: [f64; 8] = [0.1, 0.2, 0.4, 0.7, 0.9, 0.99, 1.01, 1.05];
 
-/// Fractions tried after the list when all of it was stable, to find the observed limit.
-/// (Beyond 3: scenes whose predicted step is set by a contact or joint bound that the scene
-/// does not reach, e.g. the disc collision, whose curved contact at 2 m/s engages a small
-/// part of the flat-contact stiffness the bound covers.)
-const PROBES: [f64; 15] = [
-    1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0,
+/// Fractions tried after the list when all of it was stable, to find the observed limit: these
+/// times `r = h_active / h_pred` (the active prediction over the a-priori one; 1 without
+/// contact), the first one above the last fraction run, and on until one is unstable. (Beyond
+/// 3: the weakly unstable schemes, whose growth a short contact does not show.)
+const PROBES: [f64; 19] = [
+    0.5, 0.7, 0.9, 1.0, 1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0,
+    16.0,
 ];
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
@@ -227,6 +243,68 @@ fn probe_start(scene: &Path, t: f64, out: &Path) -> Result<ProbeStart> {
     })
 }
 
+/// The active prediction ([`active_bound_run`]).
+#[derive(Clone, Debug, Serialize)]
+struct Active {
+    /// The a-priori frequency bound of the scene (elements, contact as if pressed flat
+    /// everywhere, joints) [rad/s].
+    omega_a_priori: f64,
+    /// The active bound: `sqrt(omega_el^2 + omega_joints^2 + omega_c,active^2)`, the contact
+    /// term the largest over the bound run's states [rad/s].
+    omega_active: f64,
+    /// That largest active contact term [rad/s] and when [s].
+    omega_contact_active: f64,
+    omega_contact_active_time: f64,
+    /// `h_active / h_pred = omega_a_priori / omega_active`.
+    ratio: f64,
+}
+
+/// The active prediction: the scene (as studied) run once with central difference at half its
+/// a-priori predicted step, recording at the end of every step the bound of the contact
+/// engaged in that state (`fdem_contact::active_bound`, the contact stage's
+/// `omega_active_max`). The active bound is the largest over the run's states combined with
+/// the elements' and the joints' terms; `None` without contact (the a-priori bound is then
+/// the active one).
+fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active>> {
+    let mut l = driver::load(scene)?;
+    if !l.scene.contact.as_ref().is_some_and(|c| c.enabled) {
+        return Ok(None);
+    }
+    let omega_el = l.elements.max_frequency_bound(&l.model.x0);
+    let omega_j = fdem_solver::stages::omega_joints(&l.scene, &l.model, &l.file)?;
+    let k = SchemeKind::CentralDifference;
+    l.scheme = k;
+    l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);
+    l.scene.integrator.scheme = k.name().into();
+    l.scene.output.frames = 0;
+    let duration = l.scene.duration.unwrap_or(0.0);
+    let n = (duration / (0.5 * l.dt_limit)).ceil().max(1.0);
+    l.dt = duration / n;
+    l.n_steps = n as u64;
+    std::fs::create_dir_all(out)?;
+    let options = RunOptions {
+        out_dir: out.to_path_buf(),
+        raw: false,
+    };
+    let o = driver::run_outcome(&mut l, &options, &mut |_| {})
+        .with_context(|| format!("the active-bound run of {}", scene.display()))?;
+    let wc = fdem_solver::stages::omega_contact_active_max(&o.summary.stages);
+    let tc = o
+        .summary
+        .stages
+        .pointer("/contact/omega_active_max_time")
+        .and_then(|v| v.as_f64())
+        .unwrap_or(0.0);
+    let omega_active = (omega_el * omega_el + omega_j * omega_j + wc * wc).sqrt();
+    Ok(Some(Active {
+        omega_a_priori: l.omega_max,
+        omega_active,
+        omega_contact_active: wc,
+        omega_contact_active_time: tc,
+        ratio: l.omega_max / omega_active,
+    }))
+}
+
 /// One scheme at one step.
 #[derive(Clone, Debug, Serialize)]
 struct Run {
@@ -267,6 +345,12 @@ struct Limit {
     observed_below: Option<f64>,
     /// Stability probes ([`stability_probe`]): (fraction, stable, energy ratio).
     probes: Vec<(f64, bool, Option<f64>)>,
+    /// The active predicted step `h_pred r` [s] (`r` = [`Active::ratio`], 1 without contact).
+    dt_active: f64,
+    /// The observed limit over the active prediction: `observed_at_least / r`.
+    observed_over_active_at_least: f64,
+    /// `observed_below / r`.
+    observed_over_active_below: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -276,6 +360,8 @@ struct Report<'a> {
     reference_run: String,
     nodes: usize,
     triangles: usize,
+    /// The active prediction (scenes with contact).
+    active: Option<&'a Active>,
     limits: &'a [Limit],
     runs: &'a [Run],
 }
@@ -788,6 +874,8 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         None => None,
     };
     let analytical = side.and_then(|s| s.reference);
+    let active = active_bound_run(&scene, &out.join("runs").join("active-bound"))?;
+    let r_active = active.as_ref().map(|a| a.ratio).unwrap_or(1.0);
     let l0 = driver::load(&scene)?;
     let (nodes, triangles) = (l0.model.n_nodes(), l0.model.triangles.len());
     drop(l0);
@@ -848,8 +936,13 @@ pub fn run(args: &SceneArgs) -> Result<()> {
             i += 1;
             if i == list.len()
                 && first_unstable.is_none()
-                && let Some(&p) = PROBES.iter().find(|p| **p > f)
+                && let Some(p) = PROBES
+                    .iter()
+                    .map(|p| p * r_active)
+                    .find(|p| *p > f * 1.0001)
             {
+                // rounded to 4 digits: a readable fraction in the tables and file names
+                let p = (p * 1e4).round() / 1e4;
                 list.push(p);
                 bar.inc_length(1);
             }
@@ -857,12 +950,16 @@ pub fn run(args: &SceneArgs) -> Result<()> {
                 break;
             }
         }
+        let dt_predicted = raws.last().map(|r| r.run.dt_predicted).unwrap_or(0.0);
         limits.push(Limit {
             scheme: k.name().into(),
-            dt_predicted: raws.last().map(|r| r.run.dt_predicted).unwrap_or(0.0),
+            dt_predicted,
             observed_at_least: last_stable,
             observed_below: first_unstable,
             probes,
+            dt_active: dt_predicted * r_active,
+            observed_over_active_at_least: last_stable / r_active,
+            observed_over_active_below: first_unstable.map(|b| b / r_active),
         });
     }
     bar.finish_and_clear();
@@ -923,6 +1020,7 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         reference_run: format!("{} at {f_min} h_pred", ref_kind.name()),
         nodes,
         triangles,
+        active: active.as_ref(),
         limits: &limits,
         runs: &runs,
     };
@@ -936,28 +1034,43 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         Some(_) => Primary::Measure("peak load"),
         None => Primary::Reference,
     };
-    let files = plots(&out, &stem, &kinds, &runs, &limits, primary)?;
+    let files = plots(&out, &stem, &kinds, &runs, &limits, primary, r_active)?;
 
     // The table on stdout.
     println!(
         "{stem}: {nodes} nodes, {triangles} triangles; reference {}",
         report.reference_run
     );
+    if let Some(a) = &active {
+        println!(
+            "frequency bound: a priori {:.4e} rad/s, active {:.4e} rad/s (contact engaged: {:.4e} at t = {:.3e} s): h_active = {:.4} h_pred",
+            a.omega_a_priori,
+            a.omega_active,
+            a.omega_contact_active,
+            a.omega_contact_active_time,
+            a.ratio
+        );
+    }
     println!(
-        "{:<20} {:>12} {:>18} {:>12}",
-        "scheme", "h_pred (s)", "observed / h_pred", "ratio"
+        "{:<20} {:>12} {:>18} {:>12} {:>20}",
+        "scheme", "h_pred (s)", "observed / h_pred", "h_active (s)", "observed / h_active"
     );
     for l in &limits {
         let below = l
             .observed_below
             .map(|b| format!("{b}"))
             .unwrap_or_else(|| ">".into());
+        let below_a = l
+            .observed_over_active_below
+            .map(|b| format!("{b:.3}"))
+            .unwrap_or_else(|| ">".into());
         println!(
-            "{:<20} {:>12.4e} {:>18} {:>12}",
+            "{:<20} {:>12.4e} {:>18} {:>12.4e} {:>20}",
             l.scheme,
             l.dt_predicted,
             format!("[{}, {below})", l.observed_at_least),
-            format!("{}", l.observed_at_least)
+            l.dt_active,
+            format!("[{:.3}, {below_a})", l.observed_over_active_at_least),
         );
     }
     println!(
@@ -1010,6 +1123,7 @@ fn plots(
     runs: &[Run],
     limits: &[Limit],
     primary: Primary,
+    r_active: f64,
 ) -> Result<Vec<PathBuf>> {
     let label = |k: &SchemeKind| {
         let l = limits.iter().find(|l| l.scheme == k.name());
@@ -1084,6 +1198,12 @@ fn plots(
                 name: "predicted stable step (all schemes)".into(),
                 points: vec![(1.0, lo), (1.0, hi)],
             });
+            if r_active != 1.0 {
+                err_vs_step.push(Series {
+                    name: format!("active prediction ({r_active:.3} h_pred, all schemes)"),
+                    points: vec![(r_active, lo), (r_active, hi)],
+                });
+            }
         }
         plots.push((
             format!("work_precision{suffix}"),

@@ -72,7 +72,8 @@ fn edge_terms(a: V2, b: V2, t: &TriPotential) -> Option<(f64, [f64; 5], [f64; 5]
     let lb = t.barycentric(b);
     let (s0, s1) = clip(la, lb)?;
     let l = norm(sub(b, a));
-    if !(l * (s1 - s0) > 0.0) {
+    let len = l * (s1 - s0);
+    if len.is_nan() || len <= 0.0 {
         return None;
     }
     let lam = |s: f64| [0, 1, 2].map(|k| la[k] + s * (lb[k] - la[k]));
@@ -112,16 +113,12 @@ fn edge_terms(a: V2, b: V2, t: &TriPotential) -> Option<(f64, [f64; 5], [f64; 5]
             bg[i] += gk * wm[i];
         }
     }
-    if !(g_len > 0.0) {
+    if g_len.is_nan() || g_len <= 0.0 {
         return None;
     }
     // The resultant point of phi_T along the part (the contact crate's lumping point).
     let ld = crate::potential_tri_tri::edge_load(a, b, t);
-    let sbar = if ld.q > 0.0 {
-        ld.sbar
-    } else {
-        0.5 * (s0 + s1)
-    };
+    let sbar = if ld.q > 0.0 { ld.sbar } else { 0.5 * (s0 + s1) };
     let aw = w(sbar);
     let c = [0, 1, 2, 3, 4].map(|i| aw[i].max(bg[i] / g_len));
     Some((g_len, c, aw))
@@ -188,7 +185,7 @@ impl ActiveBound {
             }
             let law = contact.laws.get(mat(c[0]), mat(c[1]));
             let (tc, tt) = (tris[c[0] as usize], tris[c[1] as usize]);
-            self.add_couple(&law, tc, tt, x, inv_sqrt_mass);
+            self.add_couple(law, tc, tt, x, inv_sqrt_mass);
         }
         for (w, r) in contact.wall_pairs().iter().zip(contact.wall_results()) {
             if r.fn_total <= 0.0 {
@@ -265,14 +262,25 @@ mod tests {
     fn flat_overlap_of_two_legs_gives_kappa_l_over_m() {
         let d = 1e-6;
         // target below y = 0 (its top leg from (1, 0) to (0, 0)), contactor above y = -d
-        let x = vec![[0.0, -1.0], [1.0, 0.0], [0.0, 0.0], [0.0, -d], [1.0, -d], [0.0, 1.0 - d]];
+        let x = vec![
+            [0.0, -1.0],
+            [1.0, 0.0],
+            [0.0, 0.0],
+            [0.0, -d],
+            [1.0, -d],
+            [0.0, 1.0 - d],
+        ];
         let tris = [[0u32, 1, 2], [3, 4, 5]];
         let p = 7.0;
         let law = ContactLaw::with_penalty(p);
         let mut b = ActiveBound::new();
         b.rows.resize(6, 0.0);
         b.add_couple(&law, tris[0], tris[1], &x, &[1.0; 6]);
-        let m = b.touched.iter().map(|n| b.rows[*n as usize]).fold(0.0, f64::max);
+        let m = b
+            .touched
+            .iter()
+            .map(|n| b.rows[*n as usize])
+            .fold(0.0, f64::max);
         // 6 p l / m = 42 for the face (l = 1 - d); the pieces of length ~d near the corners
         // (other sub-triangles, the short side edges) change it by O(d): to 1e-4
         assert!((m / (6.0 * p) - 1.0).abs() < 1e-4, "{m}");

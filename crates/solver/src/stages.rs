@@ -37,10 +37,12 @@ pub fn omega_max(
 /// The joints' term of the frequency bound [rad/s] (0 without joints): the a-priori term,
 /// tight for intact joints (docs/fracture.md section 8); softening only lowers it.
 pub fn omega_joints(scene: &Scene, model: &Model, file: &Path) -> Result<f64, SceneError> {
-    Ok(match crate::fracture_stage::joint_set(scene, model, file)? {
-        Some(set) => crate::fracture_stage::omega_joints(&set, model),
-        None => 0.0,
-    })
+    Ok(
+        match crate::fracture_stage::joint_set(scene, model, file)? {
+            Some(set) => crate::fracture_stage::omega_joints(&set, model),
+            None => 0.0,
+        },
+    )
 }
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
