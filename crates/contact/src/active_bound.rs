@@ -175,20 +175,52 @@ impl ActiveBound {
         material: &[u32],
         inv_sqrt_mass: &[f64],
     ) -> f64 {
+        self.omega_sq_of(contact, x, tris, material, inv_sqrt_mass, true)
+    }
+
+    /// [`Self::omega_sq`] over **every** detected couple and wall candidate, whatever the last
+    /// force pass found: the edges that overlap at `x` count. For positions other than those
+    /// of the last force pass, e.g. extrapolated ones (a look-ahead for a step chosen from the
+    /// bound), as long as they are within the detection buffer of the last detection.
+    pub fn omega_sq_at(
+        &mut self,
+        contact: &Contact,
+        x: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+        inv_sqrt_mass: &[f64],
+    ) -> f64 {
+        self.omega_sq_of(contact, x, tris, material, inv_sqrt_mass, false)
+    }
+
+    fn omega_sq_of(
+        &mut self,
+        contact: &Contact,
+        x: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+        inv_sqrt_mass: &[f64],
+        loaded_only: bool,
+    ) -> f64 {
         if self.rows.len() < x.len() {
             self.rows.resize(x.len(), 0.0);
         }
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
-        for (c, r) in contact.couples().iter().zip(contact.couple_results()) {
-            if !r.active || r.invalid || r.fn_total <= 0.0 {
-                continue;
+        let results = contact.couple_results();
+        for (k, c) in contact.couples().iter().enumerate() {
+            if loaded_only {
+                match results.get(k) {
+                    Some(r) if r.active && !r.invalid && r.fn_total > 0.0 => {}
+                    _ => continue,
+                }
             }
             let law = contact.laws.get(mat(c[0]), mat(c[1]));
             let (tc, tt) = (tris[c[0] as usize], tris[c[1] as usize]);
             self.add_couple(law, tc, tt, x, inv_sqrt_mass);
         }
-        for (w, r) in contact.wall_pairs().iter().zip(contact.wall_results()) {
-            if r.fn_total <= 0.0 {
+        let wall_results = contact.wall_results();
+        for (k, w) in contact.wall_pairs().iter().enumerate() {
+            if loaded_only && !wall_results.get(k).is_some_and(|r| r.fn_total > 0.0) {
                 continue;
             }
             let plane = &contact.walls[w[0] as usize];

@@ -16,7 +16,11 @@
 //! Stable time step (fdem-theory.md section 6.3): contact adds to the element bound
 //! `omega_c^2 = max_e 3 p (2 / H_e) l_e (2 / A_e) / rho_e` (a triangle pair of two equal
 //! triangles: `3 p (1/H_1 + 1/H_2)` in place of the joint's `p/h`, `H_e` the smallest altitude,
-//! `l_e` the longest edge), and `omega_max^2 = omega_el^2 + omega_c^2`.
+//! `l_e` the longest edge), and `omega_max^2 = omega_el^2 + omega_c^2`. That term covers every
+//! edge pressed flat along its whole length; the **active** term
+//! (`fdem_contact::active_bound`) covers only the contact engaged in a state: the stage
+//! records its largest value over the run at the end of every step (`omega_active_max` in
+//! the summary) and gives it on demand for the adaptive step (docs/contact.md section 12.1).
 
 use std::io::Write;
 use std::path::Path;
@@ -631,6 +635,23 @@ impl ForceContribution for ContactStage {
             &self.inv_sqrt_mass,
         );
         Some(w2.sqrt())
+    }
+
+    /// Every detected couple and wall candidate, its geometry at `x`.
+    fn active_frequency_bound_at(&mut self, x: &[[f64; 2]]) -> Option<f64> {
+        let w2 = self.active.omega_sq_at(
+            &self.contact,
+            x,
+            &self.tris,
+            &self.labels,
+            &self.inv_sqrt_mass,
+        );
+        Some(w2.sqrt())
+    }
+
+    /// The friction increment uses the step.
+    fn set_time_step(&mut self, h: f64) {
+        self.dt = h;
     }
 
     fn error(&self) -> Option<String> {

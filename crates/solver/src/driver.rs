@@ -127,7 +127,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     } else {
         let duration = scene.duration.unwrap_or(0.0);
         let h = match scene.integrator.time_step {
-            TimeStep::Auto => scene.integrator.safety * dt_limit,
+            TimeStep::Auto | TimeStep::Adaptive => scene.integrator.safety * dt_limit,
             TimeStep::Fixed(h) => {
                 if h > dt_limit {
                     return Err(SceneError::Invalid {
@@ -181,7 +181,7 @@ impl Loaded {
             self.omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
             self.dt_limit = stable_step(self.scheme, self.omega_max, self.z_high);
             let h = match self.scene.integrator.time_step {
-                TimeStep::Auto => self.scene.integrator.safety * self.dt_limit,
+                TimeStep::Auto | TimeStep::Adaptive => self.scene.integrator.safety * self.dt_limit,
                 TimeStep::Fixed(h) => h.min(self.dt_limit),
             };
             let duration = self.scene.duration.unwrap_or(0.0);
@@ -387,6 +387,8 @@ pub struct Summary {
     pub threads: usize,
     /// Details of the optional stages (contact, joints), by name.
     pub stages: serde_json::Value,
+    /// An `"adaptive"` step: the smallest and the largest step taken [s].
+    pub time_step_range: Option<[f64; 2]>,
 }
 
 impl Summary {
@@ -801,8 +803,27 @@ fn dynamic(
     fdem_time::SecondOrderSystem::prescribe(&mut sys, 0.0, &mut x0, &mut v0);
     let mut state = State::new(0.0, x0, v0);
     let mut integ = l.scheme.build(2 * n);
-    let h = l.dt;
+    let mut h = l.dt;
     let n_steps = l.n_steps;
+    // Adaptive step (central difference): every `adapt_every` steps the step becomes
+    // `safety x 2 / omega` with `omega` the active bound (`stages::omega_active_ahead`: the
+    // contact engaged now, or engaged at the positions extrapolated over twice the interval
+    // to the next recomputation, with the elements and the joints).
+    let adaptive = l.scene.integrator.time_step == TimeStep::Adaptive;
+    let t_end = l.scene.duration.unwrap_or(0.0);
+    let adapt_every = l.scene.integrator.adapt_every.max(1);
+    let (omega_el, omega_j) = if adaptive {
+        (
+            sys.elements.max_frequency_bound(&sys.model.x0),
+            crate::stages::omega_joints(&l.scene, &sys.model, &l.file).unwrap_or(0.0),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let mut h_limit = l.dt_limit;
+    let mut look_ahead = Vec::new();
+    let mut h_min = f64::INFINITY;
+    let mut h_max = 0.0f64;
     let frames = l.scene.output.frames;
     let mut next_frame = 0usize;
     let mut hist = Histories::new(l, &options.out_dir);
@@ -907,11 +928,48 @@ fn dynamic(
     let mut e_prev_check = e_initial;
     let mut steps_done = 0u64;
     let mut kinetic;
-    for step in 1..=n_steps {
+    let mut step = 0u64;
+    loop {
+        if !adaptive && step >= n_steps {
+            break;
+        }
+        step += 1;
+        if adaptive && (step - 1).is_multiple_of(adapt_every) {
+            let ahead = 2.0 * adapt_every as f64 * h;
+            let w = crate::stages::omega_active_ahead(
+                &mut sys,
+                state.x_nodes(),
+                state.v_nodes(),
+                ahead,
+                omega_el,
+                omega_j,
+                &mut look_ahead,
+            );
+            h_limit = stable_step(l.scheme, w, l.z_high);
+            h = l.scene.integrator.safety * h_limit;
+            for c in &mut sys.contributions {
+                c.set_time_step(h);
+            }
+        }
+        let h_step = if adaptive {
+            h.min(t_end - state.t).max(f64::MIN_POSITIVE)
+        } else {
+            h
+        };
         let s = Instant::now();
-        integ.step(&mut sys, &mut state, h);
+        integ.step(&mut sys, &mut state, h_step);
         step_time += s.elapsed().as_secs_f64();
         steps_done = step;
+        if adaptive {
+            h_min = h_min.min(h_step);
+            h_max = h_max.max(h_step);
+        }
+        // the last step: the step count, or (adaptive) the end time reached
+        let last = if adaptive {
+            state.t >= t_end * (1.0 - 1e-12)
+        } else {
+            step >= n_steps
+        };
         // Work of loads and supports (trapezoid rule on this step's displacement).
         if !loaded_dofs.is_empty() {
             ext_at(&sys.model, state.t, &mut fext_full);
@@ -931,7 +989,7 @@ fn dynamic(
                 prev_x_pres[k] = state.x[d];
             }
         }
-        if step % check_every == 0 || step == n_steps {
+        if step.is_multiple_of(check_every) || last {
             if let Some(message) = crate::stages::first_error(&sys) {
                 let _ = writer.summary(&partial_summary(
                     l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
@@ -970,8 +1028,8 @@ fn dynamic(
                 e_prev_check,
                 supplied,
                 l.scheme,
-                h,
-                l.dt_limit,
+                h_step,
+                h_limit,
                 step.saturating_sub(check_every),
             ) {
                 let _ = writer.summary(&partial_summary(
@@ -1008,7 +1066,7 @@ fn dynamic(
             }
         }
         if let Some(hh) = &mut hist
-            && (step % hh.every == 0 || step == n_steps || converged == Some(true))
+            && (step.is_multiple_of(hh.every) || last || converged == Some(true))
         {
             let s = Instant::now();
             let reaction = sys.reactions();
@@ -1030,28 +1088,34 @@ fn dynamic(
             );
             sys.timers.histories += s.elapsed().as_secs_f64();
         }
-        let frame_due = frames > 0 && {
-            let tf = (next_frame as f64) * (n_steps as f64) / (frames as f64);
-            (step as f64) >= tf.round()
-        };
-        if frame_due
-            || (frames > 0 && (step == n_steps || converged == Some(true)) && next_frame <= frames)
-        {
+        let frame_due = frames > 0
+            && if adaptive {
+                state.t >= (next_frame as f64) * t_end / (frames as f64) * (1.0 - 1e-12)
+            } else {
+                let tf = (next_frame as f64) * (n_steps as f64) / (frames as f64);
+                (step as f64) >= tf.round()
+            };
+        if frame_due || (frames > 0 && (last || converged == Some(true)) && next_frame <= frames) {
             emit(&mut sys, &state, &mut writer)?;
             next_frame += 1;
             if let Some(hh) = &hist {
                 let _ = hh.writer.flush();
             }
         }
-        if last_progress.elapsed().as_secs_f64() > 0.2 || step == n_steps {
+        if last_progress.elapsed().as_secs_f64() > 0.2 || last {
             last_progress = Instant::now();
             progress(&Progress {
                 step,
-                steps: n_steps,
+                steps: if adaptive {
+                    // estimate from the time reached
+                    ((step as f64) * t_end / state.t.max(f64::MIN_POSITIVE)).ceil() as u64
+                } else {
+                    n_steps
+                },
                 time: state.t,
             });
         }
-        if converged == Some(true) {
+        if converged == Some(true) || last {
             break;
         }
     }
@@ -1087,6 +1151,9 @@ fn dynamic(
     summary.relative_residual = rel_res;
     summary.force_evaluations = integ.counters().forces;
     summary.stages = stage_details;
+    if adaptive {
+        summary.time_step_range = Some([h_min, h_max]);
+    }
     writer.summary(&summary)?;
     let reaction = sys.reactions();
     let mut last_frame = make_frame(
@@ -1215,5 +1282,6 @@ fn partial_summary(
         max_displacement: max_u,
         threads: rayon::current_num_threads(),
         stages: serde_json::Value::Null,
+        time_step_range: None,
     }
 }

@@ -260,7 +260,7 @@ impl BoundaryCondition {
     }
 }
 
-/// Time step: `"auto"` or a number of seconds.
+/// Time step: `"auto"`, `"adaptive"` or a number of seconds.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum TimeStep {
     /// The scheme's stability limit over the highest element frequency bound, times `safety`.
@@ -268,12 +268,18 @@ pub enum TimeStep {
     Auto,
     /// A fixed step [s]; it must not exceed the stability limit.
     Fixed(f64),
+    /// Central difference only: the step recomputed every `adapt_every` steps (default 1)
+    /// from the
+    /// active frequency bound (the contact engaged now and within a look-ahead, the elements
+    /// and the joints), times `safety` (docs/speed-vs-accuracy.md, "Adaptive step").
+    Adaptive,
 }
 
 impl Serialize for TimeStep {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
             TimeStep::Auto => s.serialize_str("auto"),
+            TimeStep::Adaptive => s.serialize_str("adaptive"),
             TimeStep::Fixed(h) => s.serialize_f64(*h),
         }
     }
@@ -285,11 +291,13 @@ impl<'de> Deserialize<'de> for TimeStep {
         impl Visitor<'_> for V {
             type Value = TimeStep;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("\"auto\" or a positive number of seconds")
+                f.write_str("\"auto\", \"adaptive\" or a positive number of seconds")
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<TimeStep, E> {
                 if v == "auto" {
                     Ok(TimeStep::Auto)
+                } else if v == "adaptive" {
+                    Ok(TimeStep::Adaptive)
                 } else {
                     Err(E::invalid_value(de::Unexpected::Str(v), &self))
                 }
@@ -319,9 +327,14 @@ pub struct Integrator {
     /// Time step (default `"auto"`).
     #[serde(default)]
     pub time_step: TimeStep,
-    /// Safety factor on the stability limit for `"auto"` (default 0.5; in (0, 1]).
+    /// Safety factor on the stability limit for `"auto"` and `"adaptive"` (default 0.5; in
+    /// (0, 1]).
     #[serde(default = "default_safety")]
     pub safety: f64,
+    /// Steps between recomputations of an `"adaptive"` step (default 1: every step; the
+    /// bound costs about one contact pass over the detected couples).
+    #[serde(default = "default_adapt_every")]
+    pub adapt_every: u64,
     /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8).
     #[serde(default = "default_tol")]
     pub relaxation_tolerance: f64,
@@ -336,6 +349,9 @@ fn default_safety() -> f64 {
 fn default_tol() -> f64 {
     1e-8
 }
+fn default_adapt_every() -> u64 {
+    1
+}
 
 impl Default for Integrator {
     fn default() -> Self {
@@ -343,6 +359,7 @@ impl Default for Integrator {
             scheme: default_scheme(),
             time_step: TimeStep::Auto,
             safety: default_safety(),
+            adapt_every: default_adapt_every(),
             relaxation_tolerance: default_tol(),
         }
     }
@@ -564,6 +581,28 @@ impl Scene {
                 format!("time step {h} is not positive"),
                 "use \"auto\" or a positive number of seconds",
             ));
+        }
+        if self.integrator.time_step == TimeStep::Adaptive {
+            if self.analysis != Analysis::Dynamic
+                || crate::schemes::scheme_by_name(&self.integrator.scheme)
+                    .is_some_and(|k| k != fdem_time::SchemeKind::CentralDifference)
+            {
+                return Err(bad(
+                    "integrator.time_step".into(),
+                    format!(
+                        "\"adaptive\" is for central-difference in a dynamic analysis, not {} in a {:?} one",
+                        self.integrator.scheme, self.analysis
+                    ),
+                    "use \"auto\", or the central-difference scheme",
+                ));
+            }
+            if self.integrator.adapt_every == 0 {
+                return Err(bad(
+                    "integrator.adapt_every".into(),
+                    "must be at least 1".into(),
+                    "use e.g. 10",
+                ));
+            }
         }
         if crate::schemes::scheme_by_name(&self.integrator.scheme).is_none() {
             return Err(bad(

@@ -60,6 +60,36 @@ pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_
     w2.sqrt()
 }
 
+/// [`omega_active`] with a look-ahead: the larger of the bound at `x` (the contact engaged at
+/// the last force evaluation) and the bound of every detected couple at the extrapolated
+/// positions `x + ahead v` (contact about to engage within `ahead` seconds at the current
+/// velocities). `scratch` holds the extrapolated positions.
+pub fn omega_active_ahead(
+    sys: &mut SceneSystem,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    ahead: f64,
+    omega_el: f64,
+    omega_j: f64,
+    scratch: &mut Vec<[f64; 2]>,
+) -> f64 {
+    scratch.clear();
+    scratch.extend(
+        x.iter()
+            .zip(v)
+            .map(|(p, u)| [p[0] + ahead * u[0], p[1] + ahead * u[1]]),
+    );
+    let mut w2 = omega_el * omega_el + omega_j * omega_j;
+    for c in &mut sys.contributions {
+        let now = c.active_frequency_bound(x);
+        let then = c.active_frequency_bound_at(scratch);
+        if let Some(w) = now.into_iter().chain(then).reduce(f64::max) {
+            w2 += w * w;
+        }
+    }
+    w2.sqrt()
+}
+
 /// The largest active contact bound over a run's end-of-step states [rad/s], from the run
 /// summary's stage details (`contact.omega_active_max`); 0 without contact.
 pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {

@@ -133,6 +133,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         max_displacement: max_u,
         threads: rayon::current_num_threads(),
         stages: serde_json::Value::Null,
+        time_step_range: None,
     };
     Ok((frame, summary))
 }

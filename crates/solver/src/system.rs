@@ -53,6 +53,13 @@ pub trait ForceContribution: Send {
     fn active_frequency_bound(&mut self, _x: &[[f64; 2]]) -> Option<f64> {
         None
     }
+    /// [`ForceContribution::active_frequency_bound`] at positions `x` other than those of the
+    /// last force evaluation (e.g. extrapolated ones): what would be engaged there.
+    fn active_frequency_bound_at(&mut self, _x: &[[f64; 2]]) -> Option<f64> {
+        None
+    }
+    /// The time step changed to `h` (an adaptive step; default: nothing).
+    fn set_time_step(&mut self, _h: f64) {}
     /// Energies and state of this term at positions `x`, for the run summary (default: none).
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {
         StageReport::default()
