@@ -277,6 +277,11 @@ fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active>> {
     l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);
     l.scene.integrator.scheme = k.name().into();
     l.scene.output.frames = 0;
+    if let Some(c) = &mut l.scene.contact {
+        // every state: a sampled maximum misses brief peaks (16 % on the pressed blocks
+        // sampled every 10 steps)
+        c.active_bound_every = 1;
+    }
     let duration = l.scene.duration.unwrap_or(0.0);
     let n = (duration / (0.5 * l.dt_limit)).ceil().max(1.0);
     l.dt = duration / n;

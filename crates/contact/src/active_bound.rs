@@ -207,8 +207,13 @@ impl ActiveBound {
         }
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
         let results = contact.couple_results();
+        let flags = contact.couple_flags();
         for (k, c) in contact.couples().iter().enumerate() {
             if loaded_only {
+                // the one-byte flag first: most detected couples carry no force
+                if flags.get(k).is_none_or(|f| *f == 0) {
+                    continue;
+                }
                 match results.get(k) {
                     Some(r) if r.active && !r.invalid && r.fn_total > 0.0 => {}
                     _ => continue,

@@ -372,6 +372,13 @@ impl Contact {
         &self.results
     }
 
+    /// Per couple, aligned with [`Self::couples`]: 0 when the last force pass found no force
+    /// (the result slot is stale), 1 when the slot holds a result (a force or an invalid
+    /// report). One byte a couple: a cheap filter before reading [`Self::couple_results`].
+    pub fn couple_flags(&self) -> &[u8] {
+        &self.flags
+    }
+
     /// The current plane-triangle candidates `[plane, tri]`, sorted.
     pub fn wall_pairs(&self) -> &[[u32; 2]] {
         &self.wall_pairs
