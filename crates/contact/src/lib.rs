@@ -19,6 +19,9 @@
 //!   (potential plus damping normal force)
 //!   ([`friction`]); history committed at the end of the step ([`Contact::commit`]).
 //! * Rigid plane: a target of infinite altitude, `f_T = p int_{plane∩T} phi_T ds n` ([`walls`]).
+//! * Highest frequency of the engaged contact ([`active_bound`]): per engaged edge part
+//!   `k_e = p ∫ |grad phi_T| ds` with weights `c = max(a, b_g)`, and Gershgorin
+//!   `omega_c^2 <= max_i sum_e k_e c_i/sqrt(m_i) sum_j c_j/sqrt(m_j)`.
 //! * Detection: NBS binning with bounding circles and buffer b, refreshed when a node has
 //!   moved `b/2` since the last detection ([`nbs`]); parry2d's BVH as the alternative
 //!   ([`broad_parry`]); candidates whose triangles an edge line separates by more than `b`
