@@ -200,6 +200,83 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
     assert!(min_stored > 0.0, "contact released during the probe");
 }
 
+/// Two 4 x 4-cell blocks (10 mm) colliding flat, the left one at 2 m/s (gap 10 um, 25 us):
+/// the side file's `"probe_from": "active"` starts the probes from the state where the bound
+/// run's engaged contact bound peaks, frozen there (velocities zeroed, loads balancing its
+/// forces), so the contact stays engaged through the whole probe, which lasts
+/// `omega_active t` = 5000. Central difference only (fast, 0.3 s). Measured (2026-11-22): the
+/// state at t = 6.69e-6 s (contact from 5 us), `r` = 1.1061, observed [1.2, 1.35) x the active
+/// prediction, the smallest contact energy stored during the probe at 1.01 1.44e-2 J.
+#[test]
+fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
+    let dir = common::temp_dir("study-active-probe");
+    let (n, l) = (4usize, 0.01);
+    let mut bodies = common::two_blocks(&dir, n, l, l + 1e-5);
+    bodies[0]["initial_velocity"] = serde_json::json!([2.0, 0.0]);
+    let scene = serde_json::json!({
+        "analysis": "dynamic",
+        "bodies": bodies,
+        "contact": {},
+        "duration": 2.5e-5,
+        "histories": { "probes": ["energy"] }
+    });
+    std::fs::write(dir.join("hit.json"), scene.to_string()).unwrap();
+    std::fs::write(
+        dir.join("hit.study.json"),
+        r#"{"probe_from": "active", "schemes": ["central-difference"]}"#,
+    )
+    .unwrap();
+    let out = run_study(&dir.join("hit.json"), "1.01");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("study.json")).unwrap()).unwrap();
+    assert_eq!(v["probe_frozen"].as_bool(), Some(true));
+    let t = v["probe_from"].as_f64().unwrap();
+    let t_peak = v["active"]["omega_contact_active_time"].as_f64().unwrap();
+    let w = v["active"]["omega_active"].as_f64().unwrap();
+    let r = v["active"]["ratio"].as_f64().unwrap();
+    eprintln!("probe start t = {t:.4e} s, h_active / h_pred = {r:.4}");
+    // the probes start at the active bound's peak, after the blocks touched (5 us)
+    assert_eq!(t, t_peak);
+    assert!(t > 5e-6 && t < 2.5e-5, "probe start {t}");
+    let lim = &v["limits"][0];
+    let lo_a = lim["observed_over_active_at_least"].as_f64().unwrap();
+    let hi_a = lim["observed_over_active_below"].as_f64();
+    eprintln!("central difference: observed [{lo_a:.3}, {hi_a:?}) x the active prediction");
+    // the factor-2 rule against the active prediction (measured [1.2, 1.35))
+    assert!(
+        lo_a >= 1.0 - 1e-9,
+        "unstable at the active prediction ({lo_a})"
+    );
+    assert!(
+        hi_a.is_some_and(|h| h <= 2.0 + 1e-9),
+        "stable at 2 x active ({hi_a:?})"
+    );
+    // the frozen state keeps the blocks pressed through the whole probe: contact energy
+    // stored at every step, over omega_active t = 5000 (to the step)
+    let hist = out
+        .join("runs")
+        .join("central-difference-1.01")
+        .join("probe")
+        .join("histories.csv");
+    let text = std::fs::read_to_string(hist).unwrap();
+    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (ct, cs) = (col("time"), col("stored"));
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect();
+    let min_stored = rows.iter().map(|r| r[cs]).fold(f64::INFINITY, f64::min);
+    let end = rows.last().unwrap()[ct];
+    eprintln!(
+        "smallest stored contact energy during the probe {min_stored:.3e} J, probe length omega_active t = {:.1}",
+        w * end
+    );
+    assert!(min_stored > 0.0, "contact released during the frozen probe");
+    assert!((w * end - 5000.0).abs() < 5.0, "probe length {}", w * end);
+}
+
 /// Runs `fdem study scene SCENE --fractions FRACTIONS` into `<scene folder>/out` (asserting
 /// that it succeeds) and returns that folder.
 fn run_study(scene: &Path, fractions: &str) -> PathBuf {

@@ -132,6 +132,9 @@ const PROBE_OMEGA_T: f64 = 5000.0;
 const PROBE_GROWTH: f64 = 1.01;
 /// Power iterations that concentrate a probe's initial velocity in the highest modes.
 const PROBE_POWER_ITERATIONS: usize = 40;
+/// Default largest displacement of a probe's field (its largest speed over `omega_max`),
+/// relative to the model size.
+const PROBE_AMPLITUDE: f64 = 1e-7;
 
 /// The analytical answer a scene may declare in `SCENE.study.json`.
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -180,9 +183,33 @@ struct SideFile {
     #[serde(default)]
     schemes: Option<Vec<String>>,
     /// Start the stability probes from the scene's state at this time [s] (bodies in
-    /// contact), not from the reference state: see [`ProbeStart`].
+    /// contact), or `"active"`: from the state where the bound run's engaged contact bound
+    /// peaks, frozen there; not from the reference state: see [`ProbeStart`].
     #[serde(default)]
-    probe_from: Option<f64>,
+    probe_from: Option<ProbeFrom>,
+    /// Largest displacement of the probes' high-mode field, relative to the model size
+    /// (default [`PROBE_AMPLITUDE`]): small enough that the joints' and the contact's laws
+    /// stay linear over it.
+    #[serde(default)]
+    probe_amplitude: Option<f64>,
+}
+
+/// Where the stability probes start (side file `"probe_from"`).
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(untagged)]
+enum ProbeFrom {
+    /// The scene's state at this time [s], walls held there, velocities kept.
+    Time(f64),
+    /// `"active"`: the state of the bound run's largest engaged contact bound, frozen.
+    Named(ProbeFromName),
+}
+
+/// The named probe start.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum ProbeFromName {
+    /// The state where the active contact bound peaks ([`Active::omega_contact_active_time`]).
+    Active,
 }
 
 /// The state a stability probe starts from when the side file sets `probe_from` = T: the
@@ -191,14 +218,31 @@ struct SideFile {
 /// positions at T. The probe then runs from there with the walls held at those positions and
 /// no loads: bodies pressed together stay pressed, so the contact is active during the probe.
 /// Only for scenes without joints (the joints' reference geometry is the mesh's).
+///
+/// `"probe_from": "active"` takes T where the bound run's engaged contact bound peaks (the
+/// state the active prediction comes from) and *freezes* it: velocities zeroed and constant
+/// nodal loads `F = -M a(x_T, 0)` added, so that the state is an equilibrium (a collision's
+/// discs at peak compression would otherwise separate within a fraction of the probe). The
+/// probe then oscillates about that state, its contact engaged as at the peak, for the whole
+/// `omega_max t` = [`PROBE_OMEGA_T`], and its growth is measured on the kinetic energy alone
+/// (the loads' work makes `K + U` exchange first-order terms with them): mean `K` over the
+/// last fifth over that over the first.
 struct ProbeStart {
     displacement: Vec<[f64; 2]>,
     velocity: Vec<[f64; 2]>,
     /// Each wall's displacement at T [m].
     walls: Vec<[f64; 2]>,
+    /// Frozen (`"active"`): velocities zeroed, the state held by balancing loads.
+    frozen: bool,
+    /// The time of the state [s].
+    time: f64,
+    /// The frequency the probe's length is measured in [rad/s]: the active bound for a frozen
+    /// state (the bound of that state), else `omega_max`.
+    omega: Option<f64>,
 }
 
-fn probe_start(scene: &Path, t: f64, out: &Path) -> Result<ProbeStart> {
+fn probe_start(scene: &Path, t: f64, omega: Option<f64>, out: &Path) -> Result<ProbeStart> {
+    let frozen = omega.is_some();
     let mut l = driver::load(scene)?;
     if l.scene.fracture.is_some() {
         bail!(
@@ -240,6 +284,9 @@ fn probe_start(scene: &Path, t: f64, out: &Path) -> Result<ProbeStart> {
         displacement: o.last_frame.displacement,
         velocity: o.last_frame.velocity,
         walls,
+        frozen,
+        time: t,
+        omega,
     })
 }
 
@@ -367,6 +414,12 @@ struct Report<'a> {
     triangles: usize,
     /// The active prediction (scenes with contact).
     active: Option<&'a Active>,
+    /// The time of the state the probes start from [s] (None: the reference state, at rest).
+    probe_from: Option<f64>,
+    /// Whether that state is frozen (`"probe_from": "active"`, [`ProbeStart`]).
+    probe_frozen: bool,
+    /// The probes' field amplitude, relative to the model size.
+    probe_amplitude: f64,
     limits: &'a [Limit],
     runs: &'a [Run],
 }
@@ -631,9 +684,13 @@ fn one_run(
 /// `v <- M^-1 K v` (with `M^-1 K v = -(a(x_0 + eps v) - a(x_0)) / eps`, `a` the whole
 /// system's acceleration at rest: elements and the stages, contact and joints, so that the
 /// field reaches the contact and joint modes; constrained DOFs zero), scaled to a largest
-/// nodal speed of `1e-7 omega_max` times the model size (small strain). `dir` receives the
-/// stages' files.
-fn top_mode_velocity(l: &driver::Loaded, dir: &Path) -> Result<Vec<[f64; 2]>> {
+/// nodal speed of `amplitude omega_max` times the model size (small strain). `dir` receives
+/// the stages' files. Also returns `a(x_0)` at rest (flat DOFs, loads and gravity left out).
+fn top_mode_velocity(
+    l: &driver::Loaded,
+    amplitude: f64,
+    dir: &Path,
+) -> Result<(Vec<[f64; 2]>, Vec<f64>)> {
     use fdem_time::SecondOrderSystem;
     let n = l.model.n_nodes();
     let mut sys = fdem_solver::system::SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
@@ -674,7 +731,7 @@ fn top_mode_velocity(l: &driver::Loaded, dir: &Path) -> Result<Vec<[f64; 2]>> {
     let mut a = vec![0.0; 2 * n];
     for _ in 0..PROBE_POWER_ITERATIONS {
         let s = scale_of(&v);
-        let eps = 1e-7 * size / s;
+        let eps = amplitude * size / s;
         for d in 0..2 * n {
             x[d] = x0[d] + eps * v[d];
         }
@@ -685,12 +742,15 @@ fn top_mode_velocity(l: &driver::Loaded, dir: &Path) -> Result<Vec<[f64; 2]>> {
         let s = scale_of(&v);
         v.iter_mut().for_each(|vi| *vi /= s);
     }
-    // a largest speed of 1e-7 omega_max x the largest coordinate: displacements ~1e-7 of it
-    let amp = 1e-7 * l.omega_max * size;
+    // a largest speed of amplitude x omega_max x the largest coordinate: displacements
+    // ~amplitude of it
+    let amp = amplitude * l.omega_max * size;
     let s = scale_of(&v);
-    Ok(v.chunks_exact(2)
+    let v = v
+        .chunks_exact(2)
         .map(|a| [amp * a[0] / s, amp * a[1] / s])
-        .collect())
+        .collect();
+    Ok((v, a0))
 }
 
 /// The measured-stability probe of one scheme at one fraction of its predicted step: the
@@ -705,6 +765,7 @@ fn stability_probe(
     fraction: f64,
     out: &Path,
     start: Option<&ProbeStart>,
+    amplitude: f64,
 ) -> Result<(bool, Option<f64>)> {
     let mut l = driver::load(scene)?;
     l.scheme = scheme;
@@ -731,9 +792,22 @@ fn stability_probe(
         for (x, u) in l.model.x0.iter_mut().zip(&s.displacement) {
             *x = [x[0] + u[0], x[1] + u[1]];
         }
-        v_start.clone_from(&s.velocity);
+        if !s.frozen {
+            v_start.clone_from(&s.velocity);
+        }
     }
-    let seed = top_mode_velocity(&l, &out.join("seed"))?;
+    let (seed, a0) = top_mode_velocity(&l, amplitude, &out.join("seed"))?;
+    let frozen = start.is_some_and(|s| s.frozen);
+    if frozen {
+        // the state held by constant loads that balance its forces: `F = -M a(x_T, 0)`
+        let forces = a0
+            .iter()
+            .enumerate()
+            .filter(|&(d, a)| !l.model.constrained[d] && *a != 0.0)
+            .map(|(d, a)| (d as u32, -l.model.mass[d / 2] * a))
+            .collect();
+        l.model.loads = vec![fdem_solver::model::RampedLoad { ramp: 0.0, forces }];
+    }
     let e_seed: f64 = l
         .model
         .mass
@@ -746,7 +820,11 @@ fn stability_probe(
         .zip(&v_start)
         .map(|(a, b)| [a[0] + b[0], a[1] + b[1]])
         .collect();
-    let duration = PROBE_OMEGA_T / l.omega_max;
+    // `omega_max t` = PROBE_OMEGA_T, or `omega_active t` from a frozen active state: the
+    // growth tolerance is per unit `omega t` of the probed state's highest frequency (its
+    // bound), and the collision's state is 4.9 times slower than the a-priori bound
+    let omega_t = start.and_then(|s| s.omega).unwrap_or(l.omega_max);
+    let duration = PROBE_OMEGA_T / omega_t;
     let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
     l.scene.duration = Some(duration);
     l.dt = duration / n;
@@ -765,14 +843,19 @@ fn stability_probe(
         Err(e) => return Err(e.into()),
     }
     let (_, k) = read_history(out, "kinetic")?;
-    let (_, u) = read_history(out, "strain")?;
-    let (_, st) = read_history(out, "stored")?;
-    let e: Vec<f64> = k
-        .iter()
-        .zip(&u)
-        .zip(&st)
-        .map(|((a, b), c)| a + b + c)
-        .collect();
+    let e: Vec<f64> = if frozen {
+        // about an equilibrium held by loads: the kinetic energy (its mean over a fifth is
+        // half the oscillation's energy; `K + U` trades first-order terms with the loads' work)
+        k
+    } else {
+        let (_, u) = read_history(out, "strain")?;
+        let (_, st) = read_history(out, "stored")?;
+        k.iter()
+            .zip(&u)
+            .zip(&st)
+            .map(|((a, b), c)| a + b + c)
+            .collect()
+    };
     let m = e.len() / 5;
     if m == 0 {
         return Ok((true, None));
@@ -783,7 +866,7 @@ fn stability_probe(
     // blocks) and the vibration left by the loading (~2e-4 J) dwarf the energy of the
     // high-mode field (~1e-5 J): the growth is measured against the field's own energy, its
     // initial kinetic energy (from rest that is the whole energy, as before).
-    let ratio = if start.is_some() {
+    let ratio = if start.is_some() && !frozen {
         1.0 + (last - first) / e_seed.max(f64::MIN_POSITIVE)
     } else {
         last / first.max(f64::MIN_POSITIVE)
@@ -870,17 +953,36 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{stem}")));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let scene = study_scene(&args.scene, side.as_ref(), &out)?;
-    let start = match side.as_ref().and_then(|s| s.probe_from) {
-        Some(t) => Some(probe_start(
-            &scene,
-            t,
-            &out.join("runs").join("probe-start"),
-        )?),
-        None => None,
-    };
-    let analytical = side.and_then(|s| s.reference);
     let active = active_bound_run(&scene, &out.join("runs").join("active-bound"))?;
     let r_active = active.as_ref().map(|a| a.ratio).unwrap_or(1.0);
+    let start_dir = out.join("runs").join("probe-start");
+    let start = match side.as_ref().and_then(|s| s.probe_from) {
+        Some(ProbeFrom::Time(t)) => Some(probe_start(&scene, t, None, &start_dir)?),
+        Some(ProbeFrom::Named(ProbeFromName::Active)) => {
+            let (t, w) = active
+                .as_ref()
+                .filter(|a| a.omega_contact_active > 0.0)
+                .map(|a| (a.omega_contact_active_time, a.omega_active))
+                .with_context(|| {
+                    format!(
+                        "{}: `\"probe_from\": \"active\"` needs contact engaged during the scene (none was): leave it out to probe from rest",
+                        args.scene.with_extension("study.json").display()
+                    )
+                })?;
+            Some(probe_start(&scene, t, Some(w), &start_dir)?)
+        }
+        None => None,
+    };
+    let amplitude = side
+        .as_ref()
+        .and_then(|s| s.probe_amplitude)
+        .unwrap_or(PROBE_AMPLITUDE);
+    if !(amplitude > 0.0 && amplitude < 1e-2) {
+        bail!(
+            "`probe_amplitude` must be in (0, 1e-2) of the model size (default {PROBE_AMPLITUDE})"
+        );
+    }
+    let analytical = side.and_then(|s| s.reference);
     let l0 = driver::load(&scene)?;
     let (nodes, triangles) = (l0.model.n_nodes(), l0.model.triangles.len());
     drop(l0);
@@ -924,15 +1026,26 @@ pub fn run(args: &SceneArgs) -> Result<()> {
             // The measured-stability probe from 0.99 up, until one is unstable.
             let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.1) {
                 bar.set_message(format!("{} at {f} h_pred (stability probe)", k.name()));
-                let (ok, ratio) =
-                    stability_probe(&scene, k, f, &run_dir(k, f).join("probe"), start.as_ref())?;
+                let (ok, ratio) = stability_probe(
+                    &scene,
+                    k,
+                    f,
+                    &run_dir(k, f).join("probe"),
+                    start.as_ref(),
+                    amplitude,
+                )?;
                 probes.push((f, ok, ratio));
                 ok
             } else {
                 probes.iter().all(|p| p.1)
             };
+            // the observed limit: the largest fraction below which every fraction tried is
+            // stable (a stable run above an unstable one does not count: on the fracture
+            // disc the scene runs' verdicts past the first unstable step are erratic)
             if r.run.stable && probe_stable {
-                last_stable = last_stable.max(f);
+                if first_unstable.is_none() {
+                    last_stable = last_stable.max(f);
+                }
             } else if first_unstable.is_none() {
                 first_unstable = Some(f);
             }
@@ -1026,6 +1139,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         nodes,
         triangles,
         active: active.as_ref(),
+        probe_from: start.as_ref().map(|s| s.time),
+        probe_frozen: start.as_ref().is_some_and(|s| s.frozen),
+        probe_amplitude: amplitude,
         limits: &limits,
         runs: &runs,
     };
