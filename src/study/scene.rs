@@ -11,7 +11,7 @@
 //! 1e-5), while a growing mode shows first as a gain (OMF32 in its weak unstable band
 //! `h omega` in [3.122, 3.160], spectral radius 1.019, gains 0.35 % in 240 steps before it
 //! would blow up in a longer run). When every listed fraction is
-//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.25, 2.5, 3, 4, 5, 6, 8, 10, 12 and 16
+//! stable, the study goes on at 1.1, 1.2, 1.35, 1.5, 1.75, 2, 2.25, 2.5, 3, 3.5, 4, 5, 6, 8, 10, 12 and 16
 //! (times `r`, below) until one is not: the observed limit lies between the largest stable
 //! fraction and the first unstable one.
 //!
@@ -40,7 +40,7 @@
 //! step `h_active = r h_pred`, `r = omega_max / omega_active`. The listed fractions stay
 //! fractions of `h_pred` (the step a run takes by default), but once they are all stable the
 //! ladder goes on in units of the active prediction, `r x` 0.5, 0.7, 0.9, 1, 1.1, 1.2, 1.35,
-//! 1.5, 1.75, 2, 2.25, 2.5, 3, 4, ... (the first above the last fraction run; without contact
+//! 1.5, 1.75, 2, 2.25, 2.5, 3, 3.5, 4, ... (the first above the last fraction run; without contact
 //! `r = 1` and this is the ladder above), and each scheme's limit is reported against both
 //! predictions (`observed_over_active_*`).
 //!
@@ -68,8 +68,13 @@
 //! `"fractions"` and `"schemes"` (the command line wins), and `"probe_from": T` [s]: the
 //! probes then start from the scene's state at `T` with the walls held there (bodies pressed
 //! together stay pressed: the contact is active through the probe), and their growth is
-//! measured against the high-mode field's own energy ([`ProbeStart`]). `"reference"` may be
-//! left out (errors against the reference run only).
+//! measured against the high-mode field's own energy ([`ProbeStart`]); or `"probe_from":
+//! "active"`: from the state where the bound run's engaged contact bound peaks, frozen
+//! (velocities zeroed, held by loads balancing its forces; length `omega_active t` = 5000,
+//! growth of the mean kinetic energy), so that a collision's contact stays engaged through
+//! the probe. `"probe_amplitude"`: the probe field's largest displacement relative to the
+//! model size (default 1e-7; the fracture disc 1e-9, to keep the joints' pre-peak law linear
+//! over it). `"reference"` may be left out (errors against the reference run only).
 //!
 //! The primary `error` is the analytical one when declared, else the measure's when declared,
 //! else the displacements' against the reference. Cost: wall time of the run, force evaluations, element-steps per second.
@@ -115,9 +120,9 @@ const DEFAULT_FRACTIONS: [f64; 8] = [0.1, 0.2, 0.4, 0.7, 0.9, 0.99, 1.01, 1.05];
 /// times `r = h_active / h_pred` (the active prediction over the a-priori one; 1 without
 /// contact), the first one above the last fraction run, and on until one is unstable. (Beyond
 /// 3: the weakly unstable schemes, whose growth a short contact does not show.)
-const PROBES: [f64; 20] = [
-    0.5, 0.7, 0.9, 1.0, 1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.25, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0,
-    12.0, 16.0,
+const PROBES: [f64; 21] = [
+    0.5, 0.7, 0.9, 1.0, 1.1, 1.2, 1.35, 1.5, 1.75, 2.0, 2.25, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0,
+    10.0, 12.0, 16.0,
 ];
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
