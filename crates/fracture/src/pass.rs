@@ -83,6 +83,13 @@ impl JointScratch {
 
     /// Sizes the buffers for `n` joints (no-op when they already are).
     fn fit(&mut self, n: usize) {
+        if self.trial.is_empty() && self.forces.is_empty() {
+            // first sizing: filled in parallel (the pages are touched by both threads)
+            self.trial
+                .par_extend(rayon::iter::repeat_n(JointHistory::FRESH, n));
+            self.forces
+                .par_extend(rayon::iter::repeat_n([[0.0; 2]; 4], n));
+        }
         self.trial.resize(n, JointHistory::FRESH);
         self.forces.resize(n, [[0.0; 2]; 4]);
         self.flags.resize(n.div_ceil(CHUNK), 0);
@@ -229,14 +236,15 @@ pub fn accumulate_joint_forces(
     // gather per node over its (joint, slot) list in joint order (parallel and
     // deterministic); the positions are kept for the commit on the way, unless the caller
     // turned the check off
-    let forces = &scratch.forces;
+    // slot 4 j + k of the flat list is node k of joint j
+    let forces = scratch.forces.as_flattened();
     let (offsets, slots) = (&set.node_offsets, &set.node_slots);
     let gather = |c: usize, fc: &mut [[f64; 2]]| {
         let i0 = c * NODE_CHUNK;
         let off = &offsets[i0..i0 + fc.len() + 1];
         for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
             for &js in &slots[w[0] as usize..w[1] as usize] {
-                let fe = forces[(js >> 2) as usize][(js & 3) as usize];
+                let fe = forces[js as usize];
                 fi[0] += fe[0];
                 fi[1] += fe[1];
             }

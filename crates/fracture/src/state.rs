@@ -7,6 +7,8 @@
 //! than one per field: the pass then streams through few arrays, and keeps their pointers in
 //! registers.
 
+use rayon::prelude::*;
+
 use crate::joint::{PointHistory, evaluate};
 use crate::set::JointSet;
 
@@ -92,8 +94,10 @@ impl JointState {
             "positions must have one entry per node"
         );
         let n = set.len();
-        let mut stored_initial = 0.0;
-        let history = (0..n)
+        // every joint in parallel, then the stored energy summed in joint order
+        let history: Vec<JointHistory> = (0..n)
+            .into_par_iter()
+            .with_min_len(1024)
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
                 let e = evaluate(
@@ -103,7 +107,6 @@ impl JointState {
                     &PointHistory::FRESH,
                     set.thickness,
                 );
-                stored_initial += e.stored;
                 JointHistory {
                     damage: e.damage,
                     shear_secant: e.shear_secant,
@@ -115,6 +118,10 @@ impl JointState {
                 }
             })
             .collect();
+        let mut stored_initial = 0.0;
+        for h in &history {
+            stored_initial += h.stored;
+        }
         JointState {
             history,
             intact: vec![true; n],

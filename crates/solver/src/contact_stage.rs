@@ -512,6 +512,16 @@ impl ForceContribution for ContactStage {
         "contact"
     }
 
+    /// Only friction and contact damping (of a pair of materials or of a wall) read the
+    /// velocities (`fdem_contact`'s `compute_forces` and `wall_force`).
+    fn reads_velocities(&self) -> bool {
+        let c = &self.contact;
+        let n = c.laws.n_materials() as u32;
+        let moving = |l: &ContactLaw| l.mu > 0.0 || l.damping > 0.0;
+        (0..n).any(|i| (0..n).any(|j| moving(c.laws.get(i, j))))
+            || c.walls.iter().any(|w| moving(&w.law))
+    }
+
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
         if let Some(b) = &self.bonded {
             let mut b = b.lock().unwrap_or_else(|e| e.into_inner());

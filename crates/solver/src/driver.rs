@@ -23,6 +23,7 @@ use std::time::Instant;
 
 use fdem_mesh::{Elements, Mesh, TriId};
 use fdem_time::{SchemeKind, State};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{RunError, SceneError};
@@ -550,6 +551,8 @@ pub fn make_frame(
     elements.stresses(x, v, &mut stresses);
     let stress: Vec<[f64; 4]> = stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect();
     let energy_density = (0..elements.len())
+        .into_par_iter()
+        .with_min_len(1024)
         .map(|e| {
             let td = &elements.tris[e];
             let th = 2.0 * elements.materials[td.material as usize].half_t;

@@ -388,6 +388,11 @@ impl ForceContribution for FractureStage {
         accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
     }
 
+    /// The joints' forces depend on the positions and the committed history only.
+    fn reads_velocities(&self) -> bool {
+        false
+    }
+
     fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
         self.end_step(t, x, false);
     }

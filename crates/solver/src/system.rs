@@ -42,6 +42,13 @@ pub trait ForceContribution: Send {
     fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
         self.end_of_step(t, x, v);
     }
+    /// Whether [`ForceContribution::add_forces`] reads the velocities `v` (friction, damping).
+    /// With `false` from every contribution (and no element viscosity or mass damping), the
+    /// splitting schemes skip their velocity extrapolation pass and pass their velocity
+    /// variable as it is ([`SecondOrderSystem::velocity_dependent`]). Default `true` (safe).
+    fn reads_velocities(&self) -> bool {
+        true
+    }
     /// An upper bound on the highest frequency this term adds [rad/s] (default 0).
     fn frequency_bound(&self) -> f64 {
         0.0
@@ -271,8 +278,11 @@ impl SecondOrderSystem for SceneSystem {
     }
 
     fn velocity_dependent(&self) -> bool {
-        // Element viscosity, mass-proportional damping, or a contribution (friction) read v.
-        self.elements.viscous || self.alpha > 0.0 || !self.contributions.is_empty()
+        // Element viscosity, mass-proportional damping, or a contribution (friction, contact
+        // damping) read v.
+        self.elements.viscous
+            || self.alpha > 0.0
+            || self.contributions.iter().any(|c| c.reads_velocities())
     }
 
     fn prescribed_dofs(&self) -> &[usize] {

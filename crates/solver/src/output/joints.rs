@@ -24,6 +24,7 @@
 //! | `normal_traction`, `shear_traction` | `sigma`, `tau` of the law, mean of the two points [Pa], tension positive; 0 once broken |
 
 use fdem_fracture::{FractureMode, JointSet, JointState, kinematics, point_traction};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use vtkio::model::{
@@ -71,6 +72,70 @@ pub fn mode_code(damage: f64, mix: f64) -> i32 {
     }
 }
 
+/// One joint's entries of a [`JointFrame`].
+struct Row {
+    points: [[f64; 2]; 2],
+    damage: f64,
+    mode: i32,
+    mode_mix: f64,
+    broken: i32,
+    time_of_failure: f64,
+    opening: f64,
+    sliding: f64,
+    normal_traction: f64,
+    shear_traction: f64,
+}
+
+/// Joint `j`'s entries of the frame at positions `x`.
+fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
+    let xs = set.gather(j, x);
+    let [p, q, r, s] = xs;
+    let k = kinematics(&xs, set.consts[j].h);
+    let h = &state.history[j];
+    let intact = state.intact[j];
+    let (sigma, tau) = if intact {
+        let m = &set.materials[set.material[j] as usize];
+        let t: [_; 2] = std::array::from_fn(|i| {
+            point_traction(
+                m,
+                &set.consts[j],
+                k.o[i],
+                k.s[i],
+                h.damage[i],
+                h.mode_mix[i],
+                h.shear_secant[i],
+            )
+        });
+        (0.5 * (t[0].sigma + t[1].sigma), 0.5 * (t[0].tau + t[1].tau))
+    } else {
+        (0.0, 0.0)
+    };
+    let d = if intact {
+        state.joint_damage(j).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    let mix = h.mode_mix().clamp(0.0, 1.0);
+    Row {
+        points: [
+            [0.5 * (p[0] + s[0]), 0.5 * (p[1] + s[1])],
+            [0.5 * (q[0] + r[0]), 0.5 * (q[1] + r[1])],
+        ],
+        damage: d,
+        mode: mode_code(d, mix),
+        mode_mix: mix,
+        broken: i32::from(!intact),
+        time_of_failure: match state.broken_at[j] {
+            Some(t) if !intact => t,
+            _ => -1.0,
+        },
+        opening: 0.5 * (k.o[0] + k.o[1]),
+        sliding: 0.5 * (k.s[0] + k.s[1]),
+        normal_traction: sigma,
+        shear_traction: tau,
+    }
+}
+
 impl JointFrame {
     /// The joints of `set` with history `state` at positions `x`.
     pub fn new(set: &JointSet, state: &JointState, x: &[[f64; 2]]) -> Self {
@@ -87,49 +152,24 @@ impl JointFrame {
             normal_traction: Vec::with_capacity(n),
             shear_traction: Vec::with_capacity(n),
         };
-        for j in 0..n {
-            let xs = set.gather(j, x);
-            let [p, q, r, s] = xs;
-            f.points.push([0.5 * (p[0] + s[0]), 0.5 * (p[1] + s[1])]);
-            f.points.push([0.5 * (q[0] + r[0]), 0.5 * (q[1] + r[1])]);
-            let k = kinematics(&xs, set.consts[j].h);
-            let h = &state.history[j];
-            let intact = state.intact[j];
-            let (sigma, tau) = if intact {
-                let m = &set.materials[set.material[j] as usize];
-                let t: [_; 2] = std::array::from_fn(|i| {
-                    point_traction(
-                        m,
-                        &set.consts[j],
-                        k.o[i],
-                        k.s[i],
-                        h.damage[i],
-                        h.mode_mix[i],
-                        h.shear_secant[i],
-                    )
-                });
-                (0.5 * (t[0].sigma + t[1].sigma), 0.5 * (t[0].tau + t[1].tau))
-            } else {
-                (0.0, 0.0)
-            };
-            let d = if intact {
-                state.joint_damage(j).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
-            let mix = h.mode_mix().clamp(0.0, 1.0);
-            f.damage.push(d);
-            f.mode.push(mode_code(d, mix));
-            f.mode_mix.push(mix);
-            f.broken.push(i32::from(!intact));
-            f.time_of_failure.push(match state.broken_at[j] {
-                Some(t) if !intact => t,
-                _ => -1.0,
-            });
-            f.opening.push(0.5 * (k.o[0] + k.o[1]));
-            f.sliding.push(0.5 * (k.s[0] + k.s[1]));
-            f.normal_traction.push(sigma);
-            f.shear_traction.push(tau);
+        // one row per joint, evaluated in parallel (each from its own joint only), then the
+        // columns filled in joint order
+        let rows: Vec<Row> = (0..n)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|j| row(set, state, x, j))
+            .collect();
+        for r in rows {
+            f.points.extend_from_slice(&r.points);
+            f.damage.push(r.damage);
+            f.mode.push(r.mode);
+            f.mode_mix.push(r.mode_mix);
+            f.broken.push(r.broken);
+            f.time_of_failure.push(r.time_of_failure);
+            f.opening.push(r.opening);
+            f.sliding.push(r.sliding);
+            f.normal_traction.push(r.normal_traction);
+            f.shear_traction.push(r.shear_traction);
         }
         f
     }
