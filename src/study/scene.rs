@@ -222,7 +222,10 @@ enum ProbeFromName {
 /// initial velocities as in the scene), giving node positions and velocities and the walls'
 /// positions at T. The probe then runs from there with the walls held at those positions and
 /// no loads: bodies pressed together stay pressed, so the contact is active during the probe.
-/// Only for scenes without joints (the joints' reference geometry is the mesh's).
+/// With joints, the probe also starts from the joints' state at T (which are broken, their
+/// damage, shear secant and mode histories): the joints hold the damaged state, and the
+/// contact pairs released by the breaks and softenings up to T are contact couples from the
+/// start, so re-closed crack faces stay in contact through the probe.
 ///
 /// `"probe_from": "active"` takes T where the bound run's engaged contact bound peaks (the
 /// state the active prediction comes from) and *freezes* it: velocities zeroed and constant
@@ -237,6 +240,11 @@ struct ProbeStart {
     velocity: Vec<[f64; 2]>,
     /// Each wall's displacement at T [m].
     walls: Vec<[f64; 2]>,
+    /// The joints' history at T (scenes with joints): the probe's fracture stage adopts it
+    /// (`FractureSection::initial_state`), so the joints broken by T stay broken, the
+    /// damaged ones keep their damage, and crack faces in contact at T are contact couples
+    /// from the probe's first force evaluation.
+    joints: Option<fdem_fracture::JointState>,
     /// Frozen (`"active"`): velocities zeroed, the state held by balancing loads.
     frozen: bool,
     /// The time of the state [s].
@@ -249,12 +257,6 @@ struct ProbeStart {
 fn probe_start(scene: &Path, t: f64, omega: Option<f64>, out: &Path) -> Result<ProbeStart> {
     let frozen = omega.is_some();
     let mut l = driver::load(scene)?;
-    if l.scene.fracture.is_some() {
-        bail!(
-            "{}: `probe_from` is for scenes without joints (the joints' reference state is the mesh)",
-            scene.display()
-        );
-    }
     let k = SchemeKind::CentralDifference;
     l.scheme = k;
     l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);
@@ -289,6 +291,7 @@ fn probe_start(scene: &Path, t: f64, omega: Option<f64>, out: &Path) -> Result<P
         displacement: o.last_frame.displacement,
         velocity: o.last_frame.velocity,
         walls,
+        joints: o.joint_state,
         frozen,
         time: t,
         omega,
@@ -423,6 +426,9 @@ struct Report<'a> {
     probe_from: Option<f64>,
     /// Whether that state is frozen (`"probe_from": "active"`, [`ProbeStart`]).
     probe_frozen: bool,
+    /// Broken joints in that state (scenes with joints; their pairs are contact couples
+    /// through the probes).
+    probe_start_broken: Option<usize>,
     /// The probes' field amplitude, relative to the model size.
     probe_amplitude: f64,
     limits: &'a [Limit],
@@ -790,6 +796,11 @@ fn stability_probe(
             w.velocity = [0.0, 0.0];
         }
     }
+    // The joints' history at T (scenes with joints): adopted by the fracture stage of the
+    // seed's system and of the probe run.
+    if let (Some(f), Some(js)) = (&mut l.scene.fracture, start.and_then(|s| s.joints.as_ref())) {
+        f.initial_state = Some(js.clone());
+    }
     // From a contact state: the positions become the start (the elements keep their own
     // reference shape, built at load), and the velocities are the state's.
     let mut v_start = vec![[0.0; 2]; l.model.n_nodes()];
@@ -1145,6 +1156,10 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         triangles,
         active: active.as_ref(),
         probe_from: start.as_ref().map(|s| s.time),
+        probe_start_broken: start
+            .as_ref()
+            .and_then(|s| s.joints.as_ref())
+            .map(|j| j.n_broken),
         probe_frozen: start.as_ref().is_some_and(|s| s.frozen),
         probe_amplitude: amplitude,
         limits: &limits,

@@ -449,6 +449,9 @@ pub struct Outcome {
     pub summary: Summary,
     /// The last frame's data.
     pub last_frame: FrameData,
+    /// The joints' committed history at the end (scenes with joints): a later run starts
+    /// from it through `scene.fracture.initial_state`.
+    pub joint_state: Option<fdem_fracture::JointState>,
 }
 
 /// Runs a loaded scene, writing output under `options.out_dir`.
@@ -764,6 +767,7 @@ pub fn run_outcome(
         return Ok(Outcome {
             summary,
             last_frame: frame,
+            joint_state: None,
         });
     }
     dynamic(l, options, progress, writer, wall)
@@ -1171,11 +1175,16 @@ fn dynamic(
     for c in &sys.contributions {
         c.frame_fields(state.x_nodes(), &mut last_frame);
     }
+    let joint_state = sys
+        .contributions
+        .iter()
+        .find_map(|c| c.joint_state().cloned());
     sys.contributions.truncate(n_own);
     l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {
         summary,
         last_frame,
+        joint_state,
     })
 }
 

@@ -54,6 +54,14 @@ pub struct FractureSection {
     /// The joints found at load time, per body (filled by [`explode_body`]).
     #[serde(skip)]
     pub joints: Vec<(usize, Vec<Joint>)>,
+    /// A saved fracture state to start from (not part of the scene file): the joints'
+    /// histories (damage, shear secant, mode indicator, energy books), which are broken and
+    /// when, e.g. a run's [`crate::driver::Outcome::joint_state`]. The stage adopts it when
+    /// attached: the broken joints stay broken and the pairs their breaks and softenings
+    /// released are contact couples from the first force evaluation. `None`: the fresh
+    /// state at the model's reference positions.
+    #[serde(skip)]
+    pub initial_state: Option<JointState>,
 }
 
 /// A fracturing region.
@@ -218,19 +226,41 @@ pub struct FractureStage {
 }
 
 impl FractureStage {
-    /// The stage over `set` at the reference positions of `model`; `fractures.csv` goes to
-    /// `out_dir`. Returns the bonded pairs for the contact stage and the shared report.
+    /// The stage over `set` at the reference positions of `model`, or from the saved state
+    /// `initial` (one history per joint of `set`, see [`FractureSection::initial_state`]);
+    /// `fractures.csv` goes to `out_dir`. Returns the bonded pairs for the contact stage and
+    /// the shared report.
     pub fn new(
         set: JointSet,
         model: &Model,
         out_dir: Option<&Path>,
+        initial: Option<JointState>,
     ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
-        let state = JointState::new(&set, &model.x0);
+        let adopted = initial.is_some();
+        let state = initial.unwrap_or_else(|| JointState::new(&set, &model.x0));
+        assert_eq!(state.intact.len(), set.len(), "one saved history per joint");
         let mut scratch = JointScratch::new(set.len());
         // the time crate says when the commit is at the last pass's positions
         scratch.set_position_check(false);
         let n_joints = set.len();
-        let stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
+        let mut stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
+        let mut bond_state = vec![0; n_joints];
+        if adopted {
+            // A saved state: its broken joints' pairs and its softened joints' stars leave the
+            // bonded set before the first force evaluation (the scan of the first end-of-step
+            // hook, done here), so the contact stage's first detection finds them.
+            let mut dropped = Vec::new();
+            for (j, st) in bond_state.iter_mut().enumerate() {
+                let d = state.history[j].damage;
+                if !state.intact[j] {
+                    stars.break_joint(j, &mut dropped);
+                    *st = 2;
+                } else if d[0] > 0.0 || d[1] > 0.0 {
+                    stars.release_stars(j, &mut dropped);
+                    *st = 1;
+                }
+            }
+        }
         let mut initial = Vec::new();
         stars.pairs(&mut initial);
         let bonded = Arc::new(Mutex::new(BondedPairs {
@@ -239,6 +269,7 @@ impl FractureStage {
         }));
         let report = Arc::new(Mutex::new(FractureReport {
             joints: set.len(),
+            broken: state.n_broken,
             ..Default::default()
         }));
         let csv = out_dir.and_then(|d| {
@@ -254,11 +285,11 @@ impl FractureStage {
                 scratch,
                 events: Vec::new(),
                 stars,
-                bond_state: vec![0; n_joints],
+                bond_state,
                 releases: 0,
                 released_pairs: 0,
                 release_s: 0.0,
-                stars_scanned: false,
+                stars_scanned: adopted,
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
@@ -426,6 +457,10 @@ impl ForceContribution for FractureStage {
                 "work": e.work,
             }),
         }
+    }
+
+    fn joint_state(&self) -> Option<&JointState> {
+        Some(&self.state)
     }
 
     fn finish(&mut self) {

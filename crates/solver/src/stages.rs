@@ -101,7 +101,9 @@ pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
 }
 
 /// Attaches the stages a scene needs to `sys` (time step `dt`, histories every `every` steps
-/// into `out_dir`): joints first, then contact (which excludes the intact joints' pairs).
+/// into `out_dir`): joints first (from the scene's saved fracture state when it has one,
+/// [`crate::fracture_stage::FractureSection::initial_state`]), then contact (which excludes
+/// the bonded pairs: intact joints and stars).
 pub fn attach(
     scene: &Scene,
     file: &Path,
@@ -112,8 +114,26 @@ pub fn attach(
 ) -> Result<(), SceneError> {
     let mut bonded = None;
     if let Some(set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
+        let initial = scene
+            .fracture
+            .as_ref()
+            .and_then(|f| f.initial_state.clone());
+        if let Some(s) = &initial
+            && s.intact.len() != set.len()
+        {
+            return Err(SceneError::Invalid {
+                file: file.to_path_buf(),
+                path: "fracture".into(),
+                message: format!(
+                    "the saved fracture state has {} joints, the scene {}",
+                    s.intact.len(),
+                    set.len()
+                ),
+                fix: "start from a state saved by a run of this scene".into(),
+            });
+        }
         let (stage, b, _) =
-            crate::fracture_stage::FractureStage::new(set, &sys.model, Some(out_dir));
+            crate::fracture_stage::FractureStage::new(set, &sys.model, Some(out_dir), initial);
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }

@@ -81,6 +81,12 @@ pub trait ForceContribution: Send {
     fn frame_fields(&self, _x: &[[f64; 2]], _frame: &mut FrameData) {}
     /// Called once after the last step (flush files; default: nothing).
     fn finish(&mut self) {}
+    /// The joints' committed history, for a term that has one (the fracture stage): the
+    /// driver hands it out with the run's outcome so that a later run can start from it
+    /// (default: none).
+    fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
+        None
+    }
 }
 
 /// What a [`ForceContribution`] reports to the run summary.
