@@ -72,7 +72,9 @@
 //! "active"`: from the state where the bound run's engaged contact bound peaks, frozen
 //! (velocities zeroed, held by loads balancing its forces; length `omega_active t` = 5000,
 //! growth of the mean kinetic energy), so that a collision's contact stays engaged through
-//! the probe. `"probe_amplitude"`: the probe field's largest displacement relative to the
+//! the probe. With joints, either start also carries the joints' state at T (broken joints,
+//! damage histories, the contact pairs released by breaks and softenings): the probe's
+//! fracture stage adopts it, so re-closed crack faces stay in contact through the probe. `"probe_amplitude"`: the probe field's largest displacement relative to the
 //! model size (default 1e-7; the fracture disc 1e-9, to keep the joints' pre-peak law linear
 //! over it). `"reference"` may be left out (errors against the reference run only).
 //!
