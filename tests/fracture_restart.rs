@@ -158,4 +158,45 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
     // steps, at other times
     assert_eq!(js2.broken_at, jf.broken_at);
     assert_ne!(jfresh.broken_at, jf.broken_at);
+
+    // The adopted state's broken joints leave the bonded list before the first force
+    // evaluation (the contact stage's exclusions at set-up): their triangle pairs are in the
+    // fresh stage's list and not in the adopted one's, which is shorter by at least them.
+    let l = driver::load(&p).unwrap();
+    let pairs = |saved: Option<fdem_fracture::JointState>| {
+        let set = fdem_solver::fracture_stage::joint_set(&l.scene, &l.model, &l.file)
+            .unwrap()
+            .unwrap();
+        let tris = set.triangles.clone();
+        let (_, bonded, _) =
+            fdem_solver::fracture_stage::FractureStage::new(set, &l.model, None, saved);
+        let initial = bonded.lock().unwrap().initial.clone();
+        (tris, initial)
+    };
+    let (tris, fresh_pairs) = pairs(None);
+    let (_, saved_pairs) = pairs(Some(js.clone()));
+    let broken_pairs: Vec<[u32; 2]> = js
+        .intact
+        .iter()
+        .zip(&tris)
+        .filter(|(i, _)| !**i)
+        .map(|(_, t)| [t[0].min(t[1]), t[0].max(t[1])])
+        .collect();
+    eprintln!(
+        "bonded pairs at set-up: {} fresh, {} from the saved state ({} broken joints)",
+        fresh_pairs.len(),
+        saved_pairs.len(),
+        broken_pairs.len()
+    );
+    let has = |list: &[[u32; 2]], p: &[u32; 2]| {
+        list.iter().any(|q| [q[0].min(q[1]), q[0].max(q[1])] == *p)
+    };
+    for p in &broken_pairs {
+        assert!(has(&fresh_pairs, p), "{p:?} not bonded in the fresh stage");
+        assert!(
+            !has(&saved_pairs, p),
+            "{p:?} still bonded from the saved state"
+        );
+    }
+    assert!(saved_pairs.len() + broken_pairs.len() <= fresh_pairs.len());
 }
