@@ -230,9 +230,9 @@ impl FractureStage {
         // the time crate says when the commit is at the last pass's positions
         scratch.set_position_check(false);
         let n_joints = set.len();
-        let stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
         let mut initial = Vec::new();
-        stars.pairs(&mut initial);
+        let stars =
+            StarBonds::with_pairs(&set.nodes, &set.triangles, model.n_nodes(), &mut initial);
         let bonded = Arc::new(Mutex::new(BondedPairs {
             initial,
             released: Vec::new(),
