@@ -224,7 +224,11 @@ fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
         l.dt = f * l.dt_limit;
         l.n_steps = 3000;
         let e0 = kinetic(&l);
+        let (v0_before, n_tri) = (l.model.v0.clone(), l.elements.len());
         let r = run(&mut l, &dir);
+        // the run moves the model and the elements out of `l` and puts them back, on the error
+        // path too: the same initial velocities (bit for bit) and triangles are there after it
+        assert!(l.model.v0 == v0_before && l.elements.len() == n_tri && n_tri > 0);
         if f < 1.35 {
             let o = r.unwrap_or_else(|e| panic!("false alarm at {f}: {e}"));
             let ratio = (o.summary.energy.kinetic + o.summary.energy.strain) / e0;
@@ -260,6 +264,11 @@ fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
         let umax = summary["max_displacement"].as_f64().unwrap();
         eprintln!("stopped at step {step}, largest displacement {umax:.3e} m");
         assert!(umax.is_finite() && umax < 1e-3, "max |u| = {umax}");
+        // and a second run from the same `Loaded` after the failed one works
+        l.dt = 0.99 * l.dt_limit;
+        l.n_steps = 10;
+        let o = run(&mut l, &dir).expect("a stable run after the failed one");
+        assert!(no_nan(&o) && o.summary.steps == 10);
     }
 }
 

@@ -41,8 +41,9 @@ pub struct MaterialConsts {
 }
 
 /// The triangles of a mesh prepared for the force kernels. Immutable during a run; the
-/// per-call scratch is a separate [`crate::ForceScratch`].
-#[derive(Clone, Debug)]
+/// per-call scratch is a separate [`crate::ForceScratch`]. The default is the empty set (no
+/// triangles, no nodes).
+#[derive(Clone, Debug, Default)]
 pub struct Elements {
     /// Per-triangle data, in mesh order.
     pub tris: Vec<TriData>,

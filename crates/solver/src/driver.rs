@@ -613,7 +613,7 @@ struct Histories {
 }
 
 impl Histories {
-    fn new(l: &Loaded, dir: &Path) -> Option<Self> {
+    fn new(l: &Loaded, model: &Model, dir: &Path) -> Option<Self> {
         let probes = &l.scene.histories.probes;
         if probes.is_empty() {
             return None;
@@ -630,8 +630,7 @@ impl Histories {
                     };
                     cols.push(format!("{kind}_x[{}]", g.group));
                     cols.push(format!("{kind}_y[{}]", g.group));
-                    let nodes = l
-                        .model
+                    let nodes = model
                         .find_group(&l.scene, &l.file, "histories", &g.group, g.body.as_deref())
                         .map(|n| n.to_vec())
                         .unwrap_or_default();
@@ -669,6 +668,7 @@ impl Histories {
     fn record(
         &mut self,
         l: &Loaded,
+        x0: &[[f64; 2]],
         t: f64,
         x: &[[f64; 2]],
         v: &[[f64; 2]],
@@ -684,8 +684,8 @@ impl Histories {
                     let k = nodes.len().max(1) as f64;
                     let (mut ux, mut uy) = (0.0, 0.0);
                     for &n in nodes {
-                        ux += x[n as usize][0] - l.model.x0[n as usize][0];
-                        uy += x[n as usize][1] - l.model.x0[n as usize][1];
+                        ux += x[n as usize][0] - x0[n as usize][0];
+                        uy += x[n as usize][1] - x0[n as usize][1];
                     }
                     row.extend([ux / k, uy / k]);
                 }
@@ -740,11 +740,12 @@ pub fn run_outcome(
         summary.timers.output = s.elapsed().as_secs_f64();
         summary.frames = writer.frames;
         summary.wall_time = wall.elapsed().as_secs_f64();
-        let mut h = Histories::new(l, &options.out_dir);
+        let mut h = Histories::new(l, &l.model, &options.out_dir);
         if let Some(h) = &mut h {
             let x: Vec<[f64; 2]> = frame.points.clone();
             h.record(
                 l,
+                &l.model.x0,
                 0.0,
                 &x,
                 &frame.velocity,
@@ -773,28 +774,48 @@ pub fn run_outcome(
     dynamic(l, options, progress, writer, wall)
 }
 
+/// A dynamic run. The model and elements are moved out of `l` into the run's system (no
+/// copy: the run only reads them) and put back when it ends, on the error paths too, with
+/// the scene's own contributions; the contact and fracture stages attached for the run are
+/// dropped (a second run attaches fresh stages). Only a panic inside the run leaves `l`
+/// without its model.
 fn dynamic(
     l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+    writer: Writer,
+    wall: Instant,
+) -> Result<Outcome, RunError> {
+    let alpha = l.scene.damping.mass_proportional;
+    let model = std::mem::take(&mut l.model);
+    let elements = std::mem::take(&mut l.elements);
+    let mut sys = SceneSystem::new(model, elements, alpha);
+    sys.contributions = std::mem::take(&mut l.contributions);
+    let n_own = sys.contributions.len();
+    let outcome = dynamic_run(l, &mut sys, options, progress, writer, wall);
+    sys.contributions.truncate(n_own);
+    l.contributions = std::mem::take(&mut sys.contributions);
+    l.model = std::mem::take(&mut sys.model);
+    l.elements = std::mem::take(&mut sys.elements);
+    outcome
+}
+
+/// The body of [`dynamic`], on the system `sys` that holds the model and elements of `l`.
+fn dynamic_run(
+    l: &Loaded,
+    sys: &mut SceneSystem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
     mut writer: Writer,
     wall: Instant,
 ) -> Result<Outcome, RunError> {
     let relaxation = l.scene.analysis == Analysis::Relaxation;
-    let alpha = l.scene.damping.mass_proportional;
-    let model = l.model.clone();
-    let elements = l.elements.clone();
-    let mut sys = SceneSystem::new(model, elements, alpha);
-    sys.contributions = std::mem::take(&mut l.contributions);
-    // The scene's own contributions; the contact and fracture stages attached below are
-    // per run, so only these go back to `l` (a second run attaches fresh stages).
-    let n_own = sys.contributions.len();
     let every = l
         .scene
         .histories
         .every
         .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64;
-    crate::stages::attach(&l.scene, &l.file, &mut sys, l.dt, &options.out_dir, every).map_err(
+    crate::stages::attach(&l.scene, &l.file, &mut *sys, l.dt, &options.out_dir, every).map_err(
         |e| RunError::Unstable {
             step: 0,
             time: 0.0,
@@ -807,7 +828,7 @@ fn dynamic(
     for &d in sys.constrained() {
         v0[d] = 0.0;
     }
-    fdem_time::SecondOrderSystem::prescribe(&mut sys, 0.0, &mut x0, &mut v0);
+    fdem_time::SecondOrderSystem::prescribe(&mut *sys, 0.0, &mut x0, &mut v0);
     let mut state = State::new(0.0, x0, v0);
     let mut integ = l.scheme.build(2 * n);
     let mut h = l.dt;
@@ -833,7 +854,7 @@ fn dynamic(
     let mut h_max = 0.0f64;
     let frames = l.scene.output.frames;
     let mut next_frame = 0usize;
-    let mut hist = Histories::new(l, &options.out_dir);
+    let mut hist = Histories::new(l, &sys.model, &options.out_dir);
 
     // Energy bookkeeping on the loaded and prescribed DOFs only.
     let mut loaded_dofs: Vec<usize> = sys
@@ -867,7 +888,7 @@ fn dynamic(
     let mut prev_x_loaded: Vec<f64> = loaded_dofs.iter().map(|&d| state.x[d]).collect();
     let mut prev_x_pres: Vec<f64> = prescribed.iter().map(|&d| state.x[d]).collect();
     let mut acc = vec![0.0; 2 * n];
-    fdem_time::SecondOrderSystem::acceleration(&mut sys, 0.0, &state.x, &state.v, &mut acc);
+    fdem_time::SecondOrderSystem::acceleration(&mut *sys, 0.0, &state.x, &state.v, &mut acc);
     let mut prev_r_pres: Vec<f64> = prescribed
         .iter()
         .map(|&d| -sys.force.as_flattened()[d])
@@ -902,7 +923,7 @@ fn dynamic(
         };
 
     if frames > 0 {
-        emit(&mut sys, &state, &mut writer)?;
+        emit(&mut *sys, &state, &mut writer)?;
         next_frame = 1;
     }
     let load_norm = {
@@ -931,7 +952,7 @@ fn dynamic(
     };
     let e_initial = kinetic_energy(&mass_dof, &state.v)
         + sys.elements.strain_energy(state.x_nodes())
-        + stored_at(&sys, state.x_nodes()).0;
+        + stored_at(sys, state.x_nodes()).0;
     let mut e_prev_check = e_initial;
     let mut steps_done = 0u64;
     let mut kinetic;
@@ -944,7 +965,7 @@ fn dynamic(
         if adaptive && (step - 1).is_multiple_of(adapt_every) {
             let ahead = 2.0 * adapt_every as f64 * h;
             let w = crate::stages::omega_active_ahead(
-                &mut sys,
+                &mut *sys,
                 state.x_nodes(),
                 state.v_nodes(),
                 ahead,
@@ -964,7 +985,7 @@ fn dynamic(
             h
         };
         let s = Instant::now();
-        integ.step(&mut sys, &mut state, h_step);
+        integ.step(&mut *sys, &mut state, h_step);
         step_time += s.elapsed().as_secs_f64();
         steps_done = step;
         if adaptive {
@@ -997,9 +1018,9 @@ fn dynamic(
             }
         }
         if step.is_multiple_of(check_every) || last {
-            if let Some(message) = crate::stages::first_error(&sys) {
+            if let Some(message) = crate::stages::first_error(sys) {
                 let _ = writer.summary(&partial_summary(
-                    l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1009,7 +1030,7 @@ fn dynamic(
             }
             if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
                 let _ = writer.summary(&partial_summary(
-                    l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1017,7 +1038,7 @@ fn dynamic(
                     message: "non-finite positions or velocities".into(),
                 });
             }
-            let (stored, walls) = stored_at(&sys, state.x_nodes());
+            let (stored, walls) = stored_at(sys, state.x_nodes());
             let e_now = kinetic_energy(&mass_dof, &state.v)
                 + sys.elements.strain_energy(state.x_nodes())
                 + stored;
@@ -1040,7 +1061,7 @@ fn dynamic(
                 step.saturating_sub(check_every),
             ) {
                 let _ = writer.summary(&partial_summary(
-                    l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1081,10 +1102,11 @@ fn dynamic(
             let mut e = energy;
             e.external_work += gravity_work(&sys.model, &state.x, &grav0);
             if hh.energy {
-                e.stored_contact_joints = stored_at(&sys, state.x_nodes()).0;
+                e.stored_contact_joints = stored_at(sys, state.x_nodes()).0;
             }
             hh.record(
                 l,
+                &sys.model.x0,
                 state.t,
                 state.x_nodes(),
                 state.v_nodes(),
@@ -1103,7 +1125,7 @@ fn dynamic(
                 (step as f64) >= tf.round()
             };
         if frame_due || (frames > 0 && (last || converged == Some(true)) && next_frame <= frames) {
-            emit(&mut sys, &state, &mut writer)?;
+            emit(&mut *sys, &state, &mut writer)?;
             next_frame += 1;
             if let Some(hh) = &hist {
                 let _ = hh.writer.flush();
@@ -1133,7 +1155,7 @@ fn dynamic(
     energy.kinetic = kinetic;
     energy.strain = sys.elements.strain_energy(state.x_nodes());
     energy.external_work += gravity_work(&sys.model, &state.x, &grav0);
-    let (stage_report, stage_details) = crate::stages::reports(&sys, state.x_nodes());
+    let (stage_report, stage_details) = crate::stages::reports(sys, state.x_nodes());
     energy.stored_contact_joints = stage_report.stored;
     energy.dissipated_contact_joints = stage_report.dissipated;
     energy.boundary_work = stage_report.boundary_work;
@@ -1152,7 +1174,7 @@ fn dynamic(
         })?;
     }
     let mut summary = partial_summary(
-        l, &sys, steps_done, &state, wall, step_time, &writer, &energy,
+        l, sys, steps_done, &state, wall, step_time, &writer, &energy,
     );
     summary.converged = converged;
     summary.relative_residual = rel_res;
@@ -1179,8 +1201,6 @@ fn dynamic(
         .contributions
         .iter()
         .find_map(|c| c.joint_state().cloned());
-    sys.contributions.truncate(n_own);
-    l.contributions = std::mem::take(&mut sys.contributions);
     Ok(Outcome {
         summary,
         last_frame,

@@ -243,12 +243,13 @@ impl FractureStage {
         // the time crate says when the commit is at the last pass's positions
         scratch.set_position_check(false);
         let n_joints = set.len();
-        let mut stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
         let mut bond_state = vec![0; n_joints];
-        if adopted {
+        let mut initial = Vec::new();
+        let stars = if adopted {
             // A saved state: its broken joints' pairs and its softened joints' stars leave the
             // bonded set before the first force evaluation (the scan of the first end-of-step
             // hook, done here), so the contact stage's first detection finds them.
+            let mut stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
             let mut dropped = Vec::new();
             for (j, st) in bond_state.iter_mut().enumerate() {
                 let d = state.history[j].damage;
@@ -260,9 +261,11 @@ impl FractureStage {
                     *st = 1;
                 }
             }
-        }
-        let mut initial = Vec::new();
-        stars.pairs(&mut initial);
+            stars.pairs(&mut initial);
+            stars
+        } else {
+            StarBonds::with_pairs(&set.nodes, &set.triangles, model.n_nodes(), &mut initial)
+        };
         let bonded = Arc::new(Mutex::new(BondedPairs {
             initial,
             released: Vec::new(),

@@ -74,6 +74,27 @@ impl StarBonds {
     /// (`P -> Q` in `T1`, `R -> S` in `T2`) over a model of `n_nodes` nodes. All stars start
     /// intact.
     pub fn new(nodes: &[[u32; 4]], tris: &[[u32; 2]], n_nodes: usize) -> Self {
+        let mut sb = Self::build(nodes, tris, n_nodes);
+        sb.n_bonded = sb.bonded().count();
+        sb
+    }
+
+    /// [`Self::new`] that also writes the bonded set into `out` (what [`Self::pairs`] writes
+    /// then), listing it once: the count of bonded pairs is the list's length.
+    pub fn with_pairs(
+        nodes: &[[u32; 4]],
+        tris: &[[u32; 2]],
+        n_nodes: usize,
+        out: &mut Vec<[u32; 2]>,
+    ) -> Self {
+        let mut sb = Self::build(nodes, tris, n_nodes);
+        sb.pairs(out);
+        sb.n_bonded = out.len();
+        sb
+    }
+
+    /// The stars, all intact, with `n_bonded` still to be set.
+    fn build(nodes: &[[u32; 4]], tris: &[[u32; 2]], n_nodes: usize) -> Self {
         let mut parent: Vec<u32> = (0..n_nodes as u32).collect();
         for n in nodes {
             union(&mut parent, n[0], n[3]);
@@ -156,7 +177,7 @@ impl StarBonds {
             }
         }
         star_off.push(vertex_pairs.len() as u32);
-        let mut sb = Self {
+        Self {
             joint_tris: tris.to_vec(),
             joint_stars,
             vertex_pairs,
@@ -165,9 +186,7 @@ impl StarBonds {
             star_intact: vec![true; ns],
             joint_released: vec![false; tris.len()],
             n_bonded: 0,
-        };
-        sb.n_bonded = sb.bonded().count();
-        sb
+        }
     }
 
     /// Number of stars (original nodes touched by a joint).
@@ -379,6 +398,11 @@ mod tests {
         let mut held = as_set(&out);
         assert_eq!(held.len(), out.len(), "a pair listed twice");
         assert_eq!(sb.n_bonded(), out.len());
+        // The set-up's one-pass constructor lists the same pairs in the same order.
+        let mut listed = Vec::new();
+        let sb2 = StarBonds::with_pairs(&jn, &jt, ex.mesh.nodes.len(), &mut listed);
+        assert_eq!(listed, out);
+        assert_eq!(sb2.n_bonded(), sb.n_bonded());
         // Events in a fixed scrambled order, checked after each batch of 1, 2, 3, ... events;
         // every third event breaks its joint, the others soften it (a softened joint may
         // break later: the order visits each joint twice).

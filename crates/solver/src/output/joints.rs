@@ -141,36 +141,47 @@ impl JointFrame {
     pub fn new(set: &JointSet, state: &JointState, x: &[[f64; 2]]) -> Self {
         let n = set.len();
         let mut f = JointFrame {
-            points: Vec::with_capacity(2 * n),
-            damage: Vec::with_capacity(n),
-            mode: Vec::with_capacity(n),
-            mode_mix: Vec::with_capacity(n),
-            broken: Vec::with_capacity(n),
-            time_of_failure: Vec::with_capacity(n),
-            opening: Vec::with_capacity(n),
-            sliding: Vec::with_capacity(n),
-            normal_traction: Vec::with_capacity(n),
-            shear_traction: Vec::with_capacity(n),
+            points: vec![[0.0; 2]; 2 * n],
+            damage: vec![0.0; n],
+            mode: vec![0; n],
+            mode_mix: vec![0.0; n],
+            broken: vec![0; n],
+            time_of_failure: vec![0.0; n],
+            opening: vec![0.0; n],
+            sliding: vec![0.0; n],
+            normal_traction: vec![0.0; n],
+            shear_traction: vec![0.0; n],
         };
-        // one row per joint, evaluated in parallel (each from its own joint only), then the
-        // columns filled in joint order
-        let rows: Vec<Row> = (0..n)
+        // one row per joint, evaluated in parallel (each from its own joint only) and written
+        // straight into its place in every column
+        (
+            f.points.par_chunks_mut(2),
+            f.damage.par_iter_mut(),
+            f.mode.par_iter_mut(),
+            f.mode_mix.par_iter_mut(),
+            f.broken.par_iter_mut(),
+            f.time_of_failure.par_iter_mut(),
+            f.opening.par_iter_mut(),
+            f.sliding.par_iter_mut(),
+            f.normal_traction.par_iter_mut(),
+            f.shear_traction.par_iter_mut(),
+        )
             .into_par_iter()
             .with_min_len(1024)
-            .map(|j| row(set, state, x, j))
-            .collect();
-        for r in rows {
-            f.points.extend_from_slice(&r.points);
-            f.damage.push(r.damage);
-            f.mode.push(r.mode);
-            f.mode_mix.push(r.mode_mix);
-            f.broken.push(r.broken);
-            f.time_of_failure.push(r.time_of_failure);
-            f.opening.push(r.opening);
-            f.sliding.push(r.sliding);
-            f.normal_traction.push(r.normal_traction);
-            f.shear_traction.push(r.shear_traction);
-        }
+            .enumerate()
+            .for_each(|(j, (pts, d, m, mix, b, tf, o, s, sn, ts))| {
+                let r = row(set, state, x, j);
+                pts.copy_from_slice(&r.points);
+                *d = r.damage;
+                *m = r.mode;
+                *mix = r.mode_mix;
+                *b = r.broken;
+                *tf = r.time_of_failure;
+                *o = r.opening;
+                *s = r.sliding;
+                *sn = r.normal_traction;
+                *ts = r.shear_traction;
+            });
         f
     }
 
