@@ -50,13 +50,7 @@ fn adaptive_step_is_stable_through_the_collision_with_a_sixth_of_the_steps() {
     };
     let (fixed, lf) = run(&scene("auto"), "auto");
     let (adapt, la) = run(&scene("adaptive"), "adaptive");
-    let k0: f64 = la
-        .model
-        .mass
-        .iter()
-        .zip(&la.model.v0)
-        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-        .sum();
+    let k0 = la.model.kinetic_energy(&la.model.v0);
     let ratio_f = fixed.summary.energy.kinetic / k0;
     let ratio_a = adapt.summary.energy.kinetic / k0;
     let range = adapt.summary.time_step_range.unwrap();

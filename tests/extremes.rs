@@ -93,12 +93,7 @@ fn run(l: &mut Loaded, dir: &Path) -> Result<Outcome, RunError> {
 }
 
 fn kinetic(l: &Loaded) -> f64 {
-    l.model
-        .mass
-        .iter()
-        .zip(&l.model.v0)
-        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-        .sum()
+    l.model.kinetic_energy(&l.model.v0)
 }
 
 /// A deterministic pseudo-random number in [-1, 1).

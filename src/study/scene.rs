@@ -591,13 +591,7 @@ fn one_run(
     let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
     l.dt = duration / n;
     l.n_steps = n as u64;
-    let e_kin0: f64 = l
-        .model
-        .mass
-        .iter()
-        .zip(&l.model.v0)
-        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-        .sum();
+    let e_kin0 = l.model.kinetic_energy(&l.model.v0);
     let mut run = Run {
         scheme: scheme.name().into(),
         fraction,
@@ -826,13 +820,7 @@ fn stability_probe(
             .collect();
         l.model.loads = vec![fdem_solver::model::RampedLoad { ramp: 0.0, forces }];
     }
-    let e_seed: f64 = l
-        .model
-        .mass
-        .iter()
-        .zip(&seed)
-        .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
-        .sum();
+    let e_seed = l.model.kinetic_energy(&seed);
     l.model.v0 = seed
         .iter()
         .zip(&v_start)

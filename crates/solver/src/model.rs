@@ -111,6 +111,16 @@ impl Model {
         self.x0.len()
     }
 
+    /// Kinetic energy `sum m_i |v_i|^2 / 2` [J] of the node velocities `v` (one per node)
+    /// with the lumped masses, summed in node order.
+    pub fn kinetic_energy(&self, v: &[[f64; 2]]) -> f64 {
+        self.mass
+            .iter()
+            .zip(v)
+            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1]))
+            .sum()
+    }
+
     /// External load vector (flat DOFs) at time t, gravity included, added to `f`.
     pub fn add_external(&self, t: f64, f: &mut [f64]) {
         for l in &self.loads {
