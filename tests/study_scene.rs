@@ -204,9 +204,11 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
 /// the side file's `"probe_from": "active"` starts the probes from the state where the bound
 /// run's engaged contact bound peaks, frozen there (velocities zeroed, loads balancing its
 /// forces), so the contact stays engaged through the whole probe, which lasts
-/// `omega_active t` = 5000. Central difference only (fast, 0.3 s). Measured (2026-11-22): the
-/// state at t = 6.69e-6 s (contact from 5 us), `r` = 1.1061, observed [1.2, 1.35) x the active
-/// prediction, the smallest contact energy stored during the probe at 1.01 1.44e-2 J.
+/// `omega_top t` = 5000 of the state's measured top frequency. Central difference only (fast,
+/// 0.3 s). Measured (2026-11-22): the state at t = 6.69e-6 s (contact from 5 us), `r` =
+/// 1.1061, observed [1.2, 1.35) x the active prediction, the smallest contact energy stored
+/// during the probe at 1.01 1.44e-2 J, the measured top frequency 0.747 of the active bound
+/// (the probe 6692 radians of the bound long).
 #[test]
 fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
     let dir = common::temp_dir("study-active-probe");
@@ -241,7 +243,8 @@ fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
     // the factor-2 rule against the active prediction (measured [1.2, 1.35))
     assert_within_factor_two_of_active(&v["limits"][0]);
     // the frozen state keeps the blocks pressed through the whole probe: contact energy
-    // stored at every step, over omega_active t = 5000 (to the step)
+    // stored at every step, over omega_top t = 5000 (to the step), omega_top the measured
+    // top frequency, at most the bound
     let hist = out
         .join("runs")
         .join("central-difference-1.01")
@@ -258,12 +261,22 @@ fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
         .collect();
     let min_stored = rows.iter().map(|r| r[cs]).fold(f64::INFINITY, f64::min);
     let end = rows.last().unwrap()[ct];
+    let w_top = v["limits"][0]["probes"][0]["omega_probe"].as_f64().unwrap();
     eprintln!(
-        "smallest stored contact energy during the probe {min_stored:.3e} J, probe length omega_active t = {:.1}",
+        "smallest stored contact energy during the probe {min_stored:.3e} J, probe length omega_top t = {:.1} (omega_active t = {:.1})",
+        w_top * end,
         w * end
     );
     assert!(min_stored > 0.0, "contact released during the frozen probe");
-    assert!((w * end - 5000.0).abs() < 5.0, "probe length {}", w * end);
+    assert!(
+        (w_top * end - 5000.0).abs() < 5.0,
+        "probe length {}",
+        w_top * end
+    );
+    assert!(
+        w_top <= w && w_top > 0.25 * w,
+        "top {w_top} against bound {w}"
+    );
 }
 
 /// The fracturing Brazilian disc as studied (`examples/brazilian-disc-fracture.json` with the

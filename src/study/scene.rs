@@ -19,13 +19,23 @@
 //! (above) *and* its *stability probe* is: the scene's mesh, supports and stages (contact,
 //! joints) with no loads, no gravity and the walls at rest, started from a velocity field
 //! concentrated in the highest modes (40 power iterations `v <- M^-1 K v` through the whole
-//! system's forces: elements, contact and joints), run for `omega_max t` = 5000 (796 periods
-//! of the frequency bound); it is
+//! system's forces: elements, contact and joints), run for `omega_top t` = 5000 (796 periods
+//! of the state's highest mode: `omega_top` is the Rayleigh quotient of the last power
+//! iteration, at most the true highest frequency, so the probe spans at least that many of
+//! its periods; it is kept within [1/4, 1] of the frequency bound); it is
 //! unstable when the solver stops it or the mean `K + U + stored` (contact, joints) over its
 //! last fifth exceeds that over its first fifth by more than 1 %. The centres of the fifths are 4000 apart in
-//! `omega_max t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_max t`: the
+//! `omega_top t`, so 1 % is an amplitude growth rate of 1.24e-6 per unit `omega_top t`: the
 //! time crate's own definition of a stable step (`rho(T(h)) <= 1 + 1e-6 h`,
-//! docs/time-integration.md), applied to the mesh's highest modes. Probes run from 0.99 of
+//! docs/time-integration.md), applied to the mesh's highest modes. (Measured in units of the
+//! bound instead, which overestimates the top frequency 1.3-1.8 times, the probe was that
+//! much shorter, and PC-4's slow growth passed on the collision at 2.05 times its limit.)
+//! Schemes that are stable again in a window above their limit (PC-4, OMF30, OMF32:
+//! `fdem_time::stability::stable_windows`) also get a **broadband probe** at each fraction
+//! whose top-mode probe is stable: the same run from the field after 2 power iterations (the
+//! upper part of the spectrum), since with the top modes inside a window the unstable band
+//! lies among lower modes that the top-mode field barely excites; the fraction is stable when
+//! both are. Probes run from 0.99 of
 //! the predicted step up, until one is unstable (after that every fraction counts unstable).
 //! Unlike the scene run alone, the probe also finds the weak growth of PC-4, PC-5 and OMF32
 //! past their limits.
@@ -129,16 +139,20 @@ const PROBES: [f64; 21] = [
 /// A run whose final energy exceeds this many times the energy put in is unstable.
 const ENERGY_BOUND: f64 = 1.001;
 
-/// Length of a stability probe run, in units of `omega_max t` (796 periods of the element
-/// frequency bound).
+/// Length of a stability probe run, in units of `omega_top t` (796 periods of the probed
+/// state's highest mode, as measured by the power iteration's Rayleigh quotient).
 const PROBE_OMEGA_T: f64 = 5000.0;
 /// A probe is unstable when the mean energy over its last fifth exceeds that over its first
-/// fifth by this factor: the centres are `0.8 x 5000 = 4000` apart in `omega_max t`, so 1 %
-/// is an amplitude growth rate of `ln(1.01) / 2 / 4000 = 1.24e-6` per unit `omega_max t`, the
+/// fifth by this factor: the centres are `0.8 x 5000 = 4000` apart in `omega_top t`, so 1 %
+/// is an amplitude growth rate of `ln(1.01) / 2 / 4000 = 1.24e-6` per unit `omega_top t`, the
 /// time crate's definition of stability (`rho(T(h)) <= 1 + 1e-6 h`).
 const PROBE_GROWTH: f64 = 1.01;
 /// Power iterations that concentrate a probe's initial velocity in the highest modes.
 const PROBE_POWER_ITERATIONS: usize = 40;
+/// Power iterations of the broadband probe's field: the modes weighted by `(omega/omega_top)^4`
+/// (the upper part of the spectrum, where a scheme with a stable window above its limit,
+/// OMF32, has its unstable band when the top modes sit in the window).
+const PROBE_BROAD_ITERATIONS: usize = 2;
 /// Default largest displacement of a probe's field (its largest speed over `omega_max`),
 /// relative to the model size.
 const PROBE_AMPLITUDE: f64 = 1e-7;
@@ -234,7 +248,7 @@ enum ProbeFromName {
 /// nodal loads `F = -M a(x_T, 0)` added, so that the state is an equilibrium (a collision's
 /// discs at peak compression would otherwise separate within a fraction of the probe). The
 /// probe then oscillates about that state, its contact engaged as at the peak, for the whole
-/// `omega_max t` = [`PROBE_OMEGA_T`], and its growth is measured on the kinetic energy alone
+/// `omega_top t` = [`PROBE_OMEGA_T`], and its growth is measured on the kinetic energy alone
 /// (the loads' work makes `K + U` exchange first-order terms with them): mean `K` over the
 /// last fifth over that over the first.
 struct ProbeStart {
@@ -251,8 +265,9 @@ struct ProbeStart {
     frozen: bool,
     /// The time of the state [s].
     time: f64,
-    /// The frequency the probe's length is measured in [rad/s]: the active bound for a frozen
-    /// state (the bound of that state), else `omega_max`.
+    /// The frequency bound of a frozen state [rad/s] (its active bound; else the probe takes
+    /// `omega_max`): the measured top frequency that sets a probe's length is kept within
+    /// [1/4, 1] of it.
     omega: Option<f64>,
 }
 
@@ -405,8 +420,8 @@ struct Limit {
     observed_at_least: f64,
     /// Smallest unstable fraction tried (None: none found up to the last probe).
     observed_below: Option<f64>,
-    /// Stability probes ([`stability_probe`]): (fraction, stable, energy ratio).
-    probes: Vec<(f64, bool, Option<f64>)>,
+    /// Stability probes ([`stability_probe`]).
+    probes: Vec<Probe>,
     /// The active predicted step `h_pred r` [s] (`r` = [`Active::ratio`], 1 without contact).
     dt_active: f64,
     /// The observed limit over the active prediction: `observed_at_least / r`.
@@ -692,12 +707,12 @@ fn one_run(
 /// system's acceleration at rest: elements and the stages, contact and joints, so that the
 /// field reaches the contact and joint modes; constrained DOFs zero), scaled to a largest
 /// nodal speed of `amplitude omega_max` times the model size (small strain). `dir` receives
-/// the stages' files. Also returns `a(x_0)` at rest (flat DOFs, loads and gravity left out).
-fn top_mode_velocity(
-    l: &driver::Loaded,
-    amplitude: f64,
-    dir: &Path,
-) -> Result<(Vec<[f64; 2]>, Vec<f64>)> {
+/// the stages' files. Also returns `a(x_0)` at rest (flat DOFs, loads and gravity left out),
+/// the field after [`PROBE_BROAD_ITERATIONS`] iterations (the upper part of the spectrum,
+/// same scaling), and the highest frequency measured by the last iteration's Rayleigh
+/// quotient `omega^2 = (v . K v)/(v . M v)` (at most the true highest frequency of the
+/// state, for any `v`).
+fn top_mode_velocity(l: &driver::Loaded, amplitude: f64, dir: &Path) -> Result<ProbeSeeds> {
     use fdem_time::SecondOrderSystem;
     let n = l.model.n_nodes();
     let mut sys = fdem_solver::system::SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
@@ -736,7 +751,13 @@ fn top_mode_velocity(
         .max(f64::MIN_POSITIVE);
     let mut x = x0.clone();
     let mut a = vec![0.0; 2 * n];
-    for _ in 0..PROBE_POWER_ITERATIONS {
+    let mut w = vec![0.0; 2 * n];
+    let mut broad = Vec::new();
+    let mut omega_sq = 0.0;
+    for it in 0..PROBE_POWER_ITERATIONS {
+        if it == PROBE_BROAD_ITERATIONS {
+            broad.clone_from(&v);
+        }
         let s = scale_of(&v);
         let eps = amplitude * size / s;
         for d in 0..2 * n {
@@ -744,28 +765,72 @@ fn top_mode_velocity(
         }
         sys.acceleration(0.0, &x, &zero, &mut a);
         for d in 0..2 * n {
-            v[d] = if free(d) { -(a[d] - a0[d]) / eps } else { 0.0 };
+            w[d] = if free(d) { -(a[d] - a0[d]) / eps } else { 0.0 };
         }
+        // Rayleigh quotient (v . M w)/(v . M v) with w = M^-1 K v
+        let (mut num, mut den) = (0.0, 0.0);
+        for d in 0..2 * n {
+            let m = l.model.mass[d / 2];
+            num += m * v[d] * w[d];
+            den += m * v[d] * v[d];
+        }
+        omega_sq = num / den.max(f64::MIN_POSITIVE);
+        std::mem::swap(&mut v, &mut w);
         let s = scale_of(&v);
         v.iter_mut().for_each(|vi| *vi /= s);
     }
     // a largest speed of amplitude x omega_max x the largest coordinate: displacements
     // ~amplitude of it
     let amp = amplitude * l.omega_max * size;
-    let s = scale_of(&v);
-    let v = v
-        .chunks_exact(2)
-        .map(|a| [amp * a[0] / s, amp * a[1] / s])
-        .collect();
-    Ok((v, a0))
+    let scaled = |v: &[f64]| -> Vec<[f64; 2]> {
+        let s = scale_of(v);
+        v.chunks_exact(2)
+            .map(|a| [amp * a[0] / s, amp * a[1] / s])
+            .collect()
+    };
+    Ok(ProbeSeeds {
+        top: scaled(&v),
+        broad: scaled(&broad),
+        a0,
+        omega_top: omega_sq.max(0.0).sqrt(),
+    })
+}
+
+/// The initial fields of a stability probe ([`top_mode_velocity`]).
+struct ProbeSeeds {
+    /// Concentrated in the highest modes ([`PROBE_POWER_ITERATIONS`] power iterations).
+    top: Vec<[f64; 2]>,
+    /// The upper part of the spectrum ([`PROBE_BROAD_ITERATIONS`] power iterations).
+    broad: Vec<[f64; 2]>,
+    /// The acceleration at rest at the probe's start (flat DOFs).
+    a0: Vec<f64>,
+    /// The state's highest frequency measured by the Rayleigh quotient [rad/s].
+    omega_top: f64,
+}
+
+/// One stability probe's outcome, as `study.json` records it.
+#[derive(Clone, Debug, Serialize)]
+struct Probe {
+    /// The fraction of the predicted step.
+    fraction: f64,
+    /// Stable: the top-mode probe and, where run, the broadband one.
+    stable: bool,
+    /// Energy ratio (last fifth over first) of the top-mode probe (`None`: stopped).
+    ratio: Option<f64>,
+    /// The same for the broadband probe, run for the schemes with stable windows above their
+    /// limit (PC-4, OMF30, OMF32) when the top-mode probe is stable.
+    broad_ratio: Option<f64>,
+    /// The frequency the probe's length is measured in [rad/s]: the Rayleigh estimate of the
+    /// state's highest frequency.
+    omega_probe: f64,
 }
 
 /// The measured-stability probe of one scheme at one fraction of its predicted step: the
 /// scene's mesh, supports and optional stages (contact, joints), with no loads, no gravity and
-/// the walls at rest, started from [`top_mode_velocity`] and run for `omega_max t` =
-/// [`PROBE_OMEGA_T`]. Returns whether it is stable (solver did not stop it and the mean of
-/// `K + U` over the last fifth is at most [`PROBE_GROWTH`] times that over the first fifth)
-/// and that ratio.
+/// the walls at rest, started from [`top_mode_velocity`] (its top-mode field, or with `broad`
+/// its broadband field) and run for `omega_top t` = [`PROBE_OMEGA_T`]. Returns whether it is
+/// stable (solver did not stop it and the mean of `K + U` over the last fifth is at most
+/// [`PROBE_GROWTH`] times that over the first fifth), that ratio, and `omega_top`.
 fn stability_probe(
     scene: &Path,
     scheme: SchemeKind,
@@ -773,7 +838,8 @@ fn stability_probe(
     out: &Path,
     start: Option<&ProbeStart>,
     amplitude: f64,
-) -> Result<(bool, Option<f64>)> {
+    broad: bool,
+) -> Result<ProbeVerdict> {
     let mut l = driver::load(scene)?;
     l.scheme = scheme;
     l.dt_limit = driver::stable_step(scheme, l.omega_max, l.z_high);
@@ -808,7 +874,9 @@ fn stability_probe(
             v_start.clone_from(&s.velocity);
         }
     }
-    let (seed, a0) = top_mode_velocity(&l, amplitude, &out.join("seed"))?;
+    let seeds = top_mode_velocity(&l, amplitude, &out.join("seed"))?;
+    let a0 = &seeds.a0;
+    let seed = if broad { &seeds.broad } else { &seeds.top };
     let frozen = start.is_some_and(|s| s.frozen);
     if frozen {
         // the state held by constant loads that balance its forces: `F = -M a(x_T, 0)`
@@ -820,16 +888,24 @@ fn stability_probe(
             .collect();
         l.model.loads = vec![fdem_solver::model::RampedLoad { ramp: 0.0, forces }];
     }
-    let e_seed = l.model.kinetic_energy(&seed);
+    let e_seed = l.model.kinetic_energy(seed);
     l.model.v0 = seed
         .iter()
         .zip(&v_start)
         .map(|(a, b)| [a[0] + b[0], a[1] + b[1]])
         .collect();
-    // `omega_max t` = PROBE_OMEGA_T, or `omega_active t` from a frozen active state: the
-    // growth tolerance is per unit `omega t` of the probed state's highest frequency (its
-    // bound), and the collision's state is 4.9 times slower than the a-priori bound
-    let omega_t = start.and_then(|s| s.omega).unwrap_or(l.omega_max);
+    // `omega t` = PROBE_OMEGA_T of the probed state's highest frequency as measured (the
+    // Rayleigh estimate, at most the true one, so the probe spans at least that many
+    // radians of the top mode): the growth tolerance is per unit `omega t` of that mode. The
+    // bound (`omega_max`, or the active bound from a frozen active state) overestimates it,
+    // 1.8 times on the collision's state, where a probe measured in the bound's radians let
+    // PC-4's slow growth pass 1.8 times too long a step. Kept within [1/4, 1] of the bound.
+    let bound = start.and_then(|s| s.omega).unwrap_or(l.omega_max);
+    let omega_t = if seeds.omega_top.is_finite() {
+        seeds.omega_top.clamp(0.25 * bound, bound)
+    } else {
+        bound
+    };
     let duration = PROBE_OMEGA_T / omega_t;
     let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
     l.scene.duration = Some(duration);
@@ -845,7 +921,13 @@ fn stability_probe(
     };
     match driver::run_outcome(&mut l, &options, &mut |_| {}) {
         Ok(_) => {}
-        Err(RunError::Unstable { .. }) => return Ok((false, None)),
+        Err(RunError::Unstable { .. }) => {
+            return Ok(ProbeVerdict {
+                stable: false,
+                ratio: None,
+                omega: omega_t,
+            });
+        }
         Err(e) => return Err(e.into()),
     }
     let (_, k) = read_history(out, "kinetic")?;
@@ -864,7 +946,11 @@ fn stability_probe(
     };
     let m = e.len() / 5;
     if m == 0 {
-        return Ok((true, None));
+        return Ok(ProbeVerdict {
+            stable: true,
+            ratio: None,
+            omega: omega_t,
+        });
     }
     let first = e[..m].iter().sum::<f64>() / m as f64;
     let last = e[e.len() - m..].iter().sum::<f64>() / m as f64;
@@ -877,7 +963,20 @@ fn stability_probe(
     } else {
         last / first.max(f64::MIN_POSITIVE)
     };
-    Ok((ratio.is_finite() && ratio <= PROBE_GROWTH, Some(ratio)))
+    Ok(ProbeVerdict {
+        stable: ratio.is_finite() && ratio <= PROBE_GROWTH,
+        ratio: Some(ratio),
+        omega: omega_t,
+    })
+}
+
+/// What [`stability_probe`] finds.
+struct ProbeVerdict {
+    stable: bool,
+    /// Energy ratio, last fifth over first (`None`: stopped by the solver, or too short).
+    ratio: Option<f64>,
+    /// The frequency the probe's length was measured in [rad/s].
+    omega: f64,
 }
 
 fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
@@ -1022,7 +1121,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     for &k in &kinds {
         let mut first_unstable = None;
         let mut last_stable: f64 = 0.0;
-        let mut probes: Vec<(f64, bool, Option<f64>)> = Vec::new();
+        let mut probes: Vec<Probe> = Vec::new();
+        // a scheme stable again above its limit also gets a broadband probe
+        let windows = !fdem_time::stability::stable_windows(k, 8.0).is_empty();
         let mut list: Vec<f64> = fractions.clone();
         let mut i = 0;
         while i < list.len() {
@@ -1030,20 +1131,42 @@ pub fn run(args: &SceneArgs) -> Result<()> {
             bar.set_message(format!("{} at {f} h_pred", k.name()));
             let r = one_run(&scene, k, f, &run_dir(k, f), analytical.as_ref())?;
             // The measured-stability probe from 0.99 up, until one is unstable.
-            let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.1) {
+            let probe_stable = if f >= 0.99 && probes.iter().all(|p| p.stable) {
                 bar.set_message(format!("{} at {f} h_pred (stability probe)", k.name()));
-                let (ok, ratio) = stability_probe(
+                let top = stability_probe(
                     &scene,
                     k,
                     f,
                     &run_dir(k, f).join("probe"),
                     start.as_ref(),
                     amplitude,
+                    false,
                 )?;
-                probes.push((f, ok, ratio));
+                let broad = if top.stable && windows {
+                    bar.set_message(format!("{} at {f} h_pred (broadband probe)", k.name()));
+                    Some(stability_probe(
+                        &scene,
+                        k,
+                        f,
+                        &run_dir(k, f).join("probe-broad"),
+                        start.as_ref(),
+                        amplitude,
+                        true,
+                    )?)
+                } else {
+                    None
+                };
+                let ok = top.stable && broad.as_ref().is_none_or(|b| b.stable);
+                probes.push(Probe {
+                    fraction: f,
+                    stable: ok,
+                    ratio: top.ratio,
+                    broad_ratio: broad.and_then(|b| b.ratio),
+                    omega_probe: top.omega,
+                });
                 ok
             } else {
-                probes.iter().all(|p| p.1)
+                probes.iter().all(|p| p.stable)
             };
             // the observed limit: the largest fraction below which every fraction tried is
             // stable (a stable run above an unstable one does not count: on the fracture

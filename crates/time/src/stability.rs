@@ -127,3 +127,52 @@ pub fn stability_limit(kind: SchemeKind) -> f64 {
     }
     lo
 }
+
+/// The windows of `h omega` above [`stability_limit`] and below `h_max` where `kind` is stable
+/// again, each as `[first stable, first unstable after it]` (scan by 1e-3, edges by bisection
+/// to 1e-9; a window narrower than the scan step can be missed). Empty for a scheme whose
+/// stable set is the interval `(0, limit]`: for such a scheme a step that keeps the highest
+/// mode of a system stable keeps every mode stable. For one with windows (OMF32: unstable in
+/// `[3.122, 3.160]`, stable again up to 5.69) a step past the limit can leave the highest
+/// modes in a window and lower modes in the unstable band below it: a stability check of
+/// such a step must excite the middle of the spectrum, not only its top.
+pub fn stable_windows(kind: SchemeKind, h_max: f64) -> Vec<[f64; 2]> {
+    let unstable = |h: f64| is_unstable(kind, h);
+    let edge = |mut lo: f64, mut hi: f64, lo_unstable: bool| {
+        // the point where the verdict changes between lo (verdict lo_unstable) and hi
+        while hi - lo > 1e-9 {
+            let mid = 0.5 * (lo + hi);
+            if unstable(mid) == lo_unstable {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    };
+    let dh = 1e-3;
+    let mut windows = Vec::new();
+    let mut h = stability_limit(kind);
+    if !h.is_finite() {
+        return windows;
+    }
+    let mut start: Option<f64> = None;
+    let mut was_unstable = true;
+    while h < h_max {
+        let next = h + dh;
+        let u = unstable(next);
+        if u != was_unstable {
+            let e = edge(h, next, was_unstable);
+            match start.take() {
+                None => start = Some(e),
+                Some(s) => windows.push([s, e]),
+            }
+            was_unstable = u;
+        }
+        h = next;
+    }
+    if let Some(s) = start {
+        windows.push([s, h_max]);
+    }
+    windows
+}

@@ -1,7 +1,7 @@
 //! Stability limits: computed from the one-step operator, confirmed by long runs on each
 //! side of the limit, and checked against the closed forms known for some schemes.
 
-use fdem_time::stability::{GROWTH_TOL, spectral_radius, stability_limit};
+use fdem_time::stability::{GROWTH_TOL, spectral_radius, stability_limit, stable_windows};
 use fdem_time::systems::Oscillator;
 use fdem_time::{SchemeKind, State};
 
@@ -126,6 +126,37 @@ fn symplectic_operators_have_unit_radius_inside_their_limit() {
         for f in [0.1, 0.5, 0.9, 0.99] {
             let r = spectral_radius(kind, f * l);
             assert!((r - 1.0).abs() < 1e-12, "{kind} at {f} L: rho = {r}");
+        }
+    }
+}
+
+#[test]
+fn pc4_omf30_and_omf32_are_stable_again_in_windows_above_their_limits() {
+    // Scan of each oscillator operator up to h omega = 8 (step 1e-3, edges to 1e-9): OMF32 is
+    // unstable only in a narrow band above its limit 3.1223 and stable again from 3.1599 to
+    // 5.6928; OMF30 is stable again from 3.2176 to 4.1075; PC-4 (limit 0.1222, set by the
+    // growth tolerance) in [1.0557, 1.1066]. The other five schemes' stable sets are the
+    // intervals up to their limits (no window up to 8).
+    let expected: [(SchemeKind, f64, f64); 3] = [
+        (SchemeKind::Pc4, 1.0557, 1.1066),
+        (SchemeKind::Omf30, 3.2176, 4.1075),
+        (SchemeKind::Omf32, 3.1599, 5.6928),
+    ];
+    for kind in SchemeKind::ALL {
+        let w = stable_windows(kind, 8.0);
+        println!(
+            "{kind:?}: limit {:.6}, windows {w:?}",
+            stability_limit(kind)
+        );
+        match expected.iter().find(|e| e.0 == kind) {
+            Some(&(_, a, b)) => {
+                assert_eq!(w.len(), 1, "{kind:?}: {w:?}");
+                // the edges to the 4 digits quoted
+                assert!((w[0][0] - a).abs() < 1e-4, "{kind:?}: {w:?}");
+                assert!((w[0][1] - b).abs() < 1e-4, "{kind:?}: {w:?}");
+                assert!(w[0][0] > stability_limit(kind));
+            }
+            None => assert!(w.is_empty(), "{kind:?}: {w:?}"),
         }
     }
 }
