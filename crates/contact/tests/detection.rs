@@ -258,3 +258,97 @@ fn parallel_nbs_matches_serial_and_brute_force_on_1_and_2_threads() {
         }
     }
 }
+
+/// The refresh check (single-precision filter, then the exact test on the chunks it cannot
+/// clear) answers exactly the double-precision criterion `|x - x_det|^2 >= (b/2)^2` (or NaN)
+/// on every trial: nodes moved up to just below, at and just above `b/2`, far from the
+/// origin (larger rounding of the copy) and near it, and a NaN; on 1 and 2 threads.
+#[test]
+fn refresh_check_answers_the_exact_criterion_on_1_and_2_threads() {
+    // 9 000 triangles, 27 000 nodes: four chunks of the check.
+    let (x0, tris, _) = cloud(21, 9_000, 90.0, 3.0, 0.0, 0);
+    let b = 0.1;
+    let half = 0.5 * b;
+    let exact = |x: &[[f64; 2]], xd: &[[f64; 2]]| {
+        x.iter().zip(xd).any(|(a, d)| {
+            let v = [a[0] - d[0], a[1] - d[1]];
+            let d2 = v[0] * v[0] + v[1] * v[1];
+            d2 >= half * half || d2.is_nan()
+        })
+    };
+    for offset in [0.0, 1.0e3] {
+        let xd: Vec<[f64; 2]> = x0.iter().map(|p| [p[0] + offset, p[1] + offset]).collect();
+        let mut rng = Rng(5);
+        // (node, factor of b/2, direction): one node moved by that much, every other node
+        // jiggled by up to 0.4 b/2
+        let mut trials = Vec::new();
+        for k in 0..36 {
+            let f = match k % 6 {
+                0 => 0.5,
+                1 => 1.0 - 1e-7,
+                2 => 1.0 - 1e-13,
+                3 => 1.0,
+                4 => 1.0 + 1e-13,
+                _ => 1.5,
+            };
+            let node = (rng.next_u64() % xd.len() as u64) as usize;
+            trials.push((node, f, rng.range(0.0, std::f64::consts::TAU)));
+        }
+        let mut answers = Vec::new();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut c = Contact::new(
+                ContactSettings {
+                    buffer: b,
+                    ..Default::default()
+                },
+                ContactLaws::uniform(1, ContactLaw::with_penalty(1.0)),
+            );
+            let mut rng = Rng(9);
+            let mut got = Vec::new();
+            let (mut n_true, mut n_false) = (0, 0);
+            let mut at_xd = false;
+            for (t, &(node, f, a)) in trials.iter().enumerate() {
+                // back to a detection at xd after a trial that redetected
+                if !at_xd {
+                    c.invalidate();
+                    assert!(pool.install(|| c.update_detection(&xd, &tris)));
+                }
+                let mut x: Vec<[f64; 2]> = xd
+                    .iter()
+                    .map(|p| {
+                        let (r, s) = (rng.range(0.0, 0.4 * half), rng.range(0.0, 6.3));
+                        [p[0] + r * s.cos(), p[1] + r * s.sin()]
+                    })
+                    .collect();
+                x[node] = [
+                    xd[node][0] + f * half * a.cos(),
+                    xd[node][1] + f * half * a.sin(),
+                ];
+                if t == 7 {
+                    x[node][1] = f64::NAN;
+                }
+                let want = exact(&x, &xd);
+                let moved = pool.install(|| c.update_detection(&x, &tris));
+                assert_eq!(moved, want, "trial {t}: factor {f}, offset {offset}");
+                at_xd = !moved;
+                if want {
+                    n_true += 1;
+                } else {
+                    n_false += 1;
+                }
+                got.push(moved);
+            }
+            // Both answers occur (not vacuous).
+            assert!(
+                n_true >= 10 && n_false >= 10,
+                "{n_true} moved, {n_false} not"
+            );
+            answers.push(got);
+        }
+        assert_eq!(answers[0], answers[1], "1 and 2 threads answer differently");
+    }
+}
