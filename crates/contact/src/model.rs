@@ -575,15 +575,25 @@ impl Contact {
     /// differences and squares (about `2^-52` each). Non-finite positions, or an `e` not
     /// below the margin, switch the filter off (bound -1: only the exact test decides).
     fn set_det32(&mut self) {
-        self.x_det32.clear();
-        self.x_det32
-            .extend(self.x_det.iter().map(|p| [p[0] as f32, p[1] as f32]));
-        let mut amax = 0.0f64;
-        let mut finite = true;
-        for p in &self.x_det {
-            finite &= p[0].is_finite() && p[1].is_finite();
-            amax = amax.max(p[0].abs()).max(p[1].abs());
-        }
+        self.x_det32.resize(self.x_det.len(), [0.0; 2]);
+        // Per node, in parallel; the largest coordinate and the finiteness are exact
+        // reductions (any order gives the same value).
+        let (finite, amax) = self
+            .x_det32
+            .par_iter_mut()
+            .zip(self.x_det.par_iter())
+            .with_min_len(8192)
+            .fold(
+                || (true, 0.0f64),
+                |(ok, m), (f, p)| {
+                    *f = [p[0] as f32, p[1] as f32];
+                    (
+                        ok & p[0].is_finite() & p[1].is_finite(),
+                        m.max(p[0].abs()).max(p[1].abs()),
+                    )
+                },
+            )
+            .reduce(|| (true, 0.0f64), |a, b| (a.0 & b.0, a.1.max(b.1)));
         // plus 2^-140 for coordinates below f32's normal range (spacing 2^-149 there)
         let e = amax * 2f64.powi(-23) + 2f64.powi(-140);
         let r = 0.5 * self.buffer * (1.0 - 1e-9) - e;

@@ -352,3 +352,35 @@ fn refresh_check_answers_the_exact_criterion_on_1_and_2_threads() {
         assert_eq!(answers[0], answers[1], "1 and 2 threads answer differently");
     }
 }
+
+/// Bounding circles of 20 000 triangles (the parallel path) on 1- and 2-thread pools equal,
+/// bit for bit, those computed serially (blocks of 4 000 triangles, below the parallel
+/// threshold), including a triangle with a NaN vertex.
+#[test]
+fn parallel_bounding_circles_match_the_serial_ones_on_1_and_2_threads() {
+    let (mut x, tris, _) = cloud(31, 20_000, 120.0, 3.0, 0.0, 0);
+    x[3 * 777][0] = f64::NAN;
+    let bits = |c: &BoundingCircles| -> Vec<u64> {
+        c.c.iter()
+            .flat_map(|p| [p[0].to_bits(), p[1].to_bits()])
+            .chain(c.r.iter().map(|r| r.to_bits()))
+            .collect()
+    };
+    let mut serial = BoundingCircles::default();
+    let mut block = BoundingCircles::default();
+    for part in tris.chunks(4000) {
+        block.update(&x, part);
+        serial.c.extend_from_slice(&block.c);
+        serial.r.extend_from_slice(&block.r);
+    }
+    assert!(serial.r[777].is_nan() && serial.r[778].is_finite());
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut c = BoundingCircles::default();
+        pool.install(|| c.update(&x, &tris));
+        assert_eq!(bits(&c), bits(&serial), "{threads} threads");
+    }
+}
