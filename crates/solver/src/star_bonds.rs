@@ -197,7 +197,15 @@ impl StarBonds {
             .into_par_iter()
             .map(|c| {
                 let (s0, s1) = (c * STAR_CHUNK, ((c + 1) * STAR_CHUNK).min(ns));
-                let mut pairs = Vec::new();
+                // at most k(k+1)/2 - k pairs for a star of k joints (k + 1 triangles at most,
+                // less the joints' own pairs): reserved, so the list is not reallocated
+                let bound: usize = (s0..s1)
+                    .map(|s| {
+                        let k = (off[s + 1] - off[s]) as usize;
+                        k * k.saturating_sub(1) / 2
+                    })
+                    .sum();
+                let mut pairs = Vec::with_capacity(bound);
                 let mut offs = Vec::with_capacity(s1 - s0);
                 let mut star_tris: Vec<u32> = Vec::new();
                 for s in s0..s1 {
