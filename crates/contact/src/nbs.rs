@@ -61,9 +61,6 @@ pub struct Nbs {
     row_start: Vec<u32>,
     slot_elem: Vec<u32>,
     slot_col: Vec<u32>,
-    /// Per slot: the element's circle `[c_x, c_y, r]` (the sweep reads its candidates'
-    /// circles in slot order, close together, instead of scattered by element index).
-    slot_circle: Vec<[f64; 3]>,
     bands: Vec<Band>,
     count: Vec<u32>,
     tmp: Vec<[u32; 2]>,
@@ -74,7 +71,7 @@ struct Slots<'a> {
     row_start: &'a [u32],
     elem: &'a [u32],
     col: &'a [u32],
-    circle: &'a [[f64; 3]],
+    circles: &'a BoundingCircles,
 }
 
 /// The grid of one search: origin, inverse cell size and cell counts.
@@ -167,7 +164,7 @@ impl Nbs {
             row_start: &self.row_start,
             elem: &self.slot_elem,
             col: &self.slot_col,
-            circle: &self.slot_circle,
+            circles,
         };
         let sweep = |band: &mut Band| sweep_band(band, g, &slots, b, tris, excl);
         let bands = &mut self.bands[..n_bands];
@@ -219,15 +216,12 @@ impl Nbs {
         let placed = self.row_start[g.ny] as usize;
         self.slot_elem.resize(placed, 0);
         self.slot_col.resize(placed, 0);
-        self.slot_circle.resize(placed, [0.0; 3]);
         // row_start[iy] is the cursor of row iy while filling; shifted back afterwards.
         for (e, c) in self.cell.iter().enumerate() {
             if c[1] != NIL {
                 let s = &mut self.row_start[c[1] as usize];
                 self.slot_elem[*s as usize] = e as u32;
                 self.slot_col[*s as usize] = c[0];
-                let ce = circles.c[e];
-                self.slot_circle[*s as usize] = [ce[0], ce[1], circles.r[e]];
                 *s += 1;
             }
         }
@@ -307,7 +301,7 @@ fn sweep_band(
         row_start,
         elem: slot_elem,
         col: slot_col,
-        circle,
+        circles,
     } = *slots;
     // Slots from the row below the band (its column lists are the first row's mask).
     let first = r0.saturating_sub(1);
@@ -327,24 +321,11 @@ fn sweep_band(
             heads[cx] = s as u32;
         }
     };
-    // `BoundingCircles::near` on the slots' copies (the same expression, the same bits).
-    #[inline(always)]
-    fn test(
-        out: &mut Vec<[u32; 2]>,
-        ci: &[f64; 3],
-        cj: &[f64; 3],
-        b: f64,
-        tris: &[[u32; 3]],
-        excl: &Exclusions,
-        i: u32,
-        j: u32,
-    ) {
-        let d = [ci[0] - cj[0], ci[1] - cj[1]];
-        let s = ci[2] + cj[2] + b;
-        if d[0] * d[0] + d[1] * d[1] <= s * s && !excl.excluded(tris, i, j) {
+    let test = |out: &mut Vec<[u32; 2]>, i: u32, j: u32| {
+        if circles.near(i as usize, j as usize, b) && !excl.excluded(tris, i, j) {
             out.push(if i < j { [i, j] } else { [j, i] });
         }
-    }
+    };
     let mut prev_row = None;
     if r0 > 0 && !row(r0 - 1).is_empty() {
         build(col_prev, next, r0 - 1);
@@ -355,19 +336,19 @@ fn sweep_band(
         if !slots.is_empty() {
             build(col_cur, next, iy);
             for s in slots.clone() {
-                let (e, ce) = (slot_elem[s], &circle[s]);
+                let e = slot_elem[s];
                 let cx = slot_col[s] as usize;
                 // Own cell: only later slots of its list.
                 let mut j = next[s - base];
                 while j != NIL {
                     let k = j as usize;
-                    test(out, ce, &circle[k], b, tris, excl, e, slot_elem[k]);
+                    test(out, e, slot_elem[k]);
                     j = next[k - base];
                 }
                 let mut j = col_cur[cx - 1];
                 while j != NIL {
                     let k = j as usize;
-                    test(out, ce, &circle[k], b, tris, excl, e, slot_elem[k]);
+                    test(out, e, slot_elem[k]);
                     j = next[k - base];
                 }
                 if prev_row.is_some() {
@@ -375,7 +356,7 @@ fn sweep_band(
                         let mut j = col_prev[c];
                         while j != NIL {
                             let k = j as usize;
-                            test(out, ce, &circle[k], b, tris, excl, e, slot_elem[k]);
+                            test(out, e, slot_elem[k]);
                             j = next[k - base];
                         }
                     }
