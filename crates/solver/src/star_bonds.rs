@@ -39,9 +39,10 @@ pub struct StarBonds {
     /// Per joint: the stars of its two end nodes.
     joint_stars: Vec<[u32; 2]>,
     /// Vertex-neighbour pairs (sharing a star, no joint between them) and their star, grouped
-    /// by star: star `s` owns `vertex_pairs[star_off[s]..star_off[s + 1]]`.
-    vertex_pairs: Vec<([u32; 2], u32)>,
-    star_off: Vec<u32>,
+    /// by star, in chunks of [`STAR_CHUNK`] stars (as the set-up builds them, in parallel):
+    /// star `s = c STAR_CHUNK + k` owns `vertex_pairs[c][star_off[c][k]..star_off[c][k + 1]]`.
+    vertex_pairs: Vec<Vec<VertexPair>>,
+    star_off: Vec<Vec<u32>>,
     /// Per triangle: the stars of its vertices (`u32::MAX` where none).
     tri_stars: Vec<[u32; 3]>,
     /// Per star: still intact.
@@ -59,8 +60,6 @@ type VertexPair = ([u32; 2], u32);
 
 /// Stars per parallel task of the set-up (fixed: the lists do not depend on the threads).
 const STAR_CHUNK: usize = 2048;
-/// Vertex pairs per parallel task of the listing.
-const PAIR_CHUNK: usize = 4096;
 
 /// The vertex pairs of star `s` with joints `js`: every pair `[a, b]` (`a < b`) of its
 /// triangles with no joint of the star between them, appended to `out` with `s`, in the
@@ -193,7 +192,8 @@ impl StarBonds {
         }
         // Vertex pairs star by star, in parallel over fixed chunks of stars, concatenated in
         // star order (the list does not depend on the thread count).
-        let chunks: Vec<(Vec<VertexPair>, Vec<u32>)> = (0..ns.div_ceil(STAR_CHUNK))
+        let (vertex_pairs, star_off): (Vec<Vec<VertexPair>>, Vec<Vec<u32>>) = (0..ns
+            .div_ceil(STAR_CHUNK))
             .into_par_iter()
             .map(|c| {
                 let (s0, s1) = (c * STAR_CHUNK, ((c + 1) * STAR_CHUNK).min(ns));
@@ -206,25 +206,17 @@ impl StarBonds {
                     })
                     .sum();
                 let mut pairs = Vec::with_capacity(bound);
-                let mut offs = Vec::with_capacity(s1 - s0);
+                let mut offs = Vec::with_capacity(s1 - s0 + 1);
                 let mut star_tris: Vec<u32> = Vec::new();
                 for s in s0..s1 {
                     offs.push(pairs.len() as u32);
                     let js = &star_joints[off[s] as usize..off[s + 1] as usize];
                     vertex_pairs_of_star(s as u32, js, tris, &mut star_tris, &mut pairs);
                 }
+                offs.push(pairs.len() as u32);
                 (pairs, offs)
             })
-            .collect();
-        let total: usize = chunks.iter().map(|c| c.0.len()).sum();
-        let mut vertex_pairs = Vec::with_capacity(total);
-        let mut star_off = Vec::with_capacity(ns + 1);
-        for (pairs, offs) in &chunks {
-            let base = vertex_pairs.len() as u32;
-            star_off.extend(offs.iter().map(|o| base + o));
-            vertex_pairs.extend_from_slice(pairs);
-        }
-        star_off.push(vertex_pairs.len() as u32);
+            .unzip();
         Self {
             joint_tris: tris.to_vec(),
             joint_stars,
@@ -244,7 +236,7 @@ impl StarBonds {
 
     /// Number of vertex-neighbour pairs (bonded while their star is intact).
     pub fn n_vertex_pairs(&self) -> usize {
-        self.vertex_pairs.len()
+        self.vertex_pairs.iter().map(Vec::len).sum()
     }
 
     /// Number of pairs in the bonded set now.
@@ -272,9 +264,10 @@ impl StarBonds {
                 continue;
             }
             changed = true;
-            let (lo, hi) = (self.star_off[s as usize], self.star_off[s as usize + 1]);
-            for k in lo as usize..hi as usize {
-                let [a, b] = self.vertex_pairs[k].0;
+            let (c, k) = (s as usize / STAR_CHUNK, s as usize % STAR_CHUNK);
+            let (lo, hi) = (self.star_off[c][k], self.star_off[c][k + 1]);
+            for i in lo as usize..hi as usize {
+                let [a, b] = self.vertex_pairs[c][i].0;
                 if !self.held_by_star(a, b, s) {
                     released.push([a, b]);
                     self.n_bonded -= 1;
@@ -307,12 +300,11 @@ impl StarBonds {
     pub fn pairs(&self, out: &mut Vec<[u32; 2]>) {
         out.clear();
         out.extend(self.bonded_joints());
-        // The vertex pairs in parallel, in list order (rayon's indexed collect keeps it).
+        // The vertex pairs in parallel, in list order (rayon's extend keeps it).
         out.par_extend(
             self.vertex_pairs
                 .par_iter()
-                .with_min_len(PAIR_CHUNK)
-                .filter_map(|vp| self.listed_vertex_pair(vp)),
+                .flat_map_iter(|c| c.iter().filter_map(|vp| self.listed_vertex_pair(vp))),
         );
     }
 
@@ -340,6 +332,7 @@ impl StarBonds {
         self.bonded_joints().chain(
             self.vertex_pairs
                 .iter()
+                .flatten()
                 .filter_map(|vp| self.listed_vertex_pair(vp)),
         )
     }
@@ -538,7 +531,7 @@ mod tests {
             "{} stars: one chunk",
             sb.n_stars()
         );
-        assert!(out.len() > 4 * PAIR_CHUNK, "{} pairs", out.len());
+        assert!(out.len() > 20_000, "{} pairs", out.len());
         assert_eq!(lists[1].1, *out, "1 and 2 threads list different pairs");
         assert_eq!(lists[1].0.vertex_pairs, sb.vertex_pairs);
         assert_eq!(lists[1].0.star_off, sb.star_off);
@@ -556,11 +549,22 @@ mod tests {
             vertex_pairs_of_star(s as u32, &joints_of(s), &jt, &mut scratch, &mut want);
         }
         star_off.push(want.len() as u32);
+        let global_off = |sb: &StarBonds| -> Vec<u32> {
+            let mut off = Vec::new();
+            let mut base = 0;
+            for (c, o) in sb.star_off.iter().enumerate() {
+                off.extend(o[..o.len() - 1].iter().map(|x| base + x));
+                base += sb.vertex_pairs[c].len() as u32;
+            }
+            off.push(base);
+            off
+        };
         assert_eq!(
-            sb.vertex_pairs, want,
+            sb.vertex_pairs.concat(),
+            want,
             "vertex pairs differ from the serial build"
         );
-        assert_eq!(sb.star_off, star_off);
+        assert_eq!(global_off(sb), star_off);
         let serial: Vec<[u32; 2]> = sb.bonded().collect();
         assert_eq!(*out, serial, "parallel listing differs from the serial one");
         // and the set is the definition's
