@@ -200,3 +200,51 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
     }
     assert!(saved_pairs.len() + broken_pairs.len() <= fresh_pairs.len());
 }
+
+/// The fracture stage's set-up (star bonds built while the joints' state and scratch are)
+/// gives, on 1- and 2-thread pools, the bonded list of `StarBonds::with_pairs` and the state
+/// of `JointState::new` called on their own, bit for bit.
+#[test]
+fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
+    use fdem_solver::system::ForceContribution;
+    let dir = std::env::temp_dir().join(format!("fdem-stage-setup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let l = driver::load(&scene(&dir)).unwrap();
+    let set = || {
+        fdem_solver::fracture_stage::joint_set(&l.scene, &l.model, &l.file)
+            .unwrap()
+            .unwrap()
+    };
+    let s = set();
+    let mut want_pairs = Vec::new();
+    fdem_solver::star_bonds::StarBonds::with_pairs(
+        &s.nodes,
+        &s.triangles,
+        l.model.n_nodes(),
+        &mut want_pairs,
+    );
+    let want_state = fdem_fracture::JointState::new(&s, &l.model.x0);
+    assert!(want_pairs.len() > s.len(), "vertex pairs listed too");
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let (stage, bonded, _) = pool.install(|| {
+            fdem_solver::fracture_stage::FractureStage::new(set(), &l.model, None, None)
+        });
+        assert_eq!(
+            bonded.lock().unwrap().initial,
+            want_pairs,
+            "{threads} threads"
+        );
+        let st = stage.joint_state().unwrap();
+        assert_eq!(st.history, want_state.history, "{threads} threads");
+        assert_eq!(st.intact, want_state.intact);
+        assert_eq!(
+            st.stored_initial.to_bits(),
+            want_state.stored_initial.to_bits()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,6 +1,8 @@
 //! Bounding circles of triangles (about the centroid) and the couple criterion shared by all
 //! broad phases: keep (i, j) if `|c_i - c_j| <= r_i + r_j + b`.
 
+use rayon::prelude::*;
+
 use crate::geom::{V2, centroid, finite, norm, sub};
 
 /// Bounding circle of every triangle: centroid `c` and radius `r = max |x_vertex - c|`.
@@ -14,19 +16,35 @@ pub struct BoundingCircles {
 }
 
 impl BoundingCircles {
-    /// Recomputes the circles for positions `x` and triangles `tris` (no allocation once warm).
+    /// Recomputes the circles for positions `x` and triangles `tris` (no allocation once
+    /// warm; in parallel above 8 192 triangles, each circle from its own triangle only: the
+    /// same values for any number of threads).
     pub fn update(&mut self, x: &[V2], tris: &[[u32; 3]]) {
-        self.c.clear();
-        self.r.clear();
-        for t in tris {
+        let circle = |((c, r), t): ((&mut V2, &mut f64), &[u32; 3])| {
             let v = [x[t[0] as usize], x[t[1] as usize], x[t[2] as usize]];
-            let c = centroid(&v);
-            let r = norm(sub(v[0], c))
-                .max(norm(sub(v[1], c)))
-                .max(norm(sub(v[2], c)));
-            let ok = finite(c) && r.is_finite();
-            self.c.push(c);
-            self.r.push(if ok { r } else { f64::NAN });
+            let cc = centroid(&v);
+            let rr = norm(sub(v[0], cc))
+                .max(norm(sub(v[1], cc)))
+                .max(norm(sub(v[2], cc)));
+            let ok = finite(cc) && rr.is_finite();
+            *c = cc;
+            *r = if ok { rr } else { f64::NAN };
+        };
+        self.c.resize(tris.len(), [0.0; 2]);
+        self.r.resize(tris.len(), 0.0);
+        if tris.len() < 8192 {
+            self.c
+                .iter_mut()
+                .zip(self.r.iter_mut())
+                .zip(tris)
+                .for_each(circle);
+        } else {
+            self.c
+                .par_iter_mut()
+                .zip(self.r.par_iter_mut())
+                .zip(tris.par_iter())
+                .with_min_len(2048)
+                .for_each(circle);
         }
     }
 

@@ -38,6 +38,15 @@ use crate::nbs::Nbs;
 use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
 
+/// The exact refresh test on one chunk: some node moved `|x - x_det|^2 >= h2`, or is NaN.
+fn moved_exact(xa: &[V2], xb: &[V2], h2: f64) -> bool {
+    xa.iter().zip(xb).fold(false, |moved, (a, b)| {
+        let d = sub(*a, *b);
+        let d2 = d[0] * d[0] + d[1] * d[1];
+        moved | (d2 >= h2) | d2.is_nan()
+    })
+}
+
 /// Errors found at the contact check point.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ContactError {
@@ -155,6 +164,12 @@ pub struct Contact {
     nbs: Nbs,
     parry: ParryBroadPhase,
     x_det: Vec<V2>,
+    /// `x_det` rounded to single precision: the refresh check's filter (see
+    /// [`Contact::update_detection`]).
+    x_det32: Vec<[f32; 2]>,
+    /// The filter's bound: a node with `|x - x_det32|^2 < det32_clear` has certainly moved
+    /// less than `b/2` (negative: the filter clears nothing).
+    det32_clear: f64,
     wall_det: Vec<V2>,
     n_tris_det: usize,
     buffer: f64,
@@ -201,6 +216,8 @@ impl Contact {
             nbs: Nbs::new(),
             parry: ParryBroadPhase::new(),
             x_det: Vec::new(),
+            x_det32: Vec::new(),
+            det32_clear: -1.0,
             wall_det: Vec::new(),
             n_tris_det: 0,
             buffer: settings.buffer,
@@ -395,24 +412,37 @@ impl Contact {
     }
 
     /// Redetects if needed (rigorous criterion, module docs); returns true if it did.
+    ///
+    /// The criterion is exact: a node moved `|x - x_det| >= b/2` since the last detection
+    /// (in double precision, NaN counting as moved), or a plane moved `b/2` along its normal.
+    /// To read less memory per step, each chunk of 8 192 nodes is first compared with a
+    /// single-precision copy of the detection positions: where every node of the chunk is
+    /// closer to its copy than `b/2` minus the copy's rounding bound (`det32_clear`), no node
+    /// of the chunk can have moved `b/2`, and the chunk is done; only the other chunks are
+    /// compared with the double-precision positions. The answer is always the exact test's
+    /// (7.2 MB read instead of 9.6 MB for 600 000 nodes while nothing is near the bound).
     pub fn update_detection(&mut self, x: &[V2], tris: &[[u32; 3]]) -> bool {
         let mut need = self.stale
             || x.len() != self.x_det.len()
+            || x.len() != self.x_det32.len()
             || tris.len() != self.n_tris_det
             || self.walls.len() != self.wall_det.len();
         if !need {
             let half = 0.5 * self.buffer;
             let h2 = half * half;
-            // Branch-free per chunk (vectorises), chunks in parallel; NaN counts as moved.
+            let clear = self.det32_clear;
+            // Branch-free per chunk (vectorises), chunks in parallel; NaN counts as moved
+            // (and never passes the filter: `NaN < clear` is false).
             need = x
                 .par_chunks(8192)
+                .zip(self.x_det32.par_chunks(8192))
                 .zip(self.x_det.par_chunks(8192))
-                .any(|(xa, xb)| {
-                    xa.iter().zip(xb).fold(false, |moved, (a, b)| {
-                        let d = sub(*a, *b);
-                        let d2 = d[0] * d[0] + d[1] * d[1];
-                        moved | (d2 >= h2) | d2.is_nan()
-                    })
+                .any(|((xa, xf), xb)| {
+                    let cleared = xa.iter().zip(xf).fold(true, |ok, (a, f)| {
+                        let d = [a[0] - f64::from(f[0]), a[1] - f64::from(f[1])];
+                        ok & (d[0] * d[0] + d[1] * d[1] < clear)
+                    });
+                    !cleared && moved_exact(xa, xb, h2)
                 })
                 || self.walls.iter().zip(&self.wall_det).any(|(w, p0)| {
                     let s = dot(sub(w.point, *p0), w.normal).abs();
@@ -530,11 +560,48 @@ impl Contact {
 
         self.x_det.clear();
         self.x_det.extend_from_slice(x);
+        self.set_det32();
         self.wall_det.clear();
         self.wall_det.extend(self.walls.iter().map(|w| w.point));
         self.n_tris_det = tris.len();
         self.stale = false;
         self.n_detections += 1;
+    }
+
+    /// The single-precision copy of the detection positions and the filter's bound:
+    /// `(b/2 (1 - 1e-9) - e)^2` with `e = 2^-23 max |x_det| + 2^-140` bounding the copy's rounding
+    /// error per node (at most `2^-24 |x|` per coordinate, so `|x_det32 - x_det| <= 2^-24
+    /// sqrt 2 max |x|`); the relative `1e-9` covers the rounding of the double-precision
+    /// differences and squares (about `2^-52` each). Non-finite positions, or an `e` not
+    /// below the margin, switch the filter off (bound -1: only the exact test decides).
+    fn set_det32(&mut self) {
+        self.x_det32.resize(self.x_det.len(), [0.0; 2]);
+        // Per node, in parallel; the largest coordinate and the finiteness are exact
+        // reductions (any order gives the same value).
+        let (finite, amax) = self
+            .x_det32
+            .par_iter_mut()
+            .zip(self.x_det.par_iter())
+            .with_min_len(8192)
+            .fold(
+                || (true, 0.0f64),
+                |(ok, m), (f, p)| {
+                    *f = [p[0] as f32, p[1] as f32];
+                    (
+                        ok & p[0].is_finite() & p[1].is_finite(),
+                        m.max(p[0].abs()).max(p[1].abs()),
+                    )
+                },
+            )
+            .reduce(|| (true, 0.0f64), |a, b| (a.0 & b.0, a.1.max(b.1)));
+        // plus 2^-140 for coordinates below f32's normal range (spacing 2^-149 there)
+        let e = amax * 2f64.powi(-23) + 2f64.powi(-140);
+        let r = 0.5 * self.buffer * (1.0 - 1e-9) - e;
+        self.det32_clear = if finite && r > 0.0 && r.is_finite() {
+            r * r
+        } else {
+            -1.0
+        };
     }
 
     /// Evaluates all contact forces (trial: the committed friction history is only read).

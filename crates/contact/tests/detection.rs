@@ -220,3 +220,167 @@ fn narrow_filter_drops_only_separated_candidates() {
         all.len()
     );
 }
+
+/// The parallel broad phase (bands of rows) on 1- and 2-thread pools against the serial
+/// sweep and the brute force: the same sorted list, element for element.
+#[test]
+fn parallel_nbs_matches_serial_and_brute_force_on_1_and_2_threads() {
+    for (seed, n, side, brute) in [(11, 12_000, 50.0, true), (12, 40_000, 90.0, false)] {
+        // no shared nodes here: a shared node is placed with the other triangle, so with
+        // p_share > 0 long triangles make the cloud nearly all-pairs (the property test
+        // covers shared nodes)
+        let (x, tris, bonded) = cloud(seed, n, side, 3.0, 0.0, n / 10);
+        let mut circles = BoundingCircles::default();
+        circles.update(&x, &tris);
+        let mut excl = Exclusions::new();
+        excl.set_bonded(tris.len(), &bonded);
+        let b = 0.1;
+        let mut serial = Vec::new();
+        Nbs::new().find_couples_serial(&circles, b, &tris, &excl, &mut serial);
+        // Not vacuous: about 1 couple per triangle or more at this density.
+        assert!(serial.len() > n / 2, "only {} couples", serial.len());
+        if brute {
+            let want = brute_force_couples(&circles, b, |i, j| excl.excluded(&tris, i, j));
+            assert_eq!(serial, want, "serial NBS differs from brute force");
+        }
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut nbs = Nbs::new();
+            let mut out = Vec::new();
+            // twice with the same scratch: the warm search gives the same list
+            for _ in 0..2 {
+                pool.install(|| nbs.find_couples(&circles, b, &tris, &excl, &mut out));
+                assert_eq!(out, serial, "{threads} threads, {n} triangles");
+            }
+        }
+    }
+}
+
+/// The refresh check (single-precision filter, then the exact test on the chunks it cannot
+/// clear) answers exactly the double-precision criterion `|x - x_det|^2 >= (b/2)^2` (or NaN)
+/// on every trial: nodes moved up to just below, at and just above `b/2`, far from the
+/// origin (larger rounding of the copy) and near it, and a NaN; on 1 and 2 threads.
+#[test]
+fn refresh_check_answers_the_exact_criterion_on_1_and_2_threads() {
+    // 9 000 triangles, 27 000 nodes: four chunks of the check.
+    let (x0, tris, _) = cloud(21, 9_000, 90.0, 3.0, 0.0, 0);
+    let b = 0.1;
+    let half = 0.5 * b;
+    let exact = |x: &[[f64; 2]], xd: &[[f64; 2]]| {
+        x.iter().zip(xd).any(|(a, d)| {
+            let v = [a[0] - d[0], a[1] - d[1]];
+            let d2 = v[0] * v[0] + v[1] * v[1];
+            d2 >= half * half || d2.is_nan()
+        })
+    };
+    for offset in [0.0, 1.0e3] {
+        let xd: Vec<[f64; 2]> = x0.iter().map(|p| [p[0] + offset, p[1] + offset]).collect();
+        let mut rng = Rng(5);
+        // (node, factor of b/2, direction): one node moved by that much, every other node
+        // jiggled by up to 0.4 b/2
+        let mut trials = Vec::new();
+        for k in 0..36 {
+            let f = match k % 6 {
+                0 => 0.5,
+                1 => 1.0 - 1e-7,
+                2 => 1.0 - 1e-13,
+                3 => 1.0,
+                4 => 1.0 + 1e-13,
+                _ => 1.5,
+            };
+            let node = (rng.next_u64() % xd.len() as u64) as usize;
+            trials.push((node, f, rng.range(0.0, std::f64::consts::TAU)));
+        }
+        let mut answers = Vec::new();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut c = Contact::new(
+                ContactSettings {
+                    buffer: b,
+                    ..Default::default()
+                },
+                ContactLaws::uniform(1, ContactLaw::with_penalty(1.0)),
+            );
+            let mut rng = Rng(9);
+            let mut got = Vec::new();
+            let (mut n_true, mut n_false) = (0, 0);
+            let mut at_xd = false;
+            for (t, &(node, f, a)) in trials.iter().enumerate() {
+                // back to a detection at xd after a trial that redetected
+                if !at_xd {
+                    c.invalidate();
+                    assert!(pool.install(|| c.update_detection(&xd, &tris)));
+                }
+                let mut x: Vec<[f64; 2]> = xd
+                    .iter()
+                    .map(|p| {
+                        let (r, s) = (rng.range(0.0, 0.4 * half), rng.range(0.0, 6.3));
+                        [p[0] + r * s.cos(), p[1] + r * s.sin()]
+                    })
+                    .collect();
+                x[node] = [
+                    xd[node][0] + f * half * a.cos(),
+                    xd[node][1] + f * half * a.sin(),
+                ];
+                if t == 7 {
+                    x[node][1] = f64::NAN;
+                }
+                let want = exact(&x, &xd);
+                let moved = pool.install(|| c.update_detection(&x, &tris));
+                assert_eq!(moved, want, "trial {t}: factor {f}, offset {offset}");
+                at_xd = !moved;
+                if want {
+                    n_true += 1;
+                } else {
+                    n_false += 1;
+                }
+                got.push(moved);
+            }
+            // Both answers occur (not vacuous).
+            assert!(
+                n_true >= 10 && n_false >= 10,
+                "{n_true} moved, {n_false} not"
+            );
+            answers.push(got);
+        }
+        assert_eq!(answers[0], answers[1], "1 and 2 threads answer differently");
+    }
+}
+
+/// Bounding circles of 20 000 triangles (the parallel path) on 1- and 2-thread pools equal,
+/// bit for bit, those computed serially (blocks of 4 000 triangles, below the parallel
+/// threshold), including a triangle with a NaN vertex.
+#[test]
+fn parallel_bounding_circles_match_the_serial_ones_on_1_and_2_threads() {
+    let (mut x, tris, _) = cloud(31, 20_000, 120.0, 3.0, 0.0, 0);
+    x[3 * 777][0] = f64::NAN;
+    let bits = |c: &BoundingCircles| -> Vec<u64> {
+        c.c.iter()
+            .flat_map(|p| [p[0].to_bits(), p[1].to_bits()])
+            .chain(c.r.iter().map(|r| r.to_bits()))
+            .collect()
+    };
+    let mut serial = BoundingCircles::default();
+    let mut block = BoundingCircles::default();
+    for part in tris.chunks(4000) {
+        block.update(&x, part);
+        serial.c.extend_from_slice(&block.c);
+        serial.r.extend_from_slice(&block.r);
+    }
+    assert!(serial.r[777].is_nan() && serial.r[778].is_finite());
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut c = BoundingCircles::default();
+        pool.install(|| c.update(&x, &tris));
+        assert_eq!(bits(&c), bits(&serial), "{threads} threads");
+    }
+}

@@ -895,7 +895,13 @@ fn dynamic_run(
         .collect();
     let mut energy = Energies::default();
     let mass_dof: Vec<f64> = sys.model.mass.iter().flat_map(|m| [*m, *m]).collect();
-    let grav0: Vec<f64> = state.x.clone();
+    // the start positions for the work of gravity (`gravity_work` reads them only with
+    // gravity: without it no copy of the 2n coordinates)
+    let grav0: Vec<f64> = if sys.model.gravity.is_some() {
+        state.x.clone()
+    } else {
+        Vec::new()
+    };
 
     let emit =
         |sys: &mut SceneSystem, state: &State, writer: &mut Writer| -> Result<(), RunError> {

@@ -237,15 +237,29 @@ impl FractureStage {
         initial: Option<JointState>,
     ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
         let adopted = initial.is_some();
-        let state = initial.unwrap_or_else(|| JointState::new(&set, &model.x0));
-        assert_eq!(state.intact.len(), set.len(), "one saved history per joint");
-        let mut scratch = JointScratch::new(set.len());
-        // the time crate says when the commit is at the last pass's positions
-        scratch.set_position_check(false);
         let n_joints = set.len();
         let mut bond_state = vec![0; n_joints];
-        let mut initial = Vec::new();
-        let stars = if adopted {
+        let mut pairs = Vec::new();
+        // A fresh start: the star bonds (partly serial) are built while the joints' state
+        // and scratch (parallel) are, each from the set alone (the same values either way).
+        let (fresh_stars, (state, mut scratch)) = rayon::join(
+            || {
+                (!adopted).then(|| {
+                    StarBonds::with_pairs(&set.nodes, &set.triangles, model.n_nodes(), &mut pairs)
+                })
+            },
+            || {
+                let state = initial.unwrap_or_else(|| JointState::new(&set, &model.x0));
+                (state, JointScratch::new(set.len()))
+            },
+        );
+        assert_eq!(state.intact.len(), set.len(), "one saved history per joint");
+        // the time crate says when the commit is at the last pass's positions
+        scratch.set_position_check(false);
+        let mut initial = pairs;
+        let stars = if let Some(stars) = fresh_stars {
+            stars
+        } else {
             // A saved state: its broken joints' pairs and its softened joints' stars leave the
             // bonded set before the first force evaluation (the scan of the first end-of-step
             // hook, done here), so the contact stage's first detection finds them.
@@ -263,8 +277,6 @@ impl FractureStage {
             }
             stars.pairs(&mut initial);
             stars
-        } else {
-            StarBonds::with_pairs(&set.nodes, &set.triangles, model.n_nodes(), &mut initial)
         };
         let bonded = Arc::new(Mutex::new(BondedPairs {
             initial,

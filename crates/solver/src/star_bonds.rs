@@ -28,6 +28,8 @@
 //! (triangles touching at a node without a chain of joints between them) are two classes here,
 //! which only keeps more couples in contact (conservative).
 
+use rayon::prelude::*;
+
 /// The star structure of a joint set (reference topology, fixed at set-up) and which bonds
 /// still hold.
 #[derive(Debug, Clone)]
@@ -37,9 +39,10 @@ pub struct StarBonds {
     /// Per joint: the stars of its two end nodes.
     joint_stars: Vec<[u32; 2]>,
     /// Vertex-neighbour pairs (sharing a star, no joint between them) and their star, grouped
-    /// by star: star `s` owns `vertex_pairs[star_off[s]..star_off[s + 1]]`.
-    vertex_pairs: Vec<([u32; 2], u32)>,
-    star_off: Vec<u32>,
+    /// by star, in chunks of [`STAR_CHUNK`] stars (as the set-up builds them, in parallel):
+    /// star `s = c STAR_CHUNK + k` owns `vertex_pairs[c][star_off[c][k]..star_off[c][k + 1]]`.
+    vertex_pairs: Vec<Vec<VertexPair>>,
+    star_off: Vec<Vec<u32>>,
     /// Per triangle: the stars of its vertices (`u32::MAX` where none).
     tri_stars: Vec<[u32; 3]>,
     /// Per star: still intact.
@@ -51,6 +54,44 @@ pub struct StarBonds {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// A vertex-neighbour pair and its star.
+type VertexPair = ([u32; 2], u32);
+
+/// Stars per parallel task of the set-up (fixed: the lists do not depend on the threads).
+const STAR_CHUNK: usize = 2048;
+
+/// The vertex pairs of star `s` with joints `js`: every pair `[a, b]` (`a < b`) of its
+/// triangles with no joint of the star between them, appended to `out` with `s`, in the
+/// order of the sorted triangle list. `star_tris` is scratch.
+fn vertex_pairs_of_star(
+    s: u32,
+    js: &[u32],
+    tris: &[[u32; 2]],
+    star_tris: &mut Vec<u32>,
+    out: &mut Vec<([u32; 2], u32)>,
+) {
+    star_tris.clear();
+    for &j in js {
+        for t in tris[j as usize] {
+            if !star_tris.contains(&t) {
+                star_tris.push(t);
+            }
+        }
+    }
+    star_tris.sort_unstable();
+    for (ia, &a) in star_tris.iter().enumerate() {
+        for &b in &star_tris[ia + 1..] {
+            let by_joint = js.iter().any(|&j| {
+                let p = tris[j as usize];
+                (p[0] == a && p[1] == b) || (p[0] == b && p[1] == a)
+            });
+            if !by_joint {
+                out.push(([a, b], s));
+            }
+        }
+    }
+}
 
 fn find(parent: &mut [u32], mut a: u32) -> u32 {
     while parent[a as usize] != a {
@@ -149,34 +190,33 @@ impl StarBonds {
                 cur[si as usize] += 1;
             }
         }
-        let mut vertex_pairs = Vec::new();
-        let mut star_off = Vec::with_capacity(ns + 1);
-        let mut star_tris: Vec<u32> = Vec::new();
-        for s in 0..ns {
-            star_off.push(vertex_pairs.len() as u32);
-            let js = &star_joints[off[s] as usize..off[s + 1] as usize];
-            star_tris.clear();
-            for &j in js {
-                for t in tris[j as usize] {
-                    if !star_tris.contains(&t) {
-                        star_tris.push(t);
-                    }
+        // Vertex pairs star by star, in parallel over fixed chunks of stars, concatenated in
+        // star order (the list does not depend on the thread count).
+        let (vertex_pairs, star_off): (Vec<Vec<VertexPair>>, Vec<Vec<u32>>) = (0..ns
+            .div_ceil(STAR_CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let (s0, s1) = (c * STAR_CHUNK, ((c + 1) * STAR_CHUNK).min(ns));
+                // at most k(k+1)/2 - k pairs for a star of k joints (k + 1 triangles at most,
+                // less the joints' own pairs): reserved, so the list is not reallocated
+                let bound: usize = (s0..s1)
+                    .map(|s| {
+                        let k = (off[s + 1] - off[s]) as usize;
+                        k * k.saturating_sub(1) / 2
+                    })
+                    .sum();
+                let mut pairs = Vec::with_capacity(bound);
+                let mut offs = Vec::with_capacity(s1 - s0 + 1);
+                let mut star_tris: Vec<u32> = Vec::new();
+                for s in s0..s1 {
+                    offs.push(pairs.len() as u32);
+                    let js = &star_joints[off[s] as usize..off[s + 1] as usize];
+                    vertex_pairs_of_star(s as u32, js, tris, &mut star_tris, &mut pairs);
                 }
-            }
-            star_tris.sort_unstable();
-            for (ia, &a) in star_tris.iter().enumerate() {
-                for &b in &star_tris[ia + 1..] {
-                    let by_joint = js.iter().any(|&j| {
-                        let p = tris[j as usize];
-                        (p[0] == a && p[1] == b) || (p[0] == b && p[1] == a)
-                    });
-                    if !by_joint {
-                        vertex_pairs.push(([a, b], s as u32));
-                    }
-                }
-            }
-        }
-        star_off.push(vertex_pairs.len() as u32);
+                offs.push(pairs.len() as u32);
+                (pairs, offs)
+            })
+            .unzip();
         Self {
             joint_tris: tris.to_vec(),
             joint_stars,
@@ -196,7 +236,7 @@ impl StarBonds {
 
     /// Number of vertex-neighbour pairs (bonded while their star is intact).
     pub fn n_vertex_pairs(&self) -> usize {
-        self.vertex_pairs.len()
+        self.vertex_pairs.iter().map(Vec::len).sum()
     }
 
     /// Number of pairs in the bonded set now.
@@ -224,9 +264,10 @@ impl StarBonds {
                 continue;
             }
             changed = true;
-            let (lo, hi) = (self.star_off[s as usize], self.star_off[s as usize + 1]);
-            for k in lo as usize..hi as usize {
-                let [a, b] = self.vertex_pairs[k].0;
+            let (c, k) = (s as usize / STAR_CHUNK, s as usize % STAR_CHUNK);
+            let (lo, hi) = (self.star_off[c][k], self.star_off[c][k + 1]);
+            for i in lo as usize..hi as usize {
+                let [a, b] = self.vertex_pairs[c][i].0;
                 if !self.held_by_star(a, b, s) {
                     released.push([a, b]);
                     self.n_bonded -= 1;
@@ -258,27 +299,42 @@ impl StarBonds {
     /// pairs)`; the solver lists it once at set-up and then only releases pairs.
     pub fn pairs(&self, out: &mut Vec<[u32; 2]>) {
         out.clear();
-        out.extend(self.bonded());
+        out.extend(self.bonded_joints());
+        // The vertex pairs in parallel, in list order (rayon's extend keeps it).
+        out.par_extend(
+            self.vertex_pairs
+                .par_iter()
+                .flat_map_iter(|c| c.iter().filter_map(|vp| self.listed_vertex_pair(vp))),
+        );
+    }
+
+    /// The pairs of the joints not broken.
+    fn bonded_joints(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
+        self.joint_tris
+            .iter()
+            .zip(&self.joint_released)
+            .filter(|(_, r)| !**r)
+            .map(|(p, _)| *p)
+    }
+
+    /// A vertex pair of star `s` is listed once: by the first intact star that holds it.
+    fn listed_vertex_pair(&self, &([a, b], s): &([u32; 2], u32)) -> Option<[u32; 2]> {
+        let first = self.tri_stars[a as usize]
+            .iter()
+            .filter(|&&t| t != NONE && self.tri_stars[b as usize].contains(&t))
+            .filter(|&&t| self.star_intact[t as usize])
+            .min();
+        (first == Some(&s)).then_some([a, b])
     }
 
     /// The bonded set, each pair once (see [`Self::pairs`]).
     fn bonded(&self) -> impl Iterator<Item = [u32; 2]> + '_ {
-        let joints = self
-            .joint_tris
-            .iter()
-            .zip(&self.joint_released)
-            .filter(|(_, r)| !**r)
-            .map(|(p, _)| *p);
-        let vertex = self.vertex_pairs.iter().filter_map(|&([a, b], s)| {
-            // Listed once: by the first intact star that holds it.
-            let first = self.tri_stars[a as usize]
+        self.bonded_joints().chain(
+            self.vertex_pairs
                 .iter()
-                .filter(|&&t| t != NONE && self.tri_stars[b as usize].contains(&t))
-                .filter(|&&t| self.star_intact[t as usize])
-                .min();
-            (first == Some(&s)).then_some([a, b])
-        });
-        joints.chain(vertex)
+                .flatten()
+                .filter_map(|vp| self.listed_vertex_pair(vp)),
+        )
     }
 }
 
@@ -449,6 +505,74 @@ mod tests {
         assert!(held.is_empty() && sb.n_bonded() == 0);
         assert!(checked >= 12, "only {checked} states checked");
         assert!(n_released > 150, "only {n_released} pairs released");
+    }
+
+    #[test]
+    fn parallel_set_up_lists_the_serial_pairs_on_1_and_2_threads() {
+        // 60 x 60 cells: 7 200 triangles, about 3 600 stars (two chunks of stars) and tens of
+        // thousands of vertex pairs (several listing chunks).
+        let mesh = square(60);
+        let ex = explode(&mesh, None).expect("explode");
+        let (jn, jt) = joint_arrays(&ex);
+        let n_nodes = ex.mesh.nodes.len();
+        let mut lists = Vec::new();
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut out = Vec::new();
+            let sb = pool.install(|| StarBonds::with_pairs(&jn, &jt, n_nodes, &mut out));
+            lists.push((sb, out));
+        }
+        let (sb, out) = &lists[0];
+        assert!(
+            sb.n_stars() > STAR_CHUNK,
+            "{} stars: one chunk",
+            sb.n_stars()
+        );
+        assert!(out.len() > 20_000, "{} pairs", out.len());
+        assert_eq!(lists[1].1, *out, "1 and 2 threads list different pairs");
+        assert_eq!(lists[1].0.vertex_pairs, sb.vertex_pairs);
+        assert_eq!(lists[1].0.star_off, sb.star_off);
+        // The serial algorithm: stars one after the other, then the serial listing.
+        let mut want = Vec::new();
+        let mut star_off = Vec::new();
+        let mut scratch = Vec::new();
+        let joints_of = |s: usize| -> Vec<u32> {
+            (0..jn.len() as u32)
+                .filter(|&j| sb.joint_stars[j as usize].contains(&(s as u32)))
+                .collect()
+        };
+        for s in 0..sb.n_stars() {
+            star_off.push(want.len() as u32);
+            vertex_pairs_of_star(s as u32, &joints_of(s), &jt, &mut scratch, &mut want);
+        }
+        star_off.push(want.len() as u32);
+        let global_off = |sb: &StarBonds| -> Vec<u32> {
+            let mut off = Vec::new();
+            let mut base = 0;
+            for (c, o) in sb.star_off.iter().enumerate() {
+                off.extend(o[..o.len() - 1].iter().map(|x| base + x));
+                base += sb.vertex_pairs[c].len() as u32;
+            }
+            off.push(base);
+            off
+        };
+        assert_eq!(
+            sb.vertex_pairs.concat(),
+            want,
+            "vertex pairs differ from the serial build"
+        );
+        assert_eq!(global_off(sb), star_off);
+        let serial: Vec<[u32; 2]> = sb.bonded().collect();
+        assert_eq!(*out, serial, "parallel listing differs from the serial one");
+        // and the set is the definition's
+        let original: Vec<u32> = ex.original_node.iter().map(|n| n.0).collect();
+        let none = vec![false; jn.len()];
+        let brute = brute_force(&ex.mesh.triangles, &original, &jn, &jt, &none, &none);
+        assert_eq!(as_set(out), brute);
+        assert_eq!(out.len(), brute.len(), "a pair listed twice");
     }
 
     #[test]
