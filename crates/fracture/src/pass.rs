@@ -8,7 +8,7 @@
 //! [`JointScratch`], one array per field. The pass runs in parallel over fixed chunks of
 //! [`CHUNK`] joints, four joints at a time through the block kernel (crate-private `block`:
 //! intact joints undamaged and before both peaks, packed instructions, the same bits as the
-//! scalar code), every other joint through the scalar `evaluate_into`; each chunk also
+//! scalar code), every other joint through the scalar [`evaluate_into`]; each chunk also
 //! records whether one of its joints softened for the
 //! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
 //! the [`JointSet`]) and adds the sum to the node force.
