@@ -65,7 +65,7 @@ pub type JointNodes = [[f64; 2]; 4];
 
 /// Below this fraction of the reference length a joint is treated as degenerate: its frame
 /// falls back to a fixed direction, so forces stay finite.
-pub(crate) const DEGENERATE: f64 = 1e-9;
+const DEGENERATE: f64 = 1e-9;
 
 /// Kinematics of a joint at positions `x` (P, Q, R, S), reference length `h`.
 #[inline]

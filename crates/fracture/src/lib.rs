@@ -20,10 +20,7 @@
 //!   advanced by the trapezoidal rule included, into the caller's scratch) and the end-of-step
 //!   [`commit_joints`] (damage, energy books, breaking when fully damaged and open (or slid by
 //!   `h/10`), events); at the positions of the last pass the commit swaps the trial arrays
-//!   in (structure of arrays, [`state`]) instead of evaluating again. The pass evaluates the
-//!   joints four at a time in lane arrays (the crate-private `block` kernel: the pre-peak
-//!   fast path of intact, undamaged joints, packed instructions, bit for bit the scalar
-//!   code) and leaves every other joint to the scalar evaluation.
+//!   in (structure of arrays, [`state`]) instead of evaluating again.
 //! - [`timestep`]: the joints' bound on `omega^2` for the stable time step.
 //! - [`events`]: a broken joint reported as data ([`FractureEvent`]): the solver hands the
 //!   two triangles to contact; this crate does not depend on contact.
@@ -51,7 +48,6 @@
 //! ```
 #![forbid(unsafe_code)]
 
-mod block;
 pub mod error;
 pub mod events;
 pub mod joint;

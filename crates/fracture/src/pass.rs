@@ -6,10 +6,7 @@
 //! conjugates `[A sigma, A tau, o, s]`, the stored energy, and the work and dissipation books
 //! advanced by the trapezoidal rule) goes into the trial arrays of the caller's
 //! [`JointScratch`], one array per field. The pass runs in parallel over fixed chunks of
-//! [`CHUNK`] joints, four joints at a time through the block kernel (crate-private `block`:
-//! intact joints undamaged and before both peaks, packed instructions, the same bits as the
-//! scalar code), every other joint through the scalar [`evaluate_into`]; each chunk also
-//! records whether one of its joints softened for the
+//! [`CHUNK`] joints; each chunk also records whether one of its joints softened for the
 //! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
 //! the [`JointSet`]) and adds the sum to the node force.
 //!
@@ -27,10 +24,8 @@
 
 use rayon::prelude::*;
 
-use crate::block::{BlockIn, LANES, pre_peak_block};
 use crate::events::{FractureEvent, FractureMode};
 use crate::joint::{EvalOut, evaluate_into};
-use crate::material::JointConsts;
 use crate::set::{JointId, JointSet};
 use crate::state::{JointHistory, JointState};
 
@@ -139,6 +134,7 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
 fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
     let n = set.len();
     scratch.fit(n);
+    let th = set.thickness;
     (
         scratch.forces.par_chunks_mut(CHUNK),
         scratch.trial.par_chunks_mut(CHUNK),
@@ -148,151 +144,67 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
         .with_min_len(min_chunks(n))
         .enumerate()
         .for_each(|(c, (f, h, flag))| {
-            *flag = chunk_pass(set, state, x, c * CHUNK, f, h);
-        });
-}
-
-/// The pass over the joints `j0..j0 + f.len()` (one chunk): blocks of [`LANES`] joints
-/// through the block kernel, each lane it declines (and the tail) through [`joint_pass`].
-/// Returns the chunk's flags.
-#[inline(always)]
-fn chunk_pass(
-    set: &JointSet,
-    state: &JointState,
-    x: &[[f64; 2]],
-    j0: usize,
-    f: &mut [[[f64; 2]; 4]],
-    h: &mut [JointHistory],
-) -> u8 {
-    // the committed history and the joint data of this chunk, cut to its length
-    let n = f.len().min(h.len());
-    let (f, h) = (&mut f[..n], &mut h[..n]);
-    let r = j0..j0 + n;
-    let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
-    let (nodes, consts, material) = (
-        &set.nodes[r.clone()],
-        &set.consts[r.clone()],
-        &set.material[r],
-    );
-    let mut fl = 0u8;
-    let nb = n / LANES * LANES;
-    for (b, (fb, hb)) in f[..nb]
-        .chunks_exact_mut(LANES)
-        .zip(h[..nb].chunks_exact_mut(LANES))
-        .enumerate()
-    {
-        let i0 = b * LANES;
-        let (fb, hb): (&mut [_; LANES], &mut [_; LANES]) =
-            (fb.try_into().unwrap(), hb.try_into().unwrap());
-        let lanes = i0..i0 + LANES;
-        let done = pre_peak_block(
-            &set.materials,
-            x,
-            set.thickness,
-            BlockIn {
-                nodes: nodes[lanes.clone()].try_into().unwrap(),
-                consts: consts[lanes.clone()].try_into().unwrap(),
-                material: material[lanes.clone()].try_into().unwrap(),
-                old: old[lanes.clone()].try_into().unwrap(),
-                intact: intact[lanes].try_into().unwrap(),
-            },
-            fb,
-            hb,
-        );
-        for l in 0..LANES {
-            if !done[l] {
-                let i = i0 + l;
-                fl |= joint_pass(
-                    set,
-                    x,
-                    nodes[i],
+            let j0 = c * CHUNK;
+            // the committed history and the joint data of this chunk, cut to its length
+            let n = f.len().min(h.len());
+            let r = j0..j0 + n;
+            let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
+            let (nodes, consts, material) = (
+                &set.nodes[r.clone()],
+                &set.consts[r.clone()],
+                &set.material[r],
+            );
+            let mut fl = 0u8;
+            for i in 0..n {
+                let ho = &old[i];
+                if !intact[i] {
+                    // a broken joint keeps its books; no force
+                    f[i] = [[0.0; 2]; 4];
+                    h[i] = *ho;
+                    continue;
+                }
+                let [np, nq, nr, ns] = nodes[i];
+                let xs = [
+                    x[np as usize],
+                    x[nq as usize],
+                    x[nr as usize],
+                    x[ns as usize],
+                ];
+                let hn = &mut h[i];
+                let stored = evaluate_into::<true>(
+                    &set.materials[material[i] as usize],
                     &consts[i],
-                    material[i],
-                    &old[i],
-                    intact[i],
-                    &mut fb[l],
-                    &mut hb[l],
+                    &xs,
+                    [ho.damage, ho.mode_mix, ho.shear_secant],
+                    th,
+                    EvalOut {
+                        forces: &mut f[i],
+                        damage: &mut hn.damage,
+                        mode_mix: &mut hn.mode_mix,
+                        shear_secant: &mut hn.shear_secant,
+                        local: &mut hn.last,
+                    },
                 );
+                // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
+                let (a, b) = (&ho.last, &hn.last);
+                let mut dw = 0.0;
+                for p in 0..2 {
+                    let q = 4 * p;
+                    dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
+                        + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
+                }
+                hn.work = ho.work + dw;
+                hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
+                hn.stored = stored;
+                if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
+                    fl |= SOFTENED;
+                }
+                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
+                    fl |= BREAKS;
+                }
             }
-        }
-    }
-    for i in nb..n {
-        fl |= joint_pass(
-            set,
-            x,
-            nodes[i],
-            &consts[i],
-            material[i],
-            &old[i],
-            intact[i],
-            &mut f[i],
-            &mut h[i],
-        );
-    }
-    fl
-}
-
-/// One joint of the pass (the scalar code): its forces into `f`, its trial history into
-/// `hn`; returns its flags ([`SOFTENED`], [`BREAKS`]).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn joint_pass(
-    set: &JointSet,
-    x: &[[f64; 2]],
-    nodes: [u32; 4],
-    consts: &JointConsts,
-    material: u32,
-    ho: &JointHistory,
-    intact: bool,
-    f: &mut [[f64; 2]; 4],
-    hn: &mut JointHistory,
-) -> u8 {
-    if !intact {
-        // a broken joint keeps its books; no force
-        *f = [[0.0; 2]; 4];
-        *hn = *ho;
-        return 0;
-    }
-    let [np, nq, nr, ns] = nodes;
-    let xs = [
-        x[np as usize],
-        x[nq as usize],
-        x[nr as usize],
-        x[ns as usize],
-    ];
-    let stored = evaluate_into::<true>(
-        &set.materials[material as usize],
-        consts,
-        &xs,
-        [ho.damage, ho.mode_mix, ho.shear_secant],
-        set.thickness,
-        EvalOut {
-            forces: f,
-            damage: &mut hn.damage,
-            mode_mix: &mut hn.mode_mix,
-            shear_secant: &mut hn.shear_secant,
-            local: &mut hn.last,
-        },
-    );
-    // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
-    let (a, b) = (&ho.last, &hn.last);
-    let mut dw = 0.0;
-    for p in 0..2 {
-        let q = 4 * p;
-        dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
-            + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
-    }
-    hn.work = ho.work + dw;
-    hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
-    hn.stored = stored;
-    let mut fl = 0;
-    if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
-        fl |= SOFTENED;
-    }
-    if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts.h) {
-        fl |= BREAKS;
-    }
-    fl
+            *flag = fl;
+        });
 }
 
 /// Fully damaged (z(1) = 0: no tension, no shear) and open at both points: the joint carries
@@ -479,183 +391,4 @@ fn commit(
         }
     }
     n_new
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::material::JointMaterialInput;
-    use crate::set::Joint;
-
-    /// Xorshift numbers in [-1, 1).
-    struct Rnd(u64);
-    impl Rnd {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        }
-    }
-
-    fn fbits(f: &[[f64; 2]; 4]) -> Vec<u64> {
-        f.as_flattened().iter().map(|v| v.to_bits()).collect()
-    }
-
-    fn hist_bits(h: &JointHistory) -> Vec<u64> {
-        let mut v: Vec<f64> = Vec::new();
-        v.extend(h.damage);
-        v.extend(h.shear_secant);
-        v.extend(h.mode_mix);
-        v.extend(h.last);
-        v.extend([h.work, h.stored, h.dissipated]);
-        v.into_iter().map(f64::to_bits).collect()
-    }
-
-    /// Independent joints of random length and orientation, each in one of seven cases drawn at
-    /// random (so the blocks mix them; the first for about half of them): pre-peak in tension, in compression, with a softened
-    /// shear secant, past the opening peak, past the slip peak, damaged, broken; random
-    /// committed books.
-    fn scene(n: usize, seed: u64) -> (JointSet, JointState, Vec<[f64; 2]>) {
-        let mat = JointMaterialInput {
-            tensile_strength: 5e6,
-            cohesion: 8e6,
-            friction_angle_deg: 35.0,
-            fracture_energy_i: 50.0,
-            fracture_energy_ii: 200.0,
-            penalty_normal: 3e11,
-            penalty_tangential: 2e11,
-        };
-        let m = mat.validate(0).unwrap();
-        let mut r = Rnd(seed);
-        let mut joints = Vec::new();
-        let mut x = Vec::new();
-        let mut case = Vec::new();
-        for j in 0..n {
-            let h = 0.01 * (1.5 + r.next());
-            let k = m.consts(h);
-            // case 0 for about half of the joints, 1 to 6 for the rest
-            let c = (((r.next() + 1.0) * 6.0) as usize).saturating_sub(5).min(6);
-            let (o, s) = match c {
-                1 => (-5.0 * k.o_p * (r.next() + 1.0), 0.9 * k.s_p0 * r.next()),
-                3 => (k.o_p * (2.0 + r.next()), 0.5 * k.s_p0 * r.next()),
-                4 => (0.5 * k.o_p * r.next(), k.s_p0 * (2.0 + r.next())),
-                _ => (0.9 * k.o_p * r.next(), 0.9 * k.s_p0 * r.next()),
-            };
-            let (ca, sa) = ((3.0 * r.next()).cos(), (3.0 * r.next()).sin());
-            let (ca, sa) = (ca / ca.hypot(sa), sa / ca.hypot(sa));
-            let c0 = [r.next(), r.next()];
-            // local frame: P at 0, Q at h along tt; nn = (tt_y, -tt_x) is local -y
-            let local = [[0.0, 0.0], [h, 0.0], [h + s, -o], [s, -o]];
-            for p in local {
-                x.push([c0[0] + ca * p[0] - sa * p[1], c0[1] + sa * p[0] + ca * p[1]]);
-            }
-            let b = 4 * j as u32;
-            joints.push(Joint {
-                nodes: [b, b + 1, b + 2, b + 3],
-                triangles: [2 * j as u32, 2 * j as u32 + 1],
-                ref_length: h,
-                material: 0,
-            });
-            case.push(c);
-        }
-        let set = JointSet::new(&joints, &[mat], x.len(), 0.7).unwrap();
-        let mut state = JointState::new(&set, &x);
-        for (j, &c) in case.iter().enumerate() {
-            let hj = &mut state.history[j];
-            for v in hj.last.iter_mut() {
-                *v *= 1.0 + 0.1 * r.next();
-            }
-            hj.work = r.next();
-            hj.stored = r.next();
-            hj.dissipated = r.next();
-            hj.mode_mix = [r.next().abs(), r.next().abs()];
-            match c {
-                2 => hj.shear_secant = [0.5 * m.cohesion / set.consts[j].s_p0; 2],
-                // past a peak, undamaged at the last commit: softens now
-                3 | 4 => hj.damage = [0.0; 2],
-                // partly or fully damaged (a fully damaged open joint may break)
-                5 if r.next() > 0.0 => hj.damage = [1.0; 2],
-                5 => hj.damage = [0.0, 0.3 * (r.next() + 1.0)],
-                6 => state.intact[j] = false,
-                _ => {}
-            }
-        }
-        (set, state, x)
-    }
-
-    #[test]
-    fn block_kernel_is_the_scalar_pass_bit_for_bit() {
-        // every lane the block kernel takes equals the scalar joint evaluation in every output
-        // bit; the lanes it declines are left alone; the whole chunk pass (blocks, declined
-        // lanes, tail) equals the scalar pass joint by joint, flags included
-        let n = 4001; // a tail of one joint
-        let (set, state, x) = scene(n, 0x9e37_79b9_7f4a_7c15);
-        let sentinel = JointHistory {
-            work: f64::NAN,
-            ..JointHistory::FRESH
-        };
-        let (mut taken, mut declined) = (0, 0);
-        let mut f_ref = vec![[[0.0; 2]; 4]; n];
-        let mut h_ref = vec![sentinel; n];
-        let mut fl_ref = 0;
-        for j in 0..n {
-            fl_ref |= joint_pass(
-                &set,
-                &x,
-                set.nodes[j],
-                &set.consts[j],
-                set.material[j],
-                &state.history[j],
-                state.intact[j],
-                &mut f_ref[j],
-                &mut h_ref[j],
-            );
-        }
-        for j0 in (0..n - LANES).step_by(LANES) {
-            let r = j0..j0 + LANES;
-            let mut fb = [[[f64::NAN; 2]; 4]; LANES];
-            let mut hb = [sentinel; LANES];
-            let done = pre_peak_block(
-                &set.materials,
-                &x,
-                set.thickness,
-                BlockIn {
-                    nodes: set.nodes[r.clone()].try_into().unwrap(),
-                    consts: set.consts[r.clone()].try_into().unwrap(),
-                    material: set.material[r.clone()].try_into().unwrap(),
-                    old: state.history[r.clone()].try_into().unwrap(),
-                    intact: state.intact[r].try_into().unwrap(),
-                },
-                &mut fb,
-                &mut hb,
-            );
-            for l in 0..LANES {
-                let j = j0 + l;
-                if done[l] {
-                    taken += 1;
-                    assert_eq!(fbits(&fb[l]), fbits(&f_ref[j]), "forces of joint {j}");
-                    assert_eq!(hist_bits(&hb[l]), hist_bits(&h_ref[j]), "joint {j}");
-                } else {
-                    declined += 1;
-                    assert!(fb[l].as_flattened().iter().all(|v| v.is_nan()));
-                    assert_eq!(hist_bits(&hb[l]), hist_bits(&sentinel));
-                }
-            }
-        }
-        // both occur: the kernel is not vacuous, and the scalar code is reached
-        assert!(
-            taken > 500 && declined > 1_000,
-            "{taken} taken, {declined} declined"
-        );
-        let mut f = vec![[[f64::NAN; 2]; 4]; n];
-        let mut h = vec![sentinel; n];
-        let fl = chunk_pass(&set, &state, &x, 0, &mut f, &mut h);
-        assert_eq!(fl, fl_ref);
-        assert_eq!(fl, SOFTENED | BREAKS, "some joint softens, some may break");
-        for j in 0..n {
-            assert_eq!(fbits(&f[j]), fbits(&f_ref[j]), "forces of joint {j}");
-            assert_eq!(hist_bits(&h[j]), hist_bits(&h_ref[j]), "joint {j}");
-        }
-    }
 }
