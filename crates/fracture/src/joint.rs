@@ -42,7 +42,7 @@
 //! and `s` are invariant under rigid motions. The nodal power then equals
 //! `sum_k A (sigma_k do_k/dt + tau_k ds_k/dt)`, which the energy accounting integrates.
 
-use crate::material::{FastConsts, JointConsts, JointMaterial};
+use crate::material::{JointConsts, JointMaterial};
 use crate::softening::{Z_INTEGRAL, pre_peak, pre_peak_energy, z};
 
 /// Geometry of a joint in its current position.
@@ -130,28 +130,15 @@ pub fn point_traction(
     mix_old: f64,
     shear_secant_old: f64,
 ) -> PointTraction {
-    law::<true>(
-        mat,
-        &FastConsts::of(k),
-        k,
-        o,
-        s,
-        damage_old,
-        mix_old,
-        shear_secant_old,
-    )
+    law::<true>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
 }
 
 /// The law; with `FULL = false` the mode indicator is not computed. An undamaged point
 /// that stays before both peaks takes [`pre_peak_point`] (the same operations, without the
 /// softening quantities and with few branches); every other point the general [`law_any`].
-/// `fast` holds the constants of the fast path (the pass reads them from a compact array),
-/// `k` all of them (read by [`law_any`] only).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn law<const FULL: bool>(
     mat: &JointMaterial,
-    fast: &FastConsts,
     k: &JointConsts,
     o: f64,
     s: f64,
@@ -160,7 +147,7 @@ fn law<const FULL: bool>(
     shear_secant_old: f64,
 ) -> PointTraction {
     if damage_old == 0.0
-        && let Some(pt) = pre_peak_point(mat, fast, o, s, mix_old, shear_secant_old)
+        && let Some(pt) = pre_peak_point(mat, k, o, s, mix_old, shear_secant_old)
     {
         return pt;
     }
@@ -174,7 +161,7 @@ fn law<const FULL: bool>(
 #[inline(always)]
 fn pre_peak_point(
     mat: &JointMaterial,
-    k: &FastConsts,
+    k: &JointConsts,
     o: f64,
     s: f64,
     mix_old: f64,
@@ -381,7 +368,6 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
     let mut out = JointEval::default();
     out.stored = evaluate_into::<FULL>(
         mat,
-        &FastConsts::of(consts),
         consts,
         x,
         [damage_old, mix_old, shear_secant_old],
@@ -407,13 +393,10 @@ pub(crate) struct EvalOut<'a> {
 }
 
 /// One joint's evaluation written in place (no [`JointEval`] in between); `old` is the
-/// committed damage, mode indicator and shear secant per point; `fast` the joint's
-/// constants of the pre-peak fast path (equal to those in `consts`, which only the general
-/// law reads). Returns the stored energy.
+/// committed damage, mode indicator and shear secant per point. Returns the stored energy.
 #[inline(always)]
 pub(crate) fn evaluate_into<const FULL: bool>(
     mat: &JointMaterial,
-    fast: &FastConsts,
     consts: &JointConsts,
     x: &JointNodes,
     old: [[f64; 2]; 3],
@@ -421,7 +404,7 @@ pub(crate) fn evaluate_into<const FULL: bool>(
     out: EvalOut<'_>,
 ) -> f64 {
     let [damage_old, mix_old, shear_secant_old] = old;
-    let h = fast.h;
+    let h = consts.h;
     let k = kinematics(x, h);
     // Reference area: the forces are then exactly -d(A psi)/dx for a frozen history.
     let area = 0.5 * h * t;
@@ -432,7 +415,6 @@ pub(crate) fn evaluate_into<const FULL: bool>(
     for i in 0..2 {
         let pt = law::<FULL>(
             mat,
-            fast,
             consts,
             k.o[i],
             k.s[i],
@@ -582,7 +564,7 @@ mod tests {
                 (1.0 + rnd()) * m.cohesion / k.s_p0
             };
             let mix = 0.5 * (1.0 + rnd());
-            match pre_peak_point(&m, &FastConsts::of(&k), o, s, mix, secant) {
+            match pre_peak_point(&m, &k, o, s, mix, secant) {
                 Some(fast) => {
                     taken += 1;
                     let any = law_any::<true>(&m, &k, o, s, 0.0, mix, secant);

@@ -70,44 +70,6 @@ pub struct JointConsts {
     pub inv_s_soft0: f64,
 }
 
-/// The constants of [`JointConsts`] that an undamaged joint before its peaks reads (the
-/// pre-peak fast path of [`crate::joint`]), kept in a compact array of their own so that the
-/// force pass streams 56 bytes per joint instead of 88. Copies of the same values: the
-/// results are the same bits.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct FastConsts {
-    /// Reference edge length `h` (m).
-    pub(crate) h: f64,
-    /// Normal stiffness `p/h` (Pa/m).
-    pub(crate) kn: f64,
-    /// Peak opening `o_p` (m).
-    pub(crate) o_p: f64,
-    /// `1/o_p`.
-    pub(crate) inv_o_p: f64,
-    /// `2 h/p_t` (m/Pa).
-    pub(crate) slip_per_fs: f64,
-    /// Peak slip without compression `s_p0` (m).
-    pub(crate) s_p0: f64,
-    /// `1/s_p0`.
-    pub(crate) inv_s_p0: f64,
-}
-
-impl FastConsts {
-    /// The fast path's constants of `k`.
-    #[inline]
-    pub(crate) fn of(k: &JointConsts) -> FastConsts {
-        FastConsts {
-            h: k.h,
-            kn: k.kn,
-            o_p: k.o_p,
-            inv_o_p: k.inv_o_p,
-            slip_per_fs: k.slip_per_fs,
-            s_p0: k.s_p0,
-            inv_s_p0: k.inv_s_p0,
-        }
-    }
-}
-
 /// A validated joint material with its derived constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointMaterial {

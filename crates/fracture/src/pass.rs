@@ -10,11 +10,6 @@
 //! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
 //! the [`JointSet`]) and adds the sum to the node force.
 //!
-//! The pass is bound by memory traffic (about 700 bytes per joint: the committed history
-//! read, the trial history and the forces written, the constants, the gather): it reads
-//! the per-joint constants of the pre-peak fast path from a compact array of the set
-//! (56 bytes per joint; the full 88-byte constants only where the general law runs).
-//!
 //! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
 //! central-difference step) swaps the trial arrays with the committed ones (no copy, no
 //! re-evaluation); at other positions it runs the pass first. The positions are compared
@@ -154,9 +149,8 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
             let n = f.len().min(h.len());
             let r = j0..j0 + n;
             let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
-            let (nodes, fast, consts, material) = (
+            let (nodes, consts, material) = (
                 &set.nodes[r.clone()],
-                &set.fast[r.clone()],
                 &set.consts[r.clone()],
                 &set.material[r],
             );
@@ -179,7 +173,6 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
                 let hn = &mut h[i];
                 let stored = evaluate_into::<true>(
                     &set.materials[material[i] as usize],
-                    &fast[i],
                     &consts[i],
                     &xs,
                     [ho.damage, ho.mode_mix, ho.shear_secant],
@@ -206,7 +199,7 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
                 if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
                     fl |= SOFTENED;
                 }
-                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, fast[i].h) {
+                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
                     fl |= BREAKS;
                 }
             }

@@ -2,7 +2,7 @@
 //! length, material) with the per-joint constants derived once.
 
 use crate::error::FractureError;
-use crate::material::{FastConsts, JointConsts, JointMaterial, JointMaterialInput};
+use crate::material::{JointConsts, JointMaterial, JointMaterialInput};
 
 /// Index of a joint in its [`JointSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -33,9 +33,7 @@ pub struct JointSet {
     pub ref_length: Vec<f64>,
     /// Material index per joint.
     pub material: Vec<u32>,
-    /// Derived constants per joint (stiffness, peak opening, softening width, ...); set by
-    /// [`JointSet::new`] and not to be changed after (the force pass reads a copy of the
-    /// fast path's part).
+    /// Derived constants per joint (stiffness, peak opening, softening width, ...).
     pub consts: Vec<JointConsts>,
     /// The validated materials.
     pub materials: Vec<JointMaterial>,
@@ -48,8 +46,6 @@ pub struct JointSet {
     pub node_offsets: Vec<u32>,
     /// `4 j + k` for node k (P, Q, R, S) of joint j, in increasing order per node.
     pub node_slots: Vec<u32>,
-    /// The constants of `consts` that the force pass's fast path reads, per joint.
-    pub(crate) fast: Vec<FastConsts>,
 }
 
 impl JointSet {
@@ -82,7 +78,6 @@ impl JointSet {
             n_nodes,
             node_offsets: Vec::new(),
             node_slots: Vec::new(),
-            fast: Vec::with_capacity(n),
         };
         for (j, jt) in joints.iter().enumerate() {
             let joint = j as u32;
@@ -111,9 +106,7 @@ impl JointSet {
             set.triangles.push(jt.triangles);
             set.ref_length.push(h);
             set.material.push(jt.material);
-            let k = mat.consts(h);
-            set.fast.push(FastConsts::of(&k));
-            set.consts.push(k);
+            set.consts.push(mat.consts(h));
         }
         // CSR node -> joint slots, counting sort (slots stay in increasing order per node)
         let mut offsets = vec![0u32; n_nodes + 1];
