@@ -291,3 +291,56 @@ fn commit_at_last_pass_without_position_copy_matches_the_checked_commit() {
     assert_eq!(e1, e2, "energies differ");
     assert_eq!(ev1, ev2, "events differ");
 }
+
+#[test]
+fn in_place_pass_and_commit_match_the_trial_pass_and_commit_bit_for_bit() {
+    // Two runs of 6 steps: each step a trial pass at other positions, then the last pass at
+    // the final positions and its commit, either as a trial pass with the checked commit or
+    // in place (the new history written into the state) with `commit_joints_in_place`.
+    // Forces, histories, energies, events and the newly softened joints of every step are
+    // equal bit for bit; joints soften and break on the way.
+    let mesh = exploded_grid(12, 10, 0.01, 0.008);
+    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+    let run = |in_place: bool| {
+        let mut state = JointState::new(&set, &mesh.x);
+        let mut scratch = JointScratch::new(set.len());
+        let mut events = Vec::new();
+        let mut forces = Vec::new();
+        let mut softened = Vec::new();
+        for step in 0..6u64 {
+            let amp = 2e-7 * 5f64.powi(step as i32);
+            let x_trial = perturbed(&mesh, amp, 100 + step);
+            let x_final = perturbed(&mesh, amp, 200 + step);
+            let mut f = vec![[0.0; 2]; mesh.x.len()];
+            accumulate_joint_forces(&set, &state, &x_trial, &mut scratch, &mut f);
+            f.fill([0.0; 2]);
+            if in_place {
+                accumulate_joint_forces_in_place(&set, &mut state, &x_final, &mut scratch, &mut f);
+                commit_joints_in_place(&set, &mut state, &x_final, 1.0, &mut scratch, &mut events);
+            } else {
+                accumulate_joint_forces(&set, &state, &x_final, &mut scratch, &mut f);
+                commit_joints(&set, &mut state, &x_final, 1.0, &mut scratch, &mut events);
+            }
+            forces.push(f);
+            softened.push(scratch.newly_softened().to_vec());
+        }
+        let e = state.energy();
+        (state.history, e, events, forces, softened)
+    };
+    let (h1, e1, ev1, f1, s1) = run(false);
+    let (h2, e2, ev2, f2, s2) = run(true);
+    let n_softened: usize = s1.iter().map(|s| s.len()).sum();
+    assert!(
+        n_softened > 0 && !ev1.is_empty(),
+        "{n_softened} softened, {} broken",
+        ev1.len()
+    );
+    assert_eq!(h1, h2, "histories differ");
+    assert_eq!(e1, e2, "energies differ");
+    assert_eq!(ev1, ev2, "events differ");
+    assert_eq!(s1, s2, "newly softened joints differ");
+    let bits = |f: &Vec<Vec<[f64; 2]>>| -> Vec<u64> {
+        f.iter().flatten().flatten().map(|v| v.to_bits()).collect()
+    };
+    assert_eq!(bits(&f1), bits(&f2), "forces differ");
+}
