@@ -78,30 +78,23 @@ fn min_chunks(n_joints: usize) -> usize {
 }
 
 impl JointScratch {
-    /// Scratch for `n_joints` joints (the trial history is allocated by the first pass that
-    /// needs one: in-place passes do not).
+    /// Scratch for `n_joints` joints.
     pub fn new(n_joints: usize) -> Self {
         let mut s = JointScratch::default();
-        s.fit(n_joints, false);
+        s.fit(n_joints);
         s
     }
 
-    /// Sizes the buffers of every pass for `n` joints (no-op when they already are); the
-    /// trial history only with `trial` (an in-place pass needs none: central difference never
-    /// allocates it).
-    fn fit(&mut self, n: usize, trial: bool) {
-        // first sizing: filled in parallel (the pages are touched by both threads)
-        if self.forces.is_empty() {
+    /// Sizes the buffers for `n` joints (no-op when they already are).
+    fn fit(&mut self, n: usize) {
+        if self.trial.is_empty() && self.forces.is_empty() {
+            // first sizing: filled in parallel (the pages are touched by both threads)
+            self.trial
+                .par_extend(rayon::iter::repeat_n(JointHistory::FRESH, n));
             self.forces
                 .par_extend(rayon::iter::repeat_n([[0.0; 2]; 4], n));
         }
-        if trial && self.trial.is_empty() {
-            self.trial
-                .par_extend(rayon::iter::repeat_n(JointHistory::FRESH, n));
-        }
-        if trial {
-            self.trial.resize(n, JointHistory::FRESH);
-        }
+        self.trial.resize(n, JointHistory::FRESH);
         self.forces.resize(n, [[0.0; 2]; 4]);
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
@@ -144,7 +137,7 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
 /// The fused pass: forces and trial history of every joint at `x` into `scratch`.
 fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
     let n = set.len();
-    scratch.fit(n, true);
+    scratch.fit(n);
     (
         scratch.forces.par_chunks_mut(CHUNK),
         scratch.trial.par_chunks_mut(CHUNK),
@@ -257,7 +250,7 @@ fn in_place_pass(
     scratch: &mut JointScratch,
 ) {
     let n = set.len();
-    scratch.fit(n, false);
+    scratch.fit(n);
     scratch.softened_bits.resize(n, 0);
     let intact = &state.intact;
     (
