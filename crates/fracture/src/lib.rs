@@ -65,10 +65,7 @@ pub use joint::{
     point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};
-pub use pass::{
-    JointScratch, accumulate_joint_forces, accumulate_joint_forces_in_place, commit_joints,
-    commit_joints_at_last_pass, commit_joints_in_place,
-};
+pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
 pub use state::{JointEnergy, JointHistory, JointState};

@@ -66,10 +66,6 @@ pub struct JointScratch {
     valid: Option<u64>,
     /// Joints whose damage became positive at the last commit.
     softened: Vec<u32>,
-    /// Per joint, [`SOFTENED`] when the last in-place pass softened it for the first time.
-    softened_bits: Vec<u8>,
-    /// The generation of the state that the last in-place pass advanced, until its commit.
-    in_place: Option<u64>,
 }
 
 /// Minimum number of chunks per rayon task: everything on the calling thread for small sets.
@@ -138,6 +134,7 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
 fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
     let n = set.len();
     scratch.fit(n);
+    let th = set.thickness;
     (
         scratch.forces.par_chunks_mut(CHUNK),
         scratch.trial.par_chunks_mut(CHUNK),
@@ -166,132 +163,45 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
                     h[i] = *ho;
                     continue;
                 }
-                fl |= joint_step(
-                    set,
+                let [np, nq, nr, ns] = nodes[i];
+                let xs = [
+                    x[np as usize],
+                    x[nq as usize],
+                    x[nr as usize],
+                    x[ns as usize],
+                ];
+                let hn = &mut h[i];
+                let stored = evaluate_into::<true>(
+                    &set.materials[material[i] as usize],
                     &consts[i],
-                    material[i],
-                    nodes[i],
-                    x,
-                    ho,
-                    &mut f[i],
-                    &mut h[i],
+                    &xs,
+                    [ho.damage, ho.mode_mix, ho.shear_secant],
+                    th,
+                    EvalOut {
+                        forces: &mut f[i],
+                        damage: &mut hn.damage,
+                        mode_mix: &mut hn.mode_mix,
+                        shear_secant: &mut hn.shear_secant,
+                        local: &mut hn.last,
+                    },
                 );
-            }
-            *flag = fl;
-        });
-}
-
-/// One intact joint's evaluation at `x` from the committed history `ho`: its forces into `f`,
-/// its new history (trial damage, books advanced by the trapezoidal rule) into `hn`. Returns
-/// the chunk flags it raises ([`SOFTENED`], [`BREAKS`]).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn joint_step(
-    set: &JointSet,
-    consts: &crate::material::JointConsts,
-    material: u32,
-    nodes: [u32; 4],
-    x: &[[f64; 2]],
-    ho: &JointHistory,
-    f: &mut [[f64; 2]; 4],
-    hn: &mut JointHistory,
-) -> u8 {
-    let [np, nq, nr, ns] = nodes;
-    let xs = [
-        x[np as usize],
-        x[nq as usize],
-        x[nr as usize],
-        x[ns as usize],
-    ];
-    let stored = evaluate_into::<true>(
-        &set.materials[material as usize],
-        consts,
-        &xs,
-        [ho.damage, ho.mode_mix, ho.shear_secant],
-        set.thickness,
-        EvalOut {
-            forces: f,
-            damage: &mut hn.damage,
-            mode_mix: &mut hn.mode_mix,
-            shear_secant: &mut hn.shear_secant,
-            local: &mut hn.last,
-        },
-    );
-    // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
-    let (a, b) = (&ho.last, &hn.last);
-    let mut dw = 0.0;
-    for p in 0..2 {
-        let q = 4 * p;
-        dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
-            + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
-    }
-    hn.work = ho.work + dw;
-    hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
-    hn.stored = stored;
-    let mut fl = 0;
-    if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
-        fl |= SOFTENED;
-    }
-    if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts.h) {
-        fl |= BREAKS;
-    }
-    fl
-}
-
-/// The fused pass writing the new history into `state` itself (the commit to follow is
-/// [`commit_joints_in_place`]): same values as [`trial_pass`] bit for bit, without the trial
-/// array (136 bytes of memory traffic less per joint: no write-allocate of a second array).
-/// Per joint, `scratch.softened_bits` records a first softening (the commit no longer has the
-/// old damage to compare with).
-fn in_place_pass(
-    set: &JointSet,
-    state: &mut JointState,
-    x: &[[f64; 2]],
-    scratch: &mut JointScratch,
-) {
-    let n = set.len();
-    scratch.fit(n);
-    scratch.softened_bits.resize(n, 0);
-    let intact = &state.intact;
-    (
-        scratch.forces.par_chunks_mut(CHUNK),
-        state.history.par_chunks_mut(CHUNK),
-        scratch.softened_bits.par_chunks_mut(CHUNK),
-        scratch.flags.par_iter_mut(),
-    )
-        .into_par_iter()
-        .with_min_len(min_chunks(n))
-        .enumerate()
-        .for_each(|(c, (f, h, soft, flag))| {
-            let j0 = c * CHUNK;
-            let n = f.len().min(h.len());
-            let r = j0..j0 + n;
-            let (intact, nodes, consts, material) = (
-                &intact[r.clone()],
-                &set.nodes[r.clone()],
-                &set.consts[r.clone()],
-                &set.material[r],
-            );
-            let mut fl = 0u8;
-            for i in 0..n {
-                if !intact[i] {
-                    f[i] = [[0.0; 2]; 4];
-                    soft[i] = 0;
-                    continue;
+                // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
+                let (a, b) = (&ho.last, &hn.last);
+                let mut dw = 0.0;
+                for p in 0..2 {
+                    let q = 4 * p;
+                    dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
+                        + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
                 }
-                let ho = h[i];
-                let b = joint_step(
-                    set,
-                    &consts[i],
-                    material[i],
-                    nodes[i],
-                    x,
-                    &ho,
-                    &mut f[i],
-                    &mut h[i],
-                );
-                soft[i] = b & SOFTENED;
-                fl |= b;
+                hn.work = ho.work + dw;
+                hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
+                hn.stored = stored;
+                if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
+                    fl |= SOFTENED;
+                }
+                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
+                    fl |= BREAKS;
+                }
             }
             *flag = fl;
         });
@@ -323,21 +233,9 @@ pub fn accumulate_joint_forces(
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
     check_sizes(set, state, x);
     trial_pass(set, state, x, scratch);
-    gather_forces(set, scratch, x, f, true);
-    scratch.valid = Some(state.generation);
-}
-
-/// Adds the joints' forces of the last pass to the node forces `f`: per node over its
-/// (joint, slot) list in joint order (parallel and deterministic); the positions are kept
-/// for the commit on the way, unless the caller turned the check off (or the pass was in
-/// place).
-fn gather_forces(
-    set: &JointSet,
-    scratch: &mut JointScratch,
-    x: &[[f64; 2]],
-    f: &mut [[f64; 2]],
-    keep_positions: bool,
-) {
+    // gather per node over its (joint, slot) list in joint order (parallel and
+    // deterministic); the positions are kept for the commit on the way, unless the caller
+    // turned the check off
     // slot 4 j + k of the flat list is node k of joint j
     let forces = scratch.forces.as_flattened();
     let (offsets, slots) = (&set.node_offsets, &set.node_slots);
@@ -352,7 +250,7 @@ fn gather_forces(
             }
         }
     };
-    if scratch.skip_position_copy || !keep_positions {
+    if scratch.skip_position_copy {
         f.par_chunks_mut(NODE_CHUNK)
             .with_min_len(min_chunks(set.len()))
             .enumerate()
@@ -369,52 +267,7 @@ fn gather_forces(
                 gather(c, fc);
             });
     }
-}
-
-/// [`accumulate_joint_forces`] for an evaluation that the caller commits next, at these
-/// positions, with [`commit_joints_in_place`] (the last force evaluation of a central
-/// difference step): the new history goes into `state` itself instead of a trial array, 136
-/// bytes of memory traffic less per joint, the same values bit for bit. Between this pass and
-/// its commit `state` holds the step's new history (damage, books) but not yet its breaks.
-/// Any other force evaluation before that commit must not happen (it would read the new
-/// history as the committed one).
-pub fn accumulate_joint_forces_in_place(
-    set: &JointSet,
-    state: &mut JointState,
-    x: &[[f64; 2]],
-    scratch: &mut JointScratch,
-    f: &mut [[f64; 2]],
-) {
-    assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
-    check_sizes(set, state, x);
-    in_place_pass(set, state, x, scratch);
-    gather_forces(set, scratch, x, f, false);
-    scratch.valid = None;
-    scratch.in_place = Some(state.generation);
-}
-
-/// The commit of an [`accumulate_joint_forces_in_place`] pass at the same positions `x`:
-/// breaks, events and the newly softened joints as [`commit_joints`] gives them. Without such
-/// a pass since the last commit it is [`commit_joints_at_last_pass`].
-pub fn commit_joints_in_place(
-    set: &JointSet,
-    state: &mut JointState,
-    x: &[[f64; 2]],
-    time: f64,
-    scratch: &mut JointScratch,
-    events: &mut Vec<FractureEvent>,
-) -> usize {
-    check_sizes(set, state, x);
-    if scratch.in_place != Some(state.generation) {
-        return commit(set, state, x, time, scratch, events, true);
-    }
-    scratch.in_place = None;
-    scratch.valid = None;
-    state.generation += 1;
-    let bits = std::mem::take(&mut scratch.softened_bits);
-    let n = finish_commit(set, state, x, time, scratch, events, |j, _| bits[j] != 0);
-    scratch.softened_bits = bits;
-    n
+    scratch.valid = Some(state.generation);
 }
 
 /// True when `a` and `b` hold the same positions (`==` on every coordinate).
@@ -484,37 +337,14 @@ fn commit(
     events: &mut Vec<FractureEvent>,
     at_last_pass: bool,
 ) -> usize {
+    let n = set.len();
     let reuse = at_last_pass && scratch.valid == Some(state.generation);
     scratch.valid = None;
     if !reuse {
         trial_pass(set, state, x, scratch);
     }
-    scratch.in_place = None;
     std::mem::swap(&mut state.history, &mut scratch.trial);
     state.generation += 1;
-    // the arrays swapped: the scratch holds the history before the step
-    let old = std::mem::take(&mut scratch.trial);
-    let n = finish_commit(set, state, x, time, scratch, events, |j, h| {
-        old[j].damage == [0.0; 2] && h.damage != [0.0; 2]
-    });
-    scratch.trial = old;
-    n
-}
-
-/// The rest of a commit once `state.history` holds the step's new history: visits the
-/// flagged chunks in joint order, lists the joints `softened(j, new history)` says softened
-/// for the first time, breaks the fully damaged open or slid ones (events in joint order). Returns the
-/// number of new breaks.
-fn finish_commit(
-    set: &JointSet,
-    state: &mut JointState,
-    x: &[[f64; 2]],
-    time: f64,
-    scratch: &mut JointScratch,
-    events: &mut Vec<FractureEvent>,
-    softened: impl Fn(usize, &JointHistory) -> bool,
-) -> usize {
-    let n = set.len();
     scratch.softened.clear();
     let mut n_new = 0;
     for (c, &fl) in scratch.flags.iter().enumerate() {
@@ -526,7 +356,8 @@ fn finish_commit(
                 continue;
             }
             let h = &mut state.history[j];
-            if fl & SOFTENED != 0 && softened(j, h) {
+            // the arrays swapped: the scratch holds the history before the step
+            if fl & SOFTENED != 0 && scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2] {
                 scratch.softened.push(j as u32);
             }
             if fl & BREAKS != 0

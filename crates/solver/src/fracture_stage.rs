@@ -29,8 +29,7 @@ use std::sync::{Arc, Mutex};
 
 use fdem_fracture::{
     FractureEvent, Joint, JointMaterialInput, JointScratch, JointSet, JointState,
-    accumulate_joint_forces, accumulate_joint_forces_in_place, commit_joints,
-    commit_joints_at_last_pass, commit_joints_in_place, joint_omega_sq_bound,
+    accumulate_joint_forces, commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
 };
 use fdem_mesh::Mesh;
 use serde::{Deserialize, Serialize};
@@ -221,11 +220,6 @@ pub struct FractureStage {
     release_s: f64,
     /// True once the first end-of-step hook has scanned every joint for damage.
     stars_scanned: bool,
-    /// The next force pass is the step's last (the time crate said so): it writes the new
-    /// history into the state itself (`accumulate_joint_forces_in_place`).
-    in_place_next: bool,
-    /// An in-place pass happened since the last commit: the commit must be its own.
-    in_place_pending: bool,
     bonded: Arc<Mutex<BondedPairs>>,
     report: Arc<Mutex<FractureReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
@@ -311,8 +305,6 @@ impl FractureStage {
                 released_pairs: 0,
                 release_s: 0.0,
                 stars_scanned: adopted,
-                in_place_next: false,
-                in_place_pending: false,
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
@@ -343,10 +335,7 @@ impl FractureStage {
     /// releases and the events of an accepted step.
     fn end_step(&mut self, t: f64, x: &[[f64; 2]], at_last_pass: bool) {
         self.events.clear();
-        // after an in-place pass its own commit (the time crate promised these positions)
-        let commit = if std::mem::take(&mut self.in_place_pending) {
-            commit_joints_in_place
-        } else if at_last_pass {
+        let commit = if at_last_pass {
             commit_joints_at_last_pass
         } else {
             commit_joints
@@ -442,18 +431,7 @@ impl ForceContribution for FractureStage {
     }
 
     fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
-        if std::mem::take(&mut self.in_place_next) {
-            accumulate_joint_forces_in_place(&self.set, &mut self.state, x, &mut self.scratch, f);
-            self.in_place_pending = true;
-        } else {
-            accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
-        }
-    }
-
-    /// The next pass is committed at its own positions: it updates the history in place
-    /// (136 bytes of memory traffic less per joint), the same values bit for bit.
-    fn before_last_evaluation(&mut self) {
-        self.in_place_next = true;
+        accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
     }
 
     /// The joints' forces depend on the positions and the committed history only.

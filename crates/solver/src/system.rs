@@ -34,12 +34,6 @@ pub trait ForceContribution: Send {
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]);
     /// Commits history at the end of an accepted step (default: nothing).
     fn end_of_step(&mut self, _t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {}
-    /// Called before the step's last [`ForceContribution::add_forces`] call when the
-    /// time crate says that [`ForceContribution::end_of_step_at_last_evaluation`] follows it
-    /// at the same positions with no evaluation in between
-    /// ([`SecondOrderSystem::before_last_evaluation`], central difference): a term may then
-    /// commit its history in that call. Default: nothing.
-    fn before_last_evaluation(&mut self) {}
     /// Called instead of [`ForceContribution::end_of_step`] when the step's last
     /// [`ForceContribution::add_forces`] call was at these positions `x`, bit for bit (the
     /// time crate's [`SecondOrderSystem::end_of_step_at_last_evaluation`]): a term may reuse
@@ -315,12 +309,6 @@ impl SecondOrderSystem for SceneSystem {
 
     fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[f64], v: &[f64]) {
         self.end_contributions(t, x, v, true);
-    }
-
-    fn before_last_evaluation(&mut self) {
-        for c in &mut self.contributions {
-            c.before_last_evaluation();
-        }
     }
 }
 

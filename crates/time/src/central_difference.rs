@@ -66,7 +66,6 @@ impl Integrator for CentralDifference {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, 0.5 * h, h);
         c.constrain(system, t1, x, v);
-        system.before_last_evaluation();
         c.eval_lead(system, t1, x, v, 0.5 * h);
         kernels::kick(v, &c.a, 0.5 * h);
         c.constrain(system, t1, x, v);

@@ -92,13 +92,6 @@ pub trait SecondOrderSystem {
         let _ = (t, x, v);
     }
 
-    /// Called by central difference just before its step's last
-    /// [`acceleration`](Self::acceleration) call, whose positions are the step's final ones:
-    /// [`end_of_step_at_last_evaluation`](Self::end_of_step_at_last_evaluation) follows at
-    /// the same positions, with no other evaluation in between, so the system may commit
-    /// its history in that evaluation. Default: nothing.
-    fn before_last_evaluation(&mut self) {}
-
     /// Called instead of [`end_of_step`](Self::end_of_step) when the step's last
     /// [`acceleration`](Self::acceleration) call was at these positions `x` and time `t`,
     /// bit for bit (the velocities may have changed since): central difference, CHIN, OMF30
