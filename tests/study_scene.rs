@@ -270,6 +270,58 @@ fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
     );
 }
 
+/// OMF32 (stable set `(0, 3.122]` and `[3.160, 5.693]` in `h omega`) on the shipped disc
+/// collision as studied (`examples/disc-collision.json` and its side file: the frozen state of
+/// peak engaged contact): the top of that state's spectrum is a few contact modes above a gap,
+/// so a ladder of fractions steps over OMF32's 1.2 %-wide unstable band, and the scheme reads
+/// stable up to its window's end (session 5: [2.5, 3) x the active prediction, outside the
+/// factor 2). The study adds the steps that put the measured top mode into the band, and the
+/// first instability is found there. Measured (2026-11-22, release build 19 s): `omega_top`
+/// 2.334e6 rad/s, every ladder fraction up to 1.75 x active stable (energy ratios within
+/// 0.9-1.001), the first band fraction unstable (ratio 1.056): observed [1.750, 1.754) x
+/// active; `h omega_top` there 3.103, so the true top frequency is at least 0.6 % above the
+/// Rayleigh estimate.
+#[test]
+fn band_probes_find_omf32_unstable_band_on_the_collision_state() {
+    let dir = common::temp_dir("study-band-probe");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("examples/disc-collision.json"))
+        .unwrap()
+        .replace("../meshes/", &format!("{}/meshes/", root.display()));
+    std::fs::write(dir.join("hit.json"), text).unwrap();
+    let mut side: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join("examples/disc-collision.study.json")).unwrap(),
+    )
+    .unwrap();
+    side["schemes"] = serde_json::json!(["omf32"]);
+    std::fs::write(dir.join("hit.study.json"), side.to_string()).unwrap();
+    let out = run_study(&dir.join("hit.json"), "1.01");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("study.json")).unwrap()).unwrap();
+    let lim = &v["limits"][0];
+    let probes = lim["probes"].as_array().unwrap();
+    let w_top = probes[0]["omega_probe"].as_f64().unwrap();
+    let h_pred = lim["dt_predicted"].as_f64().unwrap();
+    let below = lim["observed_below"].as_f64().unwrap();
+    let k = fdem_time::SchemeKind::Omf32;
+    let (l, w) = (
+        k.stability_limit(),
+        fdem_time::stability::stable_windows(k, 8.0)[0][0],
+    );
+    eprintln!(
+        "OMF32: first unstable at {below} h_pred, h omega_top = {:.4}",
+        below * h_pred * w_top
+    );
+    // the first unstable step is a band probe: its `h omega_top` lies within half a band
+    // (0.6 %) of OMF32's unstable band, not on a ladder fraction's arbitrary point
+    let hw = below * h_pred * w_top;
+    assert!(
+        hw > l * (1.0 - 0.0065) && hw < w,
+        "first instability at h omega_top = {hw}"
+    );
+    assert_within_factor_two_of_active(lim);
+}
+
 /// The fracturing Brazilian disc as studied (`examples/brazilian-disc-fracture.json` with the
 /// shipped side file's changes: R/8 mesh, 552 joints, platens at 0.2 m/s, 260 us) with
 /// `"probe_from": "active"`: the active contact bound peaks after joints broke, on crack faces
@@ -360,7 +412,7 @@ fn active_probe_start_keeps_the_fracture_state_and_brackets_the_stable_step() {
 fn assert_within_factor_two_of_active(lim: &serde_json::Value) {
     let lo_a = lim["observed_over_active_at_least"].as_f64().unwrap();
     let hi_a = lim["observed_over_active_below"].as_f64();
-    eprintln!("central difference: observed [{lo_a:.3}, {hi_a:?}) x the active prediction");
+    eprintln!("observed [{lo_a:.3}, {hi_a:?}) x the active prediction");
     assert!(
         lo_a >= 1.0 - 1e-9,
         "unstable at the active prediction ({lo_a})"
