@@ -141,13 +141,20 @@ impl Elements {
         }
         f[..self.n_nodes]
             .par_chunks_mut(3 * TRI_CHUNK)
+            .zip(x[..self.n_nodes].par_chunks(3 * TRI_CHUNK))
             .zip(self.tris.par_chunks(TRI_CHUNK))
-            .for_each(|(fc, tc)| {
-                for (fa, td) in fc.chunks_exact_mut(3).zip(tc) {
+            .for_each(|((fc, xc), tc)| {
+                for ((fa, xa), td) in fc.chunks_exact_mut(3).zip(xc.chunks_exact(3)).zip(tc) {
+                    // the triangle's own nodes 3t..3t+3 (`owned_nodes`): read in order, no
+                    // node ids
+                    let xs = [xa[0], xa[1], xa[2]];
+                    let c = &mats[td.material as usize];
                     let ft = if viscous {
-                        tri_force::<true>(td, mats, x, v)
+                        let (s, _) = tri_stress::<true>(td, c, xs, v);
+                        nodal_forces(s, c.half_t, xs)
                     } else {
-                        tri_force::<false>(td, mats, x, v)
+                        let (s, _) = tri_stress::<false>(td, c, xs, v);
+                        nodal_forces(s, c.half_t, xs)
                     };
                     for (fi, p) in fa.iter_mut().zip(ft) {
                         // the gather's node sum over one slot, `0 + f_slot`, then `f_i += sum`
