@@ -104,7 +104,8 @@ fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
 /// of it: scene run and probe), and so must the active prediction (`r` = 1.077 times it: the
 /// contact engaged in the scene's states), with the step at 2 x the active prediction
 /// unstable; measured (2026-11-22, probes 5000 radians of the state's measured top mode
-/// long): every scheme in [1.2, 1.35) x the active prediction, OMF32 included (it is unstable
+/// long; session 6 with the band probes: PC-4 [1.30, 1.35), OMF30 [1.2, 1.30), OMF32 [1.294,
+/// 1.302)): every scheme in [1.2, 1.35) x the active prediction, OMF32 included (it is unstable
 /// on the oscillator only in the narrow band `h omega` in [3.122, 3.160] and stable again up
 /// to 5.6925, docs/time-integration.md; probes measured in radians of the bound, 1.3 times
 /// shorter, missed its band here and read [2, 2.5)).
