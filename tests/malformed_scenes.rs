@@ -92,7 +92,7 @@ fn unknown_group_lists_the_groups_that_exist() {
     expect(
         &p,
         "group",
-        &["boundary_conditions[0].group", "'clamp'", "left"],
+        &["boundary_conditions[0].fixed.group", "'clamp'", "left"],
     );
 }
 

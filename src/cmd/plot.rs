@@ -8,6 +8,9 @@
 //! - otherwise `histories.csv`: the first group with both `reaction_y[G]` and `u_y[G]` (then
 //!   `x`): the load is `|reaction_y[G]|` (the force the prescribed nodes apply), the
 //!   displacement `|u_y[G]|`.
+//!
+//! A column name that a file repeats (runs written before history columns were made unique)
+//! is refused with the list of columns, never taken first.
 
 use std::path::{Path, PathBuf};
 
@@ -104,8 +107,26 @@ impl Table {
         }))
     }
 
-    fn col(&self, name: &str) -> Option<usize> {
-        self.head.iter().position(|h| h == name)
+    /// The index of column `name`; an error when the file has it more than once (runs that
+    /// predate unique history columns), listing the columns.
+    fn col(&self, name: &str) -> Result<Option<usize>> {
+        let mut hits = self
+            .head
+            .iter()
+            .enumerate()
+            .filter(|(_, h)| *h == name)
+            .map(|(i, _)| i);
+        let first = hits.next();
+        if let Some(second) = hits.next() {
+            bail!(
+                "{}: the column {name} appears more than once (columns {} and {}), so it is not                  clear which one is meant; columns: {} (re-run the scene: runs now name such                  columns body/group, e.g. v_x[disc/center])",
+                self.path.display(),
+                first.unwrap_or(0) + 1,
+                second + 1,
+                self.head.join(",")
+            );
+        }
+        Ok(first)
     }
 
     fn values(&self, c: usize) -> Vec<f64> {
@@ -141,7 +162,7 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
             bail!("give both --load and --displacement");
         };
         for t in &tables {
-            if let (Some(cl), Some(cd)) = (t.col(l), t.col(d)) {
+            if let (Some(cl), Some(cd)) = (t.col(l)?, t.col(d)?) {
                 return Ok(Curve {
                     points: abs_pairs(t.values(cd), t.values(cl)),
                     x_label: d.to_string(),
@@ -166,7 +187,8 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
             let Some(name) = h.strip_prefix("u_x[").and_then(|s| s.strip_suffix(']')) else {
                 continue;
             };
-            let Some(iy) = w.col(&format!("u_y[{name}]")) else {
+            w.col(h)?;
+            let Some(iy) = w.col(&format!("u_y[{name}]"))? else {
                 continue;
             };
             let last = |c: usize| {
@@ -183,11 +205,11 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
         }
         if let Some((first, axis)) = moving.first() {
             let f = w
-                .col(&format!("force_{axis}[{first}]"))
+                .col(&format!("force_{axis}[{first}]"))?
                 .with_context(|| format!("{}: no force_{axis}[{first}]", w.path.display()))?;
             let mut u = vec![0.0; w.rows.len()];
             for (name, ax) in moving.iter().filter(|m| m.1 == *axis) {
-                if let Some(c) = w.col(&format!("u_{ax}[{name}]")) {
+                if let Some(c) = w.col(&format!("u_{ax}[{name}]"))? {
                     for (s, v) in u.iter_mut().zip(w.values(c)) {
                         *s += v.abs();
                     }
@@ -214,7 +236,9 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
                 else {
                     continue;
                 };
-                if let Some(cu) = h.col(&format!("u_{axis}[{group}]")) {
+                // a repeated reaction or displacement column is refused, not taken first
+                h.col(col)?;
+                if let Some(cu) = h.col(&format!("u_{axis}[{group}]"))? {
                     return Ok(Curve {
                         points: abs_pairs(h.values(cu), h.values(i)),
                         x_label: format!("displacement |u_{axis}[{group}]| [mm]"),

@@ -288,9 +288,7 @@ fn probe_start(scene: &Path, t: f64, omega: Option<f64>, out: &Path) -> Result<P
     l.scene.integrator.scheme = k.name().into();
     l.scene.output.frames = 0;
     l.scene.duration = Some(t);
-    let n = (t / (0.5 * l.dt_limit)).ceil().max(1.0);
-    l.dt = t / n;
-    l.n_steps = n as u64;
+    (l.n_steps, l.dt) = driver::step_count(t, 0.5 * l.dt_limit);
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,
@@ -363,9 +361,7 @@ fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active>> {
         c.active_bound_every = 1;
     }
     let duration = l.scene.duration.unwrap_or(0.0);
-    let n = (duration / (0.5 * l.dt_limit)).ceil().max(1.0);
-    l.dt = duration / n;
-    l.n_steps = n as u64;
+    (l.n_steps, l.dt) = driver::step_count(duration, 0.5 * l.dt_limit);
     std::fs::create_dir_all(out)?;
     let options = RunOptions {
         out_dir: out.to_path_buf(),
@@ -611,9 +607,7 @@ fn one_run(
             scene.display()
         );
     }
-    let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
-    l.dt = duration / n;
-    l.n_steps = n as u64;
+    (l.n_steps, l.dt) = driver::step_count(duration, fraction * l.dt_limit);
     let e_kin0 = l.model.kinetic_energy(&l.model.v0);
     let mut run = Run {
         scheme: scheme.name().into(),
@@ -954,10 +948,8 @@ fn stability_probe(
         bound
     };
     let duration = PROBE_OMEGA_T / omega_t;
-    let n = (duration / (fraction * l.dt_limit)).ceil().max(1.0);
     l.scene.duration = Some(duration);
-    l.dt = duration / n;
-    l.n_steps = n as u64;
+    (l.n_steps, l.dt) = driver::step_count(duration, fraction * l.dt_limit);
     // every step: sampled more sparsely, the fast oscillation of `K + U` near a scheme's
     // limit aliases into slow beats that bias the means of the fifths by ~1 %
     l.scene.histories.every = Some(1);

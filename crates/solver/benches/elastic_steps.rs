@@ -57,7 +57,10 @@ fn grid() -> MeshInput {
 fn loaded() -> Loaded {
     let file = Path::new("bench.json");
     let scene = Scene::from_json(&scene_text(), file).unwrap();
-    let model = model::build(&scene, file, &[grid()]).unwrap();
+    let mesh = grid();
+    let names = fdem_solver::resolve::MeshNames::of_input(&mesh, "grid");
+    let refs = fdem_solver::resolve::resolve(&scene, file, &[names]).unwrap();
+    let model = model::build(&scene, file, &[mesh], &refs).unwrap();
     let elements = mesh_adapter::elements(&model, 0.0).unwrap();
     let scheme = fdem_time::SchemeKind::CentralDifference;
     let omega_max = elements.max_frequency_bound(&model.x0);

@@ -168,8 +168,9 @@ pub struct WallSpec {
 }
 
 impl ContactSection {
-    /// Checks names and values; `file` names the scene in errors.
-    pub fn validate(&self, scene: &Scene, file: &Path) -> Result<(), SceneError> {
+    /// Checks the values (the body names are resolved by [`crate::resolve`]); `file` names
+    /// the scene in errors.
+    pub fn validate(&self, file: &Path) -> Result<(), SceneError> {
         let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
             file: file.to_path_buf(),
             path,
@@ -221,15 +222,6 @@ impl ContactSection {
         check_law("contact.default".into(), &self.default)?;
         for (i, p) in self.pairs.iter().enumerate() {
             check_law(format!("contact.pairs[{i}].law"), &p.law)?;
-            for b in &p.bodies {
-                if !scene.bodies.iter().any(|x| x.name.as_deref() == Some(b)) {
-                    return Err(bad(
-                        format!("contact.pairs[{i}].bodies"),
-                        format!("no body is named '{b}'"),
-                        "name the bodies in their \"name\" fields",
-                    ));
-                }
-            }
         }
         for (i, w) in self.walls.iter().enumerate() {
             check_law(format!("contact.walls[{i}].law"), &w.law)?;
@@ -277,6 +269,7 @@ pub fn laws(section: &ContactSection, scene: &Scene, model: &Model) -> ContactLa
             laws.set(i, j, section.default.law(e, th));
         }
     }
+    // (the pair names were resolved at load, `crate::resolve`: every one names a body)
     let index = |name: &str| {
         scene
             .bodies

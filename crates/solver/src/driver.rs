@@ -7,7 +7,9 @@
 //! the scheme's stability limit on the undamped oscillator, and `z` the damping ratio of the
 //! highest mode (element viscosity and mass-proportional damping). `"auto"` takes
 //! `safety * h_limit`; a fixed step above `h_limit` is an error. The step is then shortened so
-//! that a whole number of steps spans the duration.
+//! that a whole number of steps spans the duration ([`step_count`]: `duration / h` within a
+//! relative 1e-12 of a whole number is that number). The frequency bound, the steps, the
+//! frames and the history rows are checked in [`crate::limits`] before anything is written.
 //!
 //! Every 100 steps the loop checks for non-finite values and for energy growth: the
 //! mechanical energy `E = K + U + stored (contact, joints)` may not exceed the energy supplied
@@ -27,9 +29,11 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{RunError, SceneError};
+use crate::limits::{self, StepInputs};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
 use crate::output::{Collection, FrameData, HistoryWriter, JointSeries, frame, vtu, write_atomic};
+use crate::resolve::MeshNames;
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 use crate::static_solve;
 use crate::system::{ForceContribution, SceneSystem, StageTimers};
@@ -65,11 +69,14 @@ pub struct Loaded {
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
+///
+/// Order: the scene, the meshes, then every name the scene refers to ([`crate::resolve`]),
+/// then the fracturing bodies are exploded and the model built, and last the derived
+/// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let mut scene = Scene::from_file(file)?;
     let dir = file.parent().unwrap_or(Path::new("."));
-    let mut meshes = Vec::new();
-    let mut inputs = Vec::new();
+    let mut read = Vec::new();
     for i in 0..scene.bodies.len() {
         let path = dir.join(&scene.bodies[i].mesh);
         let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
@@ -78,23 +85,20 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
             mesh: path.clone(),
             message,
         })?;
-        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, mesh)?;
+        read.push(mesh);
+    }
+    let names: Vec<MeshNames> = read.iter().map(MeshNames::of).collect();
+    let refs = crate::resolve::resolve(&scene, file, &names)?;
+    let mut meshes = Vec::new();
+    let mut inputs = Vec::new();
+    for (i, mesh) in read.into_iter().enumerate() {
+        let region = refs.fracture_region[i];
+        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, region, mesh)?;
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
-    let model = model::build(&scene, file, &inputs)?;
+    let model = model::build(&scene, file, &inputs, &refs)?;
     crate::stages::validate(&scene, file)?;
-    for (i, p) in scene.histories.probes.iter().enumerate() {
-        if let Probe::Displacement(g) | Probe::Velocity(g) | Probe::Reaction(g) = p {
-            model.find_group(
-                &scene,
-                file,
-                &format!("histories.probes[{i}]"),
-                &g.group,
-                g.body.as_deref(),
-            )?;
-        }
-    }
     let xi = scene.damping.viscosity_ratio;
     let elements = mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
         file: file.to_path_buf(),
@@ -122,34 +126,16 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
         .fold(0.0, f64::max);
     let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
-    let dt_limit = stable_step(scheme, omega_max, z_high);
-    let (dt, n_steps) = if scene.analysis == Analysis::Static {
-        (0.0, 0)
-    } else {
-        let duration = scene.duration.unwrap_or(0.0);
-        let h = match scene.integrator.time_step {
-            TimeStep::Auto | TimeStep::Adaptive => scene.integrator.safety * dt_limit,
-            TimeStep::Fixed(h) => {
-                if h > dt_limit {
-                    return Err(SceneError::Invalid {
-                        file: file.to_path_buf(),
-                        path: "integrator.time_step".into(),
-                        message: format!(
-                            "time step {h:e} s is above the stability limit {dt_limit:e} s of {scheme} on this mesh"
-                        ),
-                        fix: format!(
-                            "use \"auto\" or a step below {:.3e} s (e.g. {:.3e} s)",
-                            dt_limit,
-                            0.5 * dt_limit
-                        ),
-                    });
-                }
-                h
-            }
-        };
-        let n = (duration / h).ceil().max(1.0);
-        (duration / n, n as u64)
-    };
+    let steps = limits::time_steps(&StepInputs {
+        scene: &scene,
+        file,
+        model: &model,
+        elements: &elements,
+        scheme,
+        omega_max,
+        z_high,
+        lower_fixed_step: false,
+    })?;
     Ok(Loaded {
         file: file.to_path_buf(),
         scene,
@@ -159,11 +145,19 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         scheme,
         omega_max,
         z_high,
-        dt_limit,
-        dt,
-        n_steps,
+        dt_limit: steps.dt_limit,
+        dt: steps.dt,
+        n_steps: steps.n_steps,
         contributions: Vec::new(),
     })
+}
+
+/// The number of steps of about `h` that span `duration` ([`limits::step_count`]: a whole
+/// `duration / h` within a relative 1e-12 is that number, else rounded up), as an integer
+/// (saturating), and the step that spans the duration exactly.
+pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
+    let n = limits::step_count(duration, h);
+    (n as u64, duration / n)
 }
 
 /// The stable step of `scheme` for highest frequency `omega` and its damping ratio `z`.
@@ -174,22 +168,29 @@ pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
 impl Loaded {
     /// Adds a force contribution (contact, joints). The highest frequency becomes
     /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
-    /// with it (an explicit `time_step` above the new limit is then lowered to it).
-    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) {
+    /// and checked with it ([`crate::limits::time_steps`]; an explicit `time_step` above the
+    /// new limit is lowered to it).
+    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) -> Result<(), SceneError> {
         let wc = c.frequency_bound();
         self.contributions.push(c);
         if wc > 0.0 && self.scene.analysis != Analysis::Static {
-            self.omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
-            self.dt_limit = stable_step(self.scheme, self.omega_max, self.z_high);
-            let h = match self.scene.integrator.time_step {
-                TimeStep::Auto | TimeStep::Adaptive => self.scene.integrator.safety * self.dt_limit,
-                TimeStep::Fixed(h) => h.min(self.dt_limit),
-            };
-            let duration = self.scene.duration.unwrap_or(0.0);
-            let n = (duration / h).ceil().max(1.0);
-            self.dt = duration / n;
-            self.n_steps = n as u64;
+            let omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
+            let steps = limits::time_steps(&StepInputs {
+                scene: &self.scene,
+                file: &self.file,
+                model: &self.model,
+                elements: &self.elements,
+                scheme: self.scheme,
+                omega_max,
+                z_high: self.z_high,
+                lower_fixed_step: true,
+            })?;
+            self.omega_max = omega_max;
+            self.dt_limit = steps.dt_limit;
+            self.dt = steps.dt;
+            self.n_steps = steps.n_steps;
         }
+        Ok(())
     }
 
     /// A short description: meshes, model size, analysis, time step.
@@ -620,7 +621,7 @@ impl Histories {
         }
         let mut cols = vec!["time".to_string()];
         let mut groups = Vec::new();
-        for p in probes {
+        for (i, p) in probes.iter().enumerate() {
             match p {
                 Probe::Displacement(g) | Probe::Velocity(g) | Probe::Reaction(g) => {
                     let kind = match p {
@@ -628,11 +629,15 @@ impl Histories {
                         Probe::Velocity(_) => "v",
                         _ => "reaction",
                     };
-                    cols.push(format!("{kind}_x[{}]", g.group));
-                    cols.push(format!("{kind}_y[{}]", g.group));
+                    // the body the resolver found (`v_x[body/group]` when another body has a
+                    // group of that name)
+                    let body = model.probe_body.get(i).copied().flatten().unwrap_or(0);
+                    let label = model.group_label(&l.scene, body, &g.group);
+                    cols.push(format!("{kind}_x[{label}]"));
+                    cols.push(format!("{kind}_y[{label}]"));
                     let nodes = model
-                        .find_group(&l.scene, &l.file, "histories", &g.group, g.body.as_deref())
-                        .map(|n| n.to_vec())
+                        .group_nodes(body, &g.group)
+                        .map(<[u32]>::to_vec)
                         .unwrap_or_default();
                     groups.push(nodes);
                 }

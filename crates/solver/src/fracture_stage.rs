@@ -76,48 +76,26 @@ pub struct Region {
     pub groups: Option<Vec<String>>,
 }
 
-/// Explodes body `bi`'s mesh if a fracturing region names it, recording its joints (local
-/// node and triangle ids) in the scene; returns the mesh the body uses.
+/// Explodes body `bi`'s mesh when `region` (the fracture region that names the body, as
+/// [`crate::resolve::resolve`] found it) is given, recording its joints (local node and
+/// triangle ids) in the scene; returns the mesh the body uses.
 pub fn explode_body(
     scene: &mut Scene,
     file: &Path,
     bi: usize,
+    region: Option<usize>,
     mesh: Mesh,
 ) -> Result<Mesh, SceneError> {
-    let n_bodies = scene.bodies.len();
-    let body_name = scene.bodies[bi].name.clone();
-    let Some(section) = scene.fracture.as_mut() else {
+    let (Some(section), Some(ri)) = (scene.fracture.as_mut(), region) else {
         return Ok(mesh);
     };
-    let mut groups: Option<Option<Vec<String>>> = None;
-    for (ri, r) in section.regions.iter().enumerate() {
-        let hit = match &r.body {
-            Some(b) => body_name.as_deref() == Some(b.as_str()),
-            None => {
-                if n_bodies > 1 {
-                    return Err(SceneError::Invalid {
-                        file: file.to_path_buf(),
-                        path: format!("fracture.regions[{ri}].body"),
-                        message: "the scene has several bodies".into(),
-                        fix: "name the body of the fracturing region".into(),
-                    });
-                }
-                true
-            }
-        };
-        if hit {
-            groups = Some(r.groups.clone());
-        }
-    }
-    let Some(groups) = groups else {
-        return Ok(mesh);
-    };
+    let groups = section.regions.get(ri).and_then(|r| r.groups.clone());
     let names: Option<Vec<&str>> = groups
         .as_ref()
         .map(|g| g.iter().map(|s| s.as_str()).collect());
     let ex = fdem_mesh::explode(&mesh, names.as_deref()).map_err(|e| SceneError::Invalid {
         file: file.to_path_buf(),
-        path: "fracture.regions".into(),
+        path: format!("fracture.regions[{ri}]"),
         message: e.to_string(),
         fix: "name surface groups of the body's mesh".into(),
     })?;

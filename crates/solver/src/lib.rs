@@ -2,6 +2,8 @@
 //! runs a dynamic, dynamic-relaxation or static analysis, and writes ParaView output.
 //!
 //! - [`scene`]: the JSON scene format (`docs/scene-format.md`).
+//! - [`resolve`]: every name a scene refers to, resolved once against the bodies' meshes.
+//! - [`limits`]: the derived quantities of a run (step, steps, frames, rows) checked.
 //! - [`model`]: all bodies in one node numbering; constraints; consistent nodal loads.
 //! - [`system`]: the composition as the time crate's `SecondOrderSystem`:
 //!   `M a = f_int(x, v) + s(t) f_ext + M g - alpha M v + sum f_contrib`, constrained DOFs
@@ -15,9 +17,11 @@ pub mod contact_stage;
 pub mod driver;
 pub mod error;
 pub mod fracture_stage;
+pub mod limits;
 pub mod mesh_adapter;
 pub mod model;
 pub mod output;
+pub mod resolve;
 pub mod scene;
 pub mod schemes;
 pub mod stages;

@@ -15,6 +15,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use crate::error::SceneError;
+use crate::resolve::Resolved;
 use crate::scene::{BoundaryCondition, MaterialSpec, Scene};
 
 /// One body's mesh as the solver needs it (filled by the mesh adapter).
@@ -103,6 +104,8 @@ pub struct Model {
     pub gravity: Option<[f64; 2]>,
     /// Node groups by (body index, name), global node indices.
     pub groups: Vec<(u32, String, Vec<u32>)>,
+    /// The body of each history probe of the scene (`None`: the energy probe), as resolved.
+    pub probe_body: Vec<Option<usize>>,
 }
 
 impl Model {
@@ -137,65 +140,54 @@ impl Model {
         }
     }
 
-    /// The nodes of a group named by a scene (body name optional), or a clear error.
-    pub fn find_group(
-        &self,
-        scene: &Scene,
-        file: &Path,
-        path: &str,
-        group: &str,
-        body: Option<&str>,
-    ) -> Result<&[u32], SceneError> {
-        let body_index = match body {
-            Some(b) => Some(
-                scene
-                    .bodies
-                    .iter()
-                    .position(|x| x.name.as_deref() == Some(b))
-                    .ok_or_else(|| SceneError::Invalid {
-                        file: file.to_path_buf(),
-                        path: format!("{path}.body"),
-                        message: format!("no body is named '{b}'"),
-                        fix: "name the body in its \"name\" field or correct the body name".into(),
-                    })? as u32,
-            ),
-            None => None,
-        };
-        let hits: Vec<&(u32, String, Vec<u32>)> = self
+    /// The nodes of group `name` of body `body` (global node indices), if it has one.
+    pub fn group_nodes(&self, body: usize, name: &str) -> Option<&[u32]> {
+        self.groups
+            .iter()
+            .find(|(b, n, _)| *b as usize == body && n == name)
+            .map(|g| g.2.as_slice())
+    }
+
+    /// The label of group `name` of body `body` in column names: `name`, or `body/name` when
+    /// another body has a group of that name too (`bodies[i]` stands for an unnamed body).
+    pub fn group_label(&self, scene: &Scene, body: usize, name: &str) -> String {
+        let ambiguous = self
             .groups
             .iter()
-            .filter(|(bi, name, _)| name == group && body_index.is_none_or(|b| b == *bi))
-            .collect();
-        match hits.len() {
-            1 => Ok(&hits[0].2),
-            0 => {
-                let known: Vec<&str> = self
-                    .groups
-                    .iter()
-                    .filter(|(bi, _, _)| body_index.is_none_or(|b| b == *bi))
-                    .map(|(_, n, _)| n.as_str())
-                    .collect();
-                Err(SceneError::Invalid {
-                    file: file.to_path_buf(),
-                    path: format!("{path}.group"),
-                    message: format!("the mesh has no physical group named '{group}'"),
-                    fix: format!("use one of: {}", known.join(", ")),
-                })
+            .any(|(b, n, _)| *b as usize != body && n == name);
+        if ambiguous {
+            match scene.bodies.get(body).and_then(|b| b.name.as_deref()) {
+                Some(b) => format!("{b}/{name}"),
+                None => format!("bodies[{body}]/{name}"),
             }
-            _ => Err(SceneError::Invalid {
-                file: file.to_path_buf(),
-                path: format!("{path}.group"),
-                message: format!("several bodies have a group named '{group}'"),
-                fix: "add \"body\": <name> to say which body".into(),
-            }),
+        } else {
+            name.to_string()
         }
     }
 }
 
-/// Builds the model from a scene and the bodies' meshes (in the order of `scene.bodies`).
-pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, SceneError> {
+/// The error for a name the resolver did not check against these meshes (a caller that
+/// built the model without [`crate::resolve::resolve`]).
+fn unresolved(file: &Path, path: String, what: String) -> SceneError {
+    SceneError::Invalid {
+        file: file.to_path_buf(),
+        path,
+        message: format!("{what} (the scene was not resolved against these meshes)"),
+        fix: "load the scene with fdem_solver::load".into(),
+    }
+}
+
+/// Builds the model from a scene, the bodies' meshes (in the order of `scene.bodies`) and
+/// the bodies its names resolve to ([`crate::resolve::resolve`], which checks every name).
+pub fn build(
+    scene: &Scene,
+    file: &Path,
+    meshes: &[MeshInput],
+    refs: &Resolved,
+) -> Result<Model, SceneError> {
     let mut m = Model {
         gravity: scene.gravity,
+        probe_body: refs.probes.clone(),
         ..Default::default()
     };
     let mut edge_groups: Vec<(u32, String, Vec<[u32; 2]>)> = Vec::new();
@@ -215,17 +207,11 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
                 .get(g)
                 .or_else(|| body.materials.get("*"))
                 .ok_or_else(|| {
-                    let surfaces: Vec<&str> = body.materials.keys().map(|s| s.as_str()).collect();
-                    SceneError::Invalid {
-                        file: file.to_path_buf(),
-                        path: format!("bodies[{bi}].materials"),
-                        message: format!(
-                            "triangle {ti} of {} is in group '{g}', which has no material (given: {})",
-                            body.mesh.display(),
-                            surfaces.join(", ")
-                        ),
-                        fix: format!("add a material for \"{g}\" or a default under \"*\""),
-                    }
+                    unresolved(
+                        file,
+                        format!("bodies[{bi}].materials"),
+                        format!("triangle {ti} is in group '{g}', which has no material"),
+                    )
                 })?;
             let mi = match m
                 .materials
@@ -242,21 +228,6 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
             m.tri_material.push(mi as u32);
             m.tri_body.push(bi as u32);
             m.tri_thickness.push(body.thickness);
-        }
-        for key in body.materials.keys() {
-            if key != "*" && !mesh.triangle_group.iter().any(|g| g == key) {
-                let known: std::collections::BTreeSet<&str> =
-                    mesh.triangle_group.iter().map(|s| s.as_str()).collect();
-                return Err(SceneError::Invalid {
-                    file: file.to_path_buf(),
-                    path: format!("bodies[{bi}].materials.{key}"),
-                    message: format!("the mesh has no surface group named '{key}'"),
-                    fix: format!(
-                        "use one of: {} (or \"*\")",
-                        known.into_iter().collect::<Vec<_>>().join(", ")
-                    ),
-                });
-            }
         }
         for (name, nodes) in &mesh.node_groups {
             m.groups.push((
@@ -304,44 +275,32 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
     m.constrained = vec![false; 2 * m.x0.len()];
     for (i, bc) in scene.boundary_conditions.iter().enumerate() {
         let path = format!("boundary_conditions[{i}]");
+        let bi = refs.conditions.get(i).copied().unwrap_or(0);
+        let nodes_of = |name: &str| -> Result<Vec<u32>, SceneError> {
+            m.group_nodes(bi, name).map(<[u32]>::to_vec).ok_or_else(|| {
+                unresolved(
+                    file,
+                    format!("{path}.group"),
+                    format!("body {bi} has no group '{name}'"),
+                )
+            })
+        };
         let edges_of = |name: &str| -> Result<&Vec<[u32; 2]>, SceneError> {
-            let hits: Vec<_> = edge_groups
+            edge_groups
                 .iter()
-                .filter(|(bi, n, _)| {
-                    n == name
-                        && bc
-                            .body()
-                            .is_none_or(|b| scene.bodies[*bi as usize].name.as_deref() == Some(b))
+                .find(|(b, n, _)| *b as usize == bi && n == name)
+                .map(|g| &g.2)
+                .ok_or_else(|| {
+                    unresolved(
+                        file,
+                        format!("{path}.group"),
+                        format!("body {bi} has no edge group '{name}'"),
+                    )
                 })
-                .collect();
-            match hits.len() {
-                1 => Ok(&hits[0].2),
-                0 => Err(SceneError::Invalid {
-                    file: file.to_path_buf(),
-                    path: format!("{path}.group"),
-                    message: format!("the mesh has no physical edge group named '{name}'"),
-                    fix: format!(
-                        "pressure and traction need an edge group; edge groups: {}",
-                        edge_groups
-                            .iter()
-                            .map(|g| g.1.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                }),
-                _ => Err(SceneError::Invalid {
-                    file: file.to_path_buf(),
-                    path: format!("{path}.group"),
-                    message: format!("several bodies have an edge group named '{name}'"),
-                    fix: "add \"body\": <name>".into(),
-                }),
-            }
         };
         match bc {
             BoundaryCondition::Fixed(f) => {
-                let nodes = m
-                    .find_group(scene, file, &path, &f.group, f.body.as_deref())?
-                    .to_vec();
+                let nodes = nodes_of(&f.group)?;
                 for n in nodes {
                     if f.x {
                         m.constrained[2 * n as usize] = true;
@@ -352,9 +311,7 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
                 }
             }
             BoundaryCondition::Velocity(v) => {
-                let nodes = m
-                    .find_group(scene, file, &path, &v.group, v.body.as_deref())?
-                    .to_vec();
+                let nodes = nodes_of(&v.group)?;
                 for n in nodes {
                     for (c, val) in [v.x, v.y].into_iter().enumerate() {
                         if let Some(val) = val {
@@ -411,9 +368,7 @@ pub fn build(scene: &Scene, file: &Path, meshes: &[MeshInput]) -> Result<Model, 
                 m.loads.push(RampedLoad { ramp, forces });
             }
             BoundaryCondition::PointLoad(p) => {
-                let nodes = m
-                    .find_group(scene, file, &path, &p.group, p.body.as_deref())?
-                    .to_vec();
+                let nodes = nodes_of(&p.group)?;
                 let k = nodes.len() as f64;
                 let forces = nodes
                     .iter()

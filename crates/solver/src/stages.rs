@@ -12,7 +12,7 @@ use crate::system::{SceneSystem, StageReport};
 /// Checks the optional sections of a scene.
 pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
     if let Some(c) = &scene.contact {
-        c.validate(scene, file)?;
+        c.validate(file)?;
     }
     Ok(())
 }
