@@ -48,7 +48,9 @@ pub const STEP_TOLERANCE: f64 = 1e-12;
 /// The number of steps of about `h` that span `duration`: `duration / h` when it is a whole
 /// number within a relative [`STEP_TOLERANCE`] (so `2e-5 / 1e-8 = 2000.0000000000002` is
 /// 2000 steps, not 2001), else rounded up; at least 1. The step used is then
-/// `duration / steps`, within `1e-12` of `h` relative when `duration / h` is whole. Returned
+/// `duration / steps`, within `1e-12` of `h` relative when `duration / h` is whole (so a
+/// fixed step given at the stable limit may exceed it by that much, far inside the margins of
+/// the limit, an upper bound of the frequencies). Returned
 /// as a float: it may be huge or infinite, which [`time_steps`] refuses.
 pub fn step_count(duration: f64, h: f64) -> f64 {
     let r = duration / h;
