@@ -87,7 +87,15 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         })?;
         read.push(mesh);
     }
-    let names: Vec<MeshNames> = read.iter().map(MeshNames::of).collect();
+    // (messages name each mesh as the scene does)
+    let names: Vec<MeshNames> = read
+        .iter()
+        .zip(&scene.bodies)
+        .map(|(m, b)| MeshNames {
+            source: b.mesh.display().to_string(),
+            ..MeshNames::of(m)
+        })
+        .collect();
     let refs = crate::resolve::resolve(&scene, file, &names)?;
     let mut meshes = Vec::new();
     let mut inputs = Vec::new();

@@ -48,7 +48,9 @@ pub const STEP_TOLERANCE: f64 = 1e-12;
 /// The number of steps of about `h` that span `duration`: `duration / h` when it is a whole
 /// number within a relative [`STEP_TOLERANCE`] (so `2e-5 / 1e-8 = 2000.0000000000002` is
 /// 2000 steps, not 2001), else rounded up; at least 1. The step used is then
-/// `duration / steps`, within `1e-12` of `h` relative when `duration / h` is whole. Returned
+/// `duration / steps`, within `1e-12` of `h` relative when `duration / h` is whole (so a
+/// fixed step given at the stable limit may exceed it by that much, far inside the margins of
+/// the limit, an upper bound of the frequencies). Returned
 /// as a float: it may be huge or infinite, which [`time_steps`] refuses.
 pub fn step_count(duration: f64, h: f64) -> f64 {
     let r = duration / h;
@@ -156,7 +158,7 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
         }
         Some(h) => h,
     };
-    if !(h >= MIN_TIME_STEP) {
+    if h.is_nan() || h < MIN_TIME_STEP {
         let (path, fix) = if fixed.is_some() {
             (
                 "integrator.time_step",
@@ -179,7 +181,7 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
         ));
     }
     let n = step_count(duration, h);
-    if !(n <= MAX_STEPS) {
+    if n.is_nan() || n > MAX_STEPS {
         // The duration, unless the step comes from an input far outside the usual range
         // (then that input).
         let (path, origin, fix) = if fixed.is_some() {
@@ -290,7 +292,7 @@ pub fn step_driver(inp: &StepInputs) -> StepDriver {
     // The damping factor of the stable step, 1 / (sqrt(1 + z^2) + z).
     let z = inp.z_high;
     let zf = 1.0 / ((1.0 + z * z).sqrt() + z);
-    if !(zf >= 1e-3) {
+    if zf.is_nan() || zf < 1e-3 {
         let w = inp.omega_max;
         let alpha = scene.damping.mass_proportional;
         let path = if alpha / (2.0 * w) >= 0.5 * z || (!w.is_finite() && alpha > 0.0) {
@@ -359,7 +361,7 @@ pub fn step_driver(inp: &StepInputs) -> StepDriver {
         fix: format!(
             "lower fracture.material.{field} (a few times Young's modulus is usual, e.g. 10 E)"
         ),
-        unusual: !(p <= MAX_PENALTY_RATIO * e_max),
+        unusual: p.is_nan() || p > MAX_PENALTY_RATIO * e_max,
     }
 }
 
@@ -471,7 +473,7 @@ fn contact_driver(scene: &Scene, e_max: f64, w: f64) -> StepDriver {
             fdem_contact::ContactLaw::DEFAULT_PENALTY_FACTOR
         ),
         path,
-        unusual: !(p <= MAX_PENALTY_RATIO * e_max),
+        unusual: p.is_nan() || p > MAX_PENALTY_RATIO * e_max,
     }
 }
 

@@ -501,12 +501,15 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
                     .collect();
                 let bi = match (hits.len(), body) {
                     (1, _) => hits[0],
-                    (0, Some(_)) | (0, None) if bodies.len() == 1 => {
+                    (0, _) if bodies.len() == 1 => {
                         let bi = bodies[0];
-                        let other = (r.kind != RefKind::Group
-                            && meshes[bi].all.iter().any(|g| g == r.name))
-                        .then_some(" (a group of another dimension has this name)")
-                        .unwrap_or("");
+                        let other = if r.kind != RefKind::Group
+                            && meshes[bi].all.iter().any(|g| g == r.name)
+                        {
+                            " (a group of another dimension has this name)"
+                        } else {
+                            ""
+                        };
                         return Err(bad(
                             &r.path,
                             format!("{} has no {what} named '{}'{other}", label(bi), r.name),
