@@ -397,6 +397,13 @@ pub struct ContactStage {
     csv: Option<std::io::BufWriter<std::fs::File>>,
     csv_every: u64,
     steps: u64,
+    /// Some law (pair or wall) has contact damping: its dissipation is booked.
+    damped: bool,
+    /// Energy dissipated by contact damping (trapezoidal rule in time on the power of the
+    /// end-of-step states) [J], the power at the last booked state [W] and its time [s]
+    /// (`None` before the first force evaluation).
+    damping_dissipated: f64,
+    damping_power: Option<(f64, f64)>,
 }
 
 /// Triangle pairs bonded by the fracture stage (intact joints, intact stars), passed to the
@@ -465,7 +472,7 @@ impl ContactStage {
         } else {
             None
         };
-        let stage = Self {
+        let mut stage = Self {
             contact,
             tris: model.triangles.clone(),
             labels: model.tri_body.clone(),
@@ -490,7 +497,14 @@ impl ContactStage {
             csv,
             csv_every: csv_every.max(1),
             steps: 0,
+            damped: false,
+            damping_dissipated: 0.0,
+            damping_power: None,
         };
+        let c = &stage.contact;
+        let n = c.laws.n_materials() as u32;
+        stage.damped = (0..n).any(|i| (0..n).any(|j| c.laws.get(i, j).damping > 0.0))
+            || c.walls.iter().any(|w| w.law.damping > 0.0);
         Some((stage, report))
     }
 
@@ -554,6 +568,10 @@ impl ForceContribution for ContactStage {
             .contact
             .compute_forces(x, v, &self.tris, &self.labels, self.dt);
         self.contact.add_forces(&self.tris, f);
+        if self.damped && self.damping_power.is_none() {
+            // the first evaluation, at the initial state: the power the dissipation starts from
+            self.damping_power = Some((t, self.contact.damping_power(&self.tris, v)));
+        }
         let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
         if stats.max_phi > r.max_phi {
             r.max_phi = stats.max_phi;
@@ -601,9 +619,17 @@ impl ForceContribution for ContactStage {
             .push(("contact_active".into(), active));
     }
 
-    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], _v: &[[f64; 2]]) {
+    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
         self.contact.commit();
         self.steps += 1;
+        if self.damped {
+            // Dissipation of the dashpots: trapezoidal rule in time on the power of the last
+            // pass's damping forces at the end-of-step velocities.
+            let p = self.contact.damping_power(&self.tris, v);
+            let (t0, p0) = self.damping_power.unwrap_or((t, p));
+            self.damping_dissipated += 0.5 * (p0 + p) * (t - t0);
+            self.damping_power = Some((t, p));
+        }
         // The active bound, sampled every `active_every` steps while some contact carries
         // load (every step it took ~20 % of a fragmenting run's time).
         let stats = self.contact.stats();
@@ -701,14 +727,18 @@ impl ForceContribution for ContactStage {
         let r = self.report.lock().unwrap_or_else(|e| e.into_inner());
         StageReport {
             stored: e.potential + e.friction_stored,
-            dissipated: e.friction_dissipated,
-            boundary_work: r.wall_work,
+            friction: e.friction_dissipated,
+            contact_damping: self.damping_dissipated,
+            switch_loss: -self.switch_jump,
+            wall_work: r.wall_work,
+            fracture: 0.0,
             error: r.error.clone(),
             details: serde_json::json!({
                 "contact_potential": e.potential,
                 "friction_stored": e.friction_stored,
                 "friction_dissipated": e.friction_dissipated,
                 "wall_work": r.wall_work,
+                "damping_dissipated": self.damping_dissipated,
                 "switch_jump": self.switch_jump,
                 "max_phi": r.max_phi,
                 "max_depth_over_altitude": r.max_depth_over_altitude,

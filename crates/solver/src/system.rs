@@ -94,10 +94,18 @@ pub trait ForceContribution: Send {
 pub struct StageReport {
     /// Energy stored by the term (contact potential, joint strain, friction springs) [J].
     pub stored: f64,
-    /// Energy dissipated by the term (friction slip, fracture) [J].
-    pub dissipated: f64,
+    /// Energy dissipated by friction slip [J].
+    pub friction: f64,
+    /// Energy dissipated by contact damping (the normal dashpots) [J].
+    pub contact_damping: f64,
+    /// Energy dissipated by the softening of joints [J].
+    pub fracture: f64,
+    /// Energy lost at the switches between joints and contact [J]: stored in joints when they
+    /// broke, less the contact potential that released pairs brought in (negative when the
+    /// contact brought in more).
+    pub switch_loss: f64,
     /// Work done on the bodies by boundaries the term moves (platens) [J].
-    pub boundary_work: f64,
+    pub wall_work: f64,
     /// An error that should stop the run (e.g. too deep a penetration).
     pub error: Option<String>,
     /// Free-form details for `summary.json`.
