@@ -821,6 +821,7 @@ fn dynamic_run(
     let mut hist = Histories::new(l, &sys.model, &options.out_dir);
 
     let mut acc = vec![0.0; 2 * n];
+    Books::prepare(&mut *sys);
     fdem_time::SecondOrderSystem::acceleration(&mut *sys, 0.0, &state.x, &state.v, &mut acc);
     // The energy ledger's running books (crate::ledger), from the force at t = 0.
     let mut books = Books::new(&mut *sys, &state, l.scene.damping.mass_proportional);

@@ -8,6 +8,7 @@
 //! supplied   = external_work + gravity_work + support_work + wall_work      (since t = 0)
 //! present    = kinetic + strain + stored                                    (now)
 //! dissipated = mass_damping + viscosity + contact_damping + friction + fracture + switch_loss
+//!              + contact_residual + elastic_residual
 //! ```
 //!
 //! How each term is computed (docs/solver.md, "Energy ledger"):
@@ -23,7 +24,10 @@
 //!   viscous stress power), contact_damping `int P_dashpots dt`: trapezoidal rule in time on
 //!   the end-of-step states; friction and fracture: the contact and joint books; switch_loss:
 //!   energy stored in joints at their breaks less the contact potential that released pairs
-//!   brought in.
+//!   brought in; contact_residual: what the contact's books (walls' work, stored energy,
+//!   friction, damping) leave unexplained of the trapezoidal work of the contact forces on
+//!   the nodes (the pair potential is exact for rigid relative motion only);
+//!   elastic_residual: the same for the element forces (Munjiza's law has no potential).
 //!
 //! Each quadrature is second order, so for a second-order scheme `error` is the integration
 //! error, `O(h^2)`: it converges at second order as the step is refined (a term left out of
@@ -84,7 +88,20 @@ pub struct Energies {
     /// Lost at the switches between joints and contact: energy stored in joints at their
     /// breaks less the contact potential brought in by the pairs the joints released.
     pub switch_loss: f64,
-    /// `mass_damping + viscosity + contact_damping + friction + fracture + switch_loss`.
+    /// Removed by the contact forces beyond the contact's books: the work of the walls less
+    /// the change of the contact's stored energy, its friction and damping dissipation and
+    /// the work its forces did on the nodes. The pair potential is an exact potential of the
+    /// contact force for rigid relative motion only, so deforming triangles in contact leave a
+    /// residual while they touch (it returns as they separate).
+    pub contact_residual: f64,
+    /// Removed by the element forces beyond the change of `strain` and the `viscosity`
+    /// dissipation: minus their work on the nodes (trapezoidal rule on each step's
+    /// displacement) less those two. Munjiza's law (`"linear-elastic"`) has no strain-energy
+    /// potential and `strain` is its small-strain value, so finite strains (e.g. under a
+    /// contact) leave a residual; 0 with `"neo-hookean"` (an exact potential; not computed).
+    pub elastic_residual: f64,
+    /// `mass_damping + viscosity + contact_damping + friction + fracture + switch_loss +
+    /// contact_residual + elastic_residual`.
     pub dissipated: f64,
     /// `initial + supplied - present - dissipated`: the integration error (`O(h^2)`).
     pub error: f64,
@@ -98,7 +115,7 @@ pub struct Energies {
 }
 
 /// Number of ledger terms ([`Energies::columns`]).
-pub const N_COLUMNS: usize = 22;
+pub const N_COLUMNS: usize = 24;
 
 impl Energies {
     /// Sets the totals (`initial`, `supplied`, `present`, `dissipated`, `in_play`) and the
@@ -112,7 +129,9 @@ impl Energies {
             + self.contact_damping
             + self.friction
             + self.fracture
-            + self.switch_loss;
+            + self.switch_loss
+            + self.contact_residual
+            + self.elastic_residual;
         self.error = self.initial + self.supplied - self.present - self.dissipated;
         self.in_play = self.initial
             + self.external_work.abs()
@@ -154,6 +173,8 @@ impl Energies {
             ("friction", self.friction),
             ("fracture", self.fracture),
             ("switch_loss", self.switch_loss),
+            ("contact_residual", self.contact_residual),
+            ("elastic_residual", self.elastic_residual),
             ("dissipated", self.dissipated),
             ("error", self.error),
             ("in_play", self.in_play),
@@ -196,7 +217,7 @@ impl Energies {
             group("initial", 0..4),
             group("supplied", 4..9),
             group("present", 9..13),
-            group("dissipated", 13..20),
+            group("dissipated", 13..22),
             self.error,
             self.relative_error(),
             self.in_play
@@ -230,9 +251,28 @@ pub(crate) struct Books {
     /// Positions at t = 0 (only with gravity).
     grav0: Vec<f64>,
     t_prev: f64,
+    /// Work of the element forces on the nodes so far [J], their value and the positions
+    /// at the last booked state (empty: not booked, the elements have a potential).
+    internal_work: f64,
+    prev_f_int: Vec<[f64; 2]>,
+    prev_x: Vec<[f64; 2]>,
 }
 
 impl Books {
+    /// Prepares `sys` before its first force evaluation: the work of the element forces is
+    /// booked when some material has no strain-energy potential (Munjiza's law), and then the
+    /// system keeps its internal forces apart.
+    pub fn prepare(sys: &mut SceneSystem) {
+        if sys
+            .elements
+            .materials
+            .iter()
+            .any(|m| m.law == fdem_mesh::ElasticLaw::Munjiza)
+        {
+            sys.keep_internal_forces();
+        }
+    }
+
     /// The books at t = 0 of a system whose force at the initial state `state` was just
     /// evaluated (the reactions at the supports are read from it) and whose stages are
     /// attached; `alpha` is the mass-proportional damping.
@@ -296,6 +336,13 @@ impl Books {
             visc_sums: Vec::new(),
             grav0,
             t_prev: state.t,
+            internal_work: 0.0,
+            prev_f_int: sys.internal_force.clone(),
+            prev_x: if sys.internal_force.is_empty() {
+                Vec::new()
+            } else {
+                state.x_nodes().to_vec()
+            },
         };
         books.k_prescribed0 = books.k_prescribed(&state.v);
         books.p_mass = books.mass_damping_power(&state.v);
@@ -341,6 +388,20 @@ impl Books {
             self.sums.mass_damping += 0.5 * (self.p_mass + p) * h;
             self.p_mass = p;
         }
+        if !self.prev_f_int.is_empty() {
+            let mut w = 0.0;
+            for ((f0, f1), (x0, x1)) in self
+                .prev_f_int
+                .iter_mut()
+                .zip(&sys.internal_force)
+                .zip(self.prev_x.iter_mut().zip(state.x_nodes()))
+            {
+                w += 0.5 * ((f0[0] + f1[0]) * (x1[0] - x0[0]) + (f0[1] + f1[1]) * (x1[1] - x0[1]));
+                *f0 = *f1;
+                *x0 = *x1;
+            }
+            self.internal_work += w;
+        }
         if sys.elements.viscous {
             let p =
                 sys.elements
@@ -358,6 +419,10 @@ impl Books {
         e.support_work += self.k_prescribed(&state.v) - self.k_prescribed0;
         e.kinetic = kinetic_energy(&self.mass_dof, &state.v);
         e.strain = sys.elements.strain_energy(state.x_nodes());
+        if !self.prev_f_int.is_empty() {
+            e.elastic_residual =
+                -self.internal_work - e.viscosity - (e.strain - e.initial_strain);
+        }
         if let Some(r) = stages {
             e.stored = r.stored;
             e.wall_work = r.wall_work;
@@ -365,6 +430,7 @@ impl Books {
             e.contact_damping = r.contact_damping;
             e.fracture = r.fracture;
             e.switch_loss = r.switch_loss;
+            e.contact_residual = r.contact_residual;
         }
         e.close();
         e

@@ -162,6 +162,7 @@ pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::V
         total.contact_damping += r.contact_damping;
         total.fracture += r.fracture;
         total.switch_loss += r.switch_loss;
+        total.contact_residual += r.contact_residual;
         total.wall_work += r.wall_work;
         let mut d = r.details;
         if let (Some(obj), Some(t)) = (d.as_object_mut(), sys.contribution_times.get(i)) {

@@ -104,6 +104,11 @@ pub struct StageReport {
     /// broke, less the contact potential that released pairs brought in (negative when the
     /// contact brought in more).
     pub switch_loss: f64,
+    /// Energy the term's forces removed from the bodies beyond what its books explain [J]:
+    /// for contact, the work of the supplied energy (walls) less the change of the stored
+    /// energy, the friction and damping dissipation and the work its forces did on the
+    /// nodes (the contact potential is an exact potential for rigid relative motion only).
+    pub contact_residual: f64,
     /// Work done on the bodies by boundaries the term moves (platens) [J].
     pub wall_work: f64,
     /// An error that should stop the run (e.g. too deep a penetration).
@@ -146,6 +151,10 @@ pub struct SceneSystem {
     pub contributions: Vec<Box<dyn ForceContribution>>,
     /// Nodal force of the last evaluation (internal + external + damping + contributions).
     pub force: Vec<[f64; 2]>,
+    /// The internal (element) part of [`SceneSystem::force`], kept only after
+    /// [`SceneSystem::keep_internal_forces`] (for the energy ledger's work of the element
+    /// forces); empty otherwise.
+    pub internal_force: Vec<[f64; 2]>,
     /// Stage timers (accumulated).
     pub timers: StageTimers,
     /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
@@ -184,6 +193,7 @@ impl SceneSystem {
             alpha,
             contributions: Vec::new(),
             force: vec![[0.0; 2]; n],
+            internal_force: Vec::new(),
             timers: StageTimers::default(),
             contribution_times: Vec::new(),
             contribution_end_times: Vec::new(),
@@ -195,6 +205,12 @@ impl SceneSystem {
     /// Turns the per-stage timers on or off (they cost two clock reads per stage).
     pub fn set_timing(&mut self, on: bool) {
         self.timing = on;
+    }
+
+    /// From the next evaluation on, keeps a copy of the internal forces in
+    /// [`SceneSystem::internal_force`] (one copy of the node array per evaluation).
+    pub fn keep_internal_forces(&mut self) {
+        self.internal_force = vec![[0.0; 2]; self.force.len()];
     }
 
     /// Constrained DOFs (fixed or prescribed velocity).
@@ -211,6 +227,9 @@ impl SceneSystem {
         let s = clock(self.timing);
         self.elements
             .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+        if !self.internal_force.is_empty() {
+            self.internal_force.copy_from_slice(&self.force);
+        }
         self.timers.internal_forces += secs(s);
         if !self.model.loads.is_empty() || self.model.gravity.is_some() {
             let s = clock(self.timing);
