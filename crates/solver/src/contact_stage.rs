@@ -652,7 +652,8 @@ impl ForceContribution for ContactStage {
         // displacement; the last pass was at the end-of-step positions).
         if !self.node_x.is_empty() {
             self.node_force_now.fill([0.0; 2]);
-            self.contact.add_forces(&self.tris, &mut self.node_force_now);
+            self.contact
+                .add_forces(&self.tris, &mut self.node_force_now);
             let mut w = 0.0;
             for ((f0, f1), (x0, x1)) in self
                 .node_force

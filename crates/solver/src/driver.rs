@@ -938,8 +938,8 @@ fn dynamic_run(
                     message: "non-finite positions or velocities".into(),
                 });
             }
-            let (stored, walls) = stage_report(sys, state.x_nodes())
-                .map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
+            let (stored, walls) =
+                stage_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
             let e_now = kinetic_energy(&books.mass_dof, &state.v)
                 + sys.elements.strain_energy(state.x_nodes())
                 + stored;
@@ -1052,9 +1052,7 @@ fn dynamic_run(
             message: e.to_string(),
         })?;
     }
-    let mut summary = partial_summary(
-        l, sys, steps_done, &state, wall, step_time, &writer, &books,
-    );
+    let mut summary = partial_summary(l, sys, steps_done, &state, wall, step_time, &writer, &books);
     summary.energy = books.ledger(sys, &state, Some(&stage_report));
     summary.converged = converged;
     summary.relative_residual = rel_res;

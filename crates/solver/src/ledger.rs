@@ -413,15 +413,19 @@ impl Books {
 
     /// The ledger at `state`, with the stages' report at its positions (`None`: the
     /// scene has no stages).
-    pub fn ledger(&self, sys: &SceneSystem, state: &State, stages: Option<&StageReport>) -> Energies {
+    pub fn ledger(
+        &self,
+        sys: &SceneSystem,
+        state: &State,
+        stages: Option<&StageReport>,
+    ) -> Energies {
         let mut e = self.sums;
         e.gravity_work = self.gravity_work(&sys.model, &state.x);
         e.support_work += self.k_prescribed(&state.v) - self.k_prescribed0;
         e.kinetic = kinetic_energy(&self.mass_dof, &state.v);
         e.strain = sys.elements.strain_energy(state.x_nodes());
         if !self.prev_f_int.is_empty() {
-            e.elastic_residual =
-                -self.internal_work - e.viscosity - (e.strain - e.initial_strain);
+            e.elastic_residual = -self.internal_work - e.viscosity - (e.strain - e.initial_strain);
         }
         if let Some(r) = stages {
             e.stored = r.stored;
