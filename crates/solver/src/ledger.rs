@@ -389,6 +389,11 @@ impl Books {
             self.p_mass = p;
         }
         if !self.prev_f_int.is_empty() {
+            if !sys.evaluated_at_end {
+                // the scheme's last evaluation was not at the step's end (PC, OMF32, or a
+                // gradient by finite differences): the element forces there
+                sys.refresh_internal_forces(state.x_nodes(), state.v_nodes());
+            }
             let mut w = 0.0;
             for ((f0, f1), (x0, x1)) in self
                 .prev_f_int

@@ -155,6 +155,9 @@ pub struct SceneSystem {
     /// [`SceneSystem::keep_internal_forces`] (for the energy ledger's work of the element
     /// forces); empty otherwise.
     pub internal_force: Vec<[f64; 2]>,
+    /// Whether the last evaluation was at the positions that ended the last step (the time
+    /// crate's `end_of_step_at_last_evaluation`; false after a plain `end_of_step`).
+    pub evaluated_at_end: bool,
     /// Stage timers (accumulated).
     pub timers: StageTimers,
     /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
@@ -194,6 +197,7 @@ impl SceneSystem {
             contributions: Vec::new(),
             force: vec![[0.0; 2]; n],
             internal_force: Vec::new(),
+            evaluated_at_end: false,
             timers: StageTimers::default(),
             contribution_times: Vec::new(),
             contribution_end_times: Vec::new(),
@@ -211,6 +215,15 @@ impl SceneSystem {
     /// [`SceneSystem::internal_force`] (one copy of the node array per evaluation).
     pub fn keep_internal_forces(&mut self) {
         self.internal_force = vec![[0.0; 2]; self.force.len()];
+    }
+
+    /// Recomputes [`SceneSystem::internal_force`] at `(x, v)` (node arrays), leaving
+    /// [`SceneSystem::force`] alone: for a step whose last evaluation was elsewhere.
+    pub fn refresh_internal_forces(&mut self, x: &[[f64; 2]], v: &[[f64; 2]]) {
+        if !self.internal_force.is_empty() {
+            self.elements
+                .set_internal_forces(x, v, &mut self.internal_force, &mut self.scratch);
+        }
     }
 
     /// Constrained DOFs (fixed or prescribed velocity).
@@ -331,10 +344,12 @@ impl SecondOrderSystem for SceneSystem {
     }
 
     fn end_of_step(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.evaluated_at_end = false;
         self.end_contributions(t, x, v, false);
     }
 
     fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.evaluated_at_end = true;
         self.end_contributions(t, x, v, true);
     }
 }
