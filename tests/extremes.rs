@@ -649,7 +649,7 @@ fn impact_at_a_tenth_of_the_wave_speed() {
             let (p1, k1) = momentum_and_kinetic(&l.model.mass, &o.last_frame.velocity);
             let dp = ((p1[0] - p0[0]).powi(2) + (p1[1] - p0[1]).powi(2)).sqrt() / p0[0];
             let e = &o.summary.energy;
-            let total = e.kinetic + e.strain + e.stored_contact_joints;
+            let total = e.kinetic + e.strain + e.stored;
             let c = &o.summary.stages["contact"];
             eprintln!(
                 "impact at {v0:.1} m/s = 0.1 c_p: {} steps; momentum error {dp:.2e}; K1/K0 {:.4}; (K + U + stored)/K0 {:.4}; max overlap d/H {:.3e}",

@@ -45,10 +45,10 @@ fn pair_figures(o: &Outcome, out: &std::path::Path) -> (f64, f64, usize) {
         .map(|r| -r.split(',').nth(col).unwrap().parse::<f64>().unwrap())
         .fold(0.0, f64::max);
     let e = &o.summary.energy;
-    let work = e.boundary_work + e.external_work + e.support_work;
+    let work = e.supplied;
     let events = std::fs::read_to_string(out.join("fractures.csv"))
         .map_or(0, |t| t.lines().count().saturating_sub(1));
-    (peak / (0.01 * 0.01), e.dissipated_or_error / work, events)
+    (peak / (0.01 * 0.01), e.error / work, events)
 }
 
 const EXPECTED: f64 = 4.732_050_807_568_877e6; // 2 c/(1 - tan 30 deg), c = 1 MPa

@@ -639,8 +639,9 @@ fn one_run(
             run.wall_time = s.wall_time;
             run.force_evaluations = s.force_evaluations;
             run.element_steps_per_second = s.element_steps_per_second;
-            let input = (s.energy.external_work + s.energy.support_work).abs()
-                + s.energy.boundary_work.abs()
+            let input = (s.energy.external_work + s.energy.gravity_work + s.energy.support_work)
+                .abs()
+                + s.energy.wall_work.abs()
                 + e_kin0;
             let e = s.energy.kinetic + s.energy.strain;
             let ratio = e / input.max(f64::MIN_POSITIVE);

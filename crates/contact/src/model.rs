@@ -833,6 +833,48 @@ impl Contact {
         }
     }
 
+    /// Power dissipated by the contact damping of the last pass at node velocities `v` \[W/m\]:
+    /// minus the power of the damping forces on the nodes and on the planes,
+    /// `-sum_k f_d,k . (v_k - v_plane)` (`v_plane` 0 for triangle couples). A dashpot only
+    /// removes energy, so it is `>= 0` up to the lag between the velocities the pass used and
+    /// `v`. 0 at once, reading nothing, when no law (pair or plane) has damping.
+    pub fn damping_power(&self, tris: &[[u32; 3]], v: &[V2]) -> f64 {
+        let n = self.laws.n_materials() as u32;
+        let pairs = (0..n).any(|i| (0..n).any(|j| self.laws.get(i, j).damping > 0.0));
+        let planes = self.walls.iter().any(|w| w.law.damping > 0.0);
+        let mut p = 0.0;
+        if pairs {
+            for ((r, c), _) in self
+                .results
+                .iter()
+                .zip(&self.couples)
+                .zip(&self.flags)
+                .filter(|(_, f)| **f != 0)
+            {
+                if !r.active || r.fn_total == 0.0 {
+                    continue;
+                }
+                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+                let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+                for k in 0..6 {
+                    p -= dot(r.damping[k], v[nodes[k] as usize]);
+                }
+            }
+        }
+        if planes {
+            for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
+                let Some(plane) = self.walls.get(c[0] as usize) else {
+                    continue;
+                };
+                let t = &tris[c[1] as usize];
+                for k in 0..3 {
+                    p -= dot(r.damping[k], sub(v[t[k] as usize], plane.velocity));
+                }
+            }
+        }
+        p
+    }
+
     /// End-of-step hook: the trial tangential forces of the last pass become the committed
     /// history, and the pass's slip dissipation is booked.
     pub fn commit(&mut self) {

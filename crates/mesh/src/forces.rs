@@ -269,6 +269,46 @@ impl Elements {
             });
     }
 
+    /// Power dissipated by the element viscosity at positions `x` and velocities `v` [W]:
+    /// `-sum_a f_v,a . v_a` over the viscous part `f_v` of the internal nodal forces (the
+    /// viscous stress `eta D` of each triangle through the same nodal-force formula as
+    /// [`Elements::internal_forces`]), which equals `sum_e t A_e eta_e D_e : D_e >= 0`.
+    ///
+    /// Returns 0 at once, reading nothing, when no triangle has a viscosity. Parallel over
+    /// fixed chunks of triangles whose partial sums go into `sums` (resized to the number of
+    /// chunks on the first call, so a caller that keeps it allocates once) and are added in
+    /// chunk order: the same result for any number of threads.
+    pub fn viscous_power(&self, x: &[[f64; 2]], v: &[[f64; 2]], sums: &mut Vec<f64>) -> f64 {
+        if !self.viscous {
+            return 0.0;
+        }
+        assert!(x.len() >= self.n_nodes && v.len() >= self.n_nodes);
+        let mats = &self.materials[..];
+        let n_chunks = self.tris.len().div_ceil(TRI_CHUNK);
+        sums.resize(n_chunks, 0.0);
+        sums.par_iter_mut()
+            .zip(self.tris.par_chunks(TRI_CHUNK))
+            .for_each(|(s, chunk)| {
+                *s = chunk
+                    .iter()
+                    .filter(|td| td.eta != 0.0)
+                    .map(|td| {
+                        let c = &mats[td.material as usize];
+                        let xs = corners(td, x);
+                        let vs = corners(td, v);
+                        let g = edge_matrix(xs[0], xs[1], xs[2]);
+                        let d = rate_of_deformation(g, edge_matrix(vs[0], vs[1], vs[2]));
+                        let sv = [td.eta * d[0], td.eta * d[1], td.eta * d[2]];
+                        let fv = nodal_forces(sv, c.half_t, xs);
+                        -(0..3)
+                            .map(|a| fv[a][0] * vs[a][0] + fv[a][1] * vs[a][1])
+                            .sum::<f64>()
+                    })
+                    .sum();
+            });
+        sums.iter().sum()
+    }
+
     /// Adds the exact directional derivative of the internal force with respect to the
     /// positions, `df += (d f_int / d x)[x, v] . dx` (velocities held fixed), to `df`.
     ///

@@ -171,3 +171,45 @@ fn node_arrays_start_at_reference() {
     let total: f64 = n.m.iter().sum();
     assert!((total - 1000.0 * 1.5).abs() < 1e-12 * total);
 }
+
+/// Viscous power: on a uniform velocity gradient L, `sum_e t A_e eta_e D:D` (each element
+/// shape and thickness known), and equal to minus the power of the viscous part of the
+/// internal forces, `f(x, v) - f(x, 0)` (to 1e-12); 0 without viscosity and under a rigid
+/// spin.
+#[test]
+fn viscous_power_is_the_power_of_the_viscous_forces() {
+    let mesh = common::grid(3, 2, 1.5, 1.0, 0.4, 6);
+    let (e, rho, xi) = (1e9, 2000.0, 0.2);
+    let el = common::elements(
+        &mesh,
+        Material {
+            damping_ratio: xi,
+            ..Material::new(e, 0.25, rho)
+        },
+    );
+    let l = [0.3, 0.1, -0.2, -0.5];
+    let v = common::affine(&mesh.nodes, l, [1.0, 2.0]);
+    let mut sums = Vec::new();
+    let p = el.viscous_power(&mesh.nodes, &v, &mut sums);
+    // the kernel's own viscous forces
+    let zero = vec![[0.0; 2]; mesh.n_nodes()];
+    let mut scratch = fdem_mesh::ForceScratch::new(&el);
+    let mut f_v = vec![[0.0; 2]; mesh.n_nodes()];
+    let mut f_0 = vec![[0.0; 2]; mesh.n_nodes()];
+    el.set_internal_forces(&mesh.nodes, &v, &mut f_v, &mut scratch);
+    el.set_internal_forces(&mesh.nodes, &zero, &mut f_0, &mut scratch);
+    let from_forces: f64 = -(0..mesh.n_nodes())
+        .map(|i| (f_v[i][0] - f_0[i][0]) * v[i][0] + (f_v[i][1] - f_0[i][1]) * v[i][1])
+        .sum::<f64>();
+    // closed form: D = sym(L), D:D = Dxx^2 + Dyy^2 + 2 Dxy^2, t = 1
+    let dxy = 0.5 * (l[1] + l[2]);
+    let dd = l[0] * l[0] + l[3] * l[3] + 2.0 * dxy * dxy;
+    let closed: f64 = el.tris.iter().map(|t| t.area0 * t.eta * dd).sum();
+    assert!(p > 0.0);
+    assert!((p - from_forces).abs() < 1e-12 * p, "{p} vs {from_forces}");
+    assert!((p - closed).abs() < 1e-12 * p, "{p} vs {closed}");
+    let spin = common::affine(&mesh.nodes, [0.0, -1.0, 1.0, 0.0], [0.0; 2]);
+    assert!(el.viscous_power(&mesh.nodes, &spin, &mut sums).abs() < 1e-12 * p);
+    let elastic = common::elements(&mesh, Material::new(e, 0.25, rho));
+    assert_eq!(elastic.viscous_power(&mesh.nodes, &v, &mut sums), 0.0);
+}

@@ -29,6 +29,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{RunError, SceneError};
+pub use crate::ledger::Energies;
+use crate::ledger::{Books, kinetic_energy};
 use crate::limits::{self, StepInputs};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
@@ -332,28 +334,6 @@ impl Progress {
     }
 }
 
-/// Energies at the end of the run [J].
-#[derive(Debug, Clone, Copy, Default, Serialize)]
-pub struct Energies {
-    /// Kinetic energy.
-    pub kinetic: f64,
-    /// Strain energy.
-    pub strain: f64,
-    /// Work of the external loads and gravity (trapezoid rule on each step's displacement).
-    pub external_work: f64,
-    /// Work of the supports at prescribed-velocity DOFs.
-    pub support_work: f64,
-    /// `external_work + support_work + boundary_work - kinetic - strain - stored_contact_joints
-    /// - dissipated_contact_joints`: energy dissipated by damping, plus the integration error.
-    pub dissipated_or_error: f64,
-    /// Energy stored by contact and joints (contact potential, friction springs, joints) [J].
-    pub stored_contact_joints: f64,
-    /// Energy dissipated by friction slip and fracture [J].
-    pub dissipated_contact_joints: f64,
-    /// Work of moving rigid walls (platens) on the bodies [J].
-    pub boundary_work: f64,
-}
-
 /// The run summary (also written as `summary.json`).
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
@@ -383,7 +363,7 @@ pub struct Summary {
     pub element_steps_per_second: f64,
     /// Per-stage wall times [s].
     pub timers: StageTimers,
-    /// Energies at the end.
+    /// The energy ledger at the end (`crate::ledger`).
     pub energy: Energies,
     /// Frames written.
     pub frames: usize,
@@ -434,15 +414,10 @@ impl Summary {
             t.histories,
             t.output
         );
-        let e = &self.energy;
         let _ = write!(
             s,
-            "energy: kinetic {:.4e} J, strain {:.4e} J, external work {:.4e} J, support work {:.4e} J, dissipated/error {:.3e} J; max |u| {:.4e} m",
-            e.kinetic,
-            e.strain,
-            e.external_work,
-            e.support_work,
-            e.dissipated_or_error,
+            "{}\nmax |u| {:.4e} m",
+            self.energy.describe(),
             self.max_displacement
         );
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
@@ -617,7 +592,7 @@ struct Histories {
     writer: HistoryWriter,
     every: u64,
     groups: Vec<Vec<u32>>,
-    /// Whether an energy probe is recorded (then the stages' stored energy is computed).
+    /// Whether an energy probe is recorded (then the ledger is computed at each record).
     energy: bool,
 }
 
@@ -650,16 +625,8 @@ impl Histories {
                     groups.push(nodes);
                 }
                 Probe::Energy => {
-                    for c in [
-                        "kinetic",
-                        "strain",
-                        "external_work",
-                        "support_work",
-                        "balance",
-                        "stored",
-                    ] {
-                        cols.push(c.into());
-                    }
+                    // the ledger's terms, named as in summary.json and the console
+                    cols.extend(Energies::column_names().map(String::from));
                     groups.push(Vec::new());
                 }
             }
@@ -686,9 +653,7 @@ impl Histories {
         x: &[[f64; 2]],
         v: &[[f64; 2]],
         reaction: &[[f64; 2]],
-        elements: &Elements,
         energy: &Energies,
-        kinetic: f64,
     ) {
         let mut row = vec![t];
         for (p, nodes) in l.scene.histories.probes.iter().zip(&self.groups) {
@@ -719,17 +684,7 @@ impl Histories {
                     }
                     row.extend([rx, ry]);
                 }
-                Probe::Energy => {
-                    let u = elements.strain_energy(x);
-                    row.extend([
-                        kinetic,
-                        u,
-                        energy.external_work,
-                        energy.support_work,
-                        energy.external_work + energy.support_work - kinetic - u,
-                        energy.stored_contact_joints,
-                    ]);
-                }
+                Probe::Energy => row.extend(energy.columns().map(|(_, v)| v)),
             }
         }
         self.writer.push(&row);
@@ -746,6 +701,17 @@ pub fn run_outcome(
     let mut writer = Writer::new(options, l.scene.output.compression)?;
     if l.scene.analysis == Analysis::Static {
         let (frame, mut summary) = static_solve::solve(l)?;
+        // the static terms as a ledger (gravity's work `1/2 sum m g . u` taken apart)
+        let gravity = l.model.gravity.map_or(0.0, |g| {
+            0.5 * l
+                .model
+                .mass
+                .iter()
+                .zip(&frame.displacement)
+                .map(|(m, u)| m * (g[0] * u[0] + g[1] * u[1]))
+                .sum::<f64>()
+        });
+        summary.energy = Energies::from_static(&summary.energy, gravity);
         let s = Instant::now();
         if l.scene.output.frames > 0 {
             writer.frame(&frame)?;
@@ -763,9 +729,7 @@ pub fn run_outcome(
                 &x,
                 &frame.velocity,
                 &frame.reaction,
-                &l.elements,
                 &summary.energy,
-                0.0,
             );
             h.writer.flush().map_err(|e| RunError::Output {
                 file: options.out_dir.join("histories.csv"),
@@ -869,52 +833,11 @@ fn dynamic_run(
     let mut next_frame = 0usize;
     let mut hist = Histories::new(l, &sys.model, &options.out_dir);
 
-    // Energy bookkeeping on the loaded and prescribed DOFs only.
-    let mut loaded_dofs: Vec<usize> = sys
-        .model
-        .loads
-        .iter()
-        .flat_map(|ld| ld.forces.iter().map(|(d, _)| *d as usize))
-        .collect();
-    loaded_dofs.sort_unstable();
-    loaded_dofs.dedup();
-    let prescribed: Vec<usize> = sys
-        .model
-        .prescribed
-        .iter()
-        .map(|p| p.dof as usize)
-        .collect();
-    let mut fext_full = vec![0.0; 2 * n];
-    let ext_at = |m: &Model, t: f64, buf: &mut Vec<f64>| {
-        for &d in &loaded_dofs {
-            buf[d] = 0.0;
-        }
-        for ld in &m.loads {
-            let s = model::ramp_factor(t, ld.ramp);
-            for &(d, v) in &ld.forces {
-                buf[d as usize] += s * v;
-            }
-        }
-    };
-    ext_at(&sys.model, 0.0, &mut fext_full);
-    let mut prev_fext: Vec<f64> = loaded_dofs.iter().map(|&d| fext_full[d]).collect();
-    let mut prev_x_loaded: Vec<f64> = loaded_dofs.iter().map(|&d| state.x[d]).collect();
-    let mut prev_x_pres: Vec<f64> = prescribed.iter().map(|&d| state.x[d]).collect();
     let mut acc = vec![0.0; 2 * n];
+    Books::prepare(&mut *sys);
     fdem_time::SecondOrderSystem::acceleration(&mut *sys, 0.0, &state.x, &state.v, &mut acc);
-    let mut prev_r_pres: Vec<f64> = prescribed
-        .iter()
-        .map(|&d| -sys.force.as_flattened()[d])
-        .collect();
-    let mut energy = Energies::default();
-    let mass_dof: Vec<f64> = sys.model.mass.iter().flat_map(|m| [*m, *m]).collect();
-    // the start positions for the work of gravity (`gravity_work` reads them only with
-    // gravity: without it no copy of the 2n coordinates)
-    let grav0: Vec<f64> = if sys.model.gravity.is_some() {
-        state.x.clone()
-    } else {
-        Vec::new()
-    };
+    // The energy ledger's running books (crate::ledger), from the force at t = 0.
+    let mut books = Books::new(&mut *sys, &state, l.scene.damping.mass_proportional);
 
     let emit =
         |sys: &mut SceneSystem, state: &State, writer: &mut Writer| -> Result<(), RunError> {
@@ -961,20 +884,8 @@ fn dynamic_run(
     // (damping, friction and fracture only remove energy). `E` above that by more than the
     // bound of `energy_growth` while growing is an unstable mode, reported long before it
     // overflows.
-    let stored_at = |sys: &SceneSystem, x: &[[f64; 2]]| -> (f64, f64) {
-        if sys.contributions.is_empty() {
-            (0.0, 0.0)
-        } else {
-            let (r, _) = crate::stages::reports(sys, x);
-            (r.stored, r.boundary_work)
-        }
-    };
-    let e_initial = kinetic_energy(&mass_dof, &state.v)
-        + sys.elements.strain_energy(state.x_nodes())
-        + stored_at(sys, state.x_nodes()).0;
-    let mut e_prev_check = e_initial;
+    let mut e_prev_check = books.initial();
     let mut steps_done = 0u64;
-    let mut kinetic;
     let mut step = 0u64;
     loop {
         if !adaptive && step >= n_steps {
@@ -1017,29 +928,12 @@ fn dynamic_run(
         } else {
             step >= n_steps
         };
-        // Work of loads and supports (trapezoid rule on this step's displacement).
-        if !loaded_dofs.is_empty() {
-            ext_at(&sys.model, state.t, &mut fext_full);
-            for (k, &d) in loaded_dofs.iter().enumerate() {
-                let f1 = fext_full[d];
-                energy.external_work += 0.5 * (prev_fext[k] + f1) * (state.x[d] - prev_x_loaded[k]);
-                prev_fext[k] = f1;
-                prev_x_loaded[k] = state.x[d];
-            }
-        }
-        if !prescribed.is_empty() {
-            let f = sys.force.as_flattened();
-            for (k, &d) in prescribed.iter().enumerate() {
-                let r1 = -f[d];
-                energy.support_work += 0.5 * (prev_r_pres[k] + r1) * (state.x[d] - prev_x_pres[k]);
-                prev_r_pres[k] = r1;
-                prev_x_pres[k] = state.x[d];
-            }
-        }
+        // Works and dissipations of this step.
+        books.step(&mut *sys, &state);
         if step.is_multiple_of(check_every) || last {
             if let Some(message) = crate::stages::first_error(sys) {
                 let _ = writer.summary(&partial_summary(
-                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1049,7 +943,7 @@ fn dynamic_run(
             }
             if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
                 let _ = writer.summary(&partial_summary(
-                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1057,19 +951,12 @@ fn dynamic_run(
                     message: "non-finite positions or velocities".into(),
                 });
             }
-            let (stored, walls) = stored_at(sys, state.x_nodes());
-            let e_now = kinetic_energy(&mass_dof, &state.v)
+            let (stored, walls) =
+                stage_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
+            let e_now = kinetic_energy(&books.mass_dof, &state.v)
                 + sys.elements.strain_energy(state.x_nodes())
                 + stored;
-            let k_prescribed: f64 = prescribed
-                .iter()
-                .map(|&d| 0.5 * mass_dof[d] * state.v[d] * state.v[d])
-                .sum();
-            let supplied = e_initial
-                + (energy.external_work + gravity_work(&sys.model, &state.x, &grav0)).abs()
-                + energy.support_work.abs()
-                + walls.abs()
-                + k_prescribed;
+            let supplied = books.supplied_bound(&sys.model, &state, walls);
             if let Some(message) = energy_growth(
                 e_now,
                 e_prev_check,
@@ -1080,7 +967,7 @@ fn dynamic_run(
                 step.saturating_sub(check_every),
             ) {
                 let _ = writer.summary(&partial_summary(
-                    l, sys, steps_done, &state, wall, step_time, &writer, &energy,
+                    l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
                 return Err(RunError::Unstable {
                     step,
@@ -1117,12 +1004,12 @@ fn dynamic_run(
         {
             let s = Instant::now();
             let reaction = sys.reactions();
-            kinetic = kinetic_energy(&mass_dof, &state.v);
-            let mut e = energy;
-            e.external_work += gravity_work(&sys.model, &state.x, &grav0);
-            if hh.energy {
-                e.stored_contact_joints = stored_at(sys, state.x_nodes()).0;
-            }
+            let e = if hh.energy {
+                let r = stage_report(sys, state.x_nodes());
+                books.ledger(sys, &state, r.as_ref())
+            } else {
+                Energies::default()
+            };
             hh.record(
                 l,
                 &sys.model.x0,
@@ -1130,9 +1017,7 @@ fn dynamic_run(
                 state.x_nodes(),
                 state.v_nodes(),
                 &reaction,
-                &sys.elements,
                 &e,
-                kinetic,
             );
             sys.timers.histories += s.elapsed().as_secs_f64();
         }
@@ -1170,19 +1055,7 @@ fn dynamic_run(
     if relaxation && converged.is_none() {
         converged = Some(false);
     }
-    kinetic = kinetic_energy(&mass_dof, &state.v);
-    energy.kinetic = kinetic;
-    energy.strain = sys.elements.strain_energy(state.x_nodes());
-    energy.external_work += gravity_work(&sys.model, &state.x, &grav0);
     let (stage_report, stage_details) = crate::stages::reports(sys, state.x_nodes());
-    energy.stored_contact_joints = stage_report.stored;
-    energy.dissipated_contact_joints = stage_report.dissipated;
-    energy.boundary_work = stage_report.boundary_work;
-    energy.dissipated_or_error = energy.external_work + energy.support_work + energy.boundary_work
-        - energy.kinetic
-        - energy.strain
-        - energy.stored_contact_joints
-        - energy.dissipated_contact_joints;
     for c in &mut sys.contributions {
         c.finish();
     }
@@ -1192,9 +1065,8 @@ fn dynamic_run(
             message: e.to_string(),
         })?;
     }
-    let mut summary = partial_summary(
-        l, sys, steps_done, &state, wall, step_time, &writer, &energy,
-    );
+    let mut summary = partial_summary(l, sys, steps_done, &state, wall, step_time, &writer, &books);
+    summary.energy = books.ledger(sys, &state, Some(&stage_report));
     summary.converged = converged;
     summary.relative_residual = rel_res;
     summary.force_evaluations = integ.counters().forces;
@@ -1267,22 +1139,9 @@ pub fn energy_growth(
     })
 }
 
-fn kinetic_energy(m: &[f64], v: &[f64]) -> f64 {
-    0.5 * m.iter().zip(v).map(|(m, v)| m * v * v).sum::<f64>()
-}
-
-fn gravity_work(model: &Model, x: &[f64], x0: &[f64]) -> f64 {
-    match model.gravity {
-        None => 0.0,
-        Some(g) => model
-            .mass
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                m * (g[0] * (x[2 * i] - x0[2 * i]) + g[1] * (x[2 * i + 1] - x0[2 * i + 1]))
-            })
-            .sum(),
-    }
+/// The stages' summed report at positions `x` (`None` without stages).
+fn stage_report(sys: &SceneSystem, x: &[[f64; 2]]) -> Option<crate::system::StageReport> {
+    (!sys.contributions.is_empty()).then(|| crate::stages::reports(sys, x).0)
 }
 
 fn partial_summary(
@@ -1293,7 +1152,7 @@ fn partial_summary(
     wall: Instant,
     step_time: f64,
     writer: &Writer,
-    energy: &Energies,
+    books: &Books,
 ) -> Summary {
     let mut timers = sys.timers;
     timers.integration = (step_time
@@ -1326,7 +1185,7 @@ fn partial_summary(
             0.0
         },
         timers,
-        energy: *energy,
+        energy: books.ledger(sys, state, stage_report(sys, state.x_nodes()).as_ref()),
         frames: writer.frames,
         converged: None,
         relative_residual: None,

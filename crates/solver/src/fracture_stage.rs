@@ -434,9 +434,8 @@ impl ForceContribution for FractureStage {
         let e = self.state.energy();
         StageReport {
             stored: e.stored - e.stored_initial,
-            dissipated: e.dissipated + e.released_at_break,
-            boundary_work: 0.0,
-            error: None,
+            fracture: e.dissipated,
+            switch_loss: e.released_at_break,
             details: serde_json::json!({
                 "joints": self.set.len(),
                 "broken": self.state.n_broken,
@@ -449,6 +448,7 @@ impl ForceContribution for FractureStage {
                 "released_at_break": e.released_at_break,
                 "work": e.work,
             }),
+            ..StageReport::default()
         }
     }
 

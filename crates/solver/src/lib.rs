@@ -10,6 +10,8 @@
 //!   prescribed. Terms a scene lacks are skipped (cost nothing).
 //! - [`driver`]: time step `h = safety (h omega)_scheme / omega_max (sqrt(1+z^2) - z)`, the
 //!   dynamic and dynamic-relaxation loops, frames, histories, summary.
+//! - [`ledger`]: the energy ledger (initial, supplied, present, dissipated, error) that the
+//!   console, `summary.json` and `histories.csv` report.
 //! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain).
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
@@ -17,6 +19,7 @@ pub mod contact_stage;
 pub mod driver;
 pub mod error;
 pub mod fracture_stage;
+pub mod ledger;
 pub mod limits;
 pub mod mesh_adapter;
 pub mod model;

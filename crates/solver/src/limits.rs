@@ -233,7 +233,13 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
         .histories
         .probes
         .iter()
-        .map(|p| if matches!(p, Probe::Energy) { 6 } else { 2 })
+        .map(|p| {
+            if matches!(p, Probe::Energy) {
+                crate::ledger::N_COLUMNS
+            } else {
+                2
+            }
+        })
         .sum::<usize>()
         + scene
             .contact

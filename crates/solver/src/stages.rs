@@ -158,8 +158,12 @@ pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::V
     for (i, c) in sys.contributions.iter().enumerate() {
         let r = c.report(x);
         total.stored += r.stored;
-        total.dissipated += r.dissipated;
-        total.boundary_work += r.boundary_work;
+        total.friction += r.friction;
+        total.contact_damping += r.contact_damping;
+        total.fracture += r.fracture;
+        total.switch_loss += r.switch_loss;
+        total.contact_residual += r.contact_residual;
+        total.wall_work += r.wall_work;
         let mut d = r.details;
         if let (Some(obj), Some(t)) = (d.as_object_mut(), sys.contribution_times.get(i)) {
             // wall time of the stage's force passes and end-of-step hooks [s]

@@ -94,10 +94,23 @@ pub trait ForceContribution: Send {
 pub struct StageReport {
     /// Energy stored by the term (contact potential, joint strain, friction springs) [J].
     pub stored: f64,
-    /// Energy dissipated by the term (friction slip, fracture) [J].
-    pub dissipated: f64,
+    /// Energy dissipated by friction slip [J].
+    pub friction: f64,
+    /// Energy dissipated by contact damping (the normal dashpots) [J].
+    pub contact_damping: f64,
+    /// Energy dissipated by the softening of joints [J].
+    pub fracture: f64,
+    /// Energy lost at the switches between joints and contact [J]: stored in joints when they
+    /// broke, less the contact potential that released pairs brought in (negative when the
+    /// contact brought in more).
+    pub switch_loss: f64,
+    /// Energy the term's forces removed from the bodies beyond what its books explain [J]:
+    /// for contact, the work of the supplied energy (walls) less the change of the stored
+    /// energy, the friction and damping dissipation and the work its forces did on the
+    /// nodes (the contact potential is an exact potential for rigid relative motion only).
+    pub contact_residual: f64,
     /// Work done on the bodies by boundaries the term moves (platens) [J].
-    pub boundary_work: f64,
+    pub wall_work: f64,
     /// An error that should stop the run (e.g. too deep a penetration).
     pub error: Option<String>,
     /// Free-form details for `summary.json`.
@@ -138,6 +151,13 @@ pub struct SceneSystem {
     pub contributions: Vec<Box<dyn ForceContribution>>,
     /// Nodal force of the last evaluation (internal + external + damping + contributions).
     pub force: Vec<[f64; 2]>,
+    /// The internal (element) part of [`SceneSystem::force`], kept only after
+    /// [`SceneSystem::keep_internal_forces`] (for the energy ledger's work of the element
+    /// forces); empty otherwise.
+    pub internal_force: Vec<[f64; 2]>,
+    /// Whether the last evaluation was at the positions that ended the last step (the time
+    /// crate's `end_of_step_at_last_evaluation`; false after a plain `end_of_step`).
+    pub evaluated_at_end: bool,
     /// Stage timers (accumulated).
     pub timers: StageTimers,
     /// Wall time of each contribution [s], aligned with [`SceneSystem::contributions`]:
@@ -176,6 +196,8 @@ impl SceneSystem {
             alpha,
             contributions: Vec::new(),
             force: vec![[0.0; 2]; n],
+            internal_force: Vec::new(),
+            evaluated_at_end: false,
             timers: StageTimers::default(),
             contribution_times: Vec::new(),
             contribution_end_times: Vec::new(),
@@ -187,6 +209,21 @@ impl SceneSystem {
     /// Turns the per-stage timers on or off (they cost two clock reads per stage).
     pub fn set_timing(&mut self, on: bool) {
         self.timing = on;
+    }
+
+    /// From the next evaluation on, keeps a copy of the internal forces in
+    /// [`SceneSystem::internal_force`] (one copy of the node array per evaluation).
+    pub fn keep_internal_forces(&mut self) {
+        self.internal_force = vec![[0.0; 2]; self.force.len()];
+    }
+
+    /// Recomputes [`SceneSystem::internal_force`] at `(x, v)` (node arrays), leaving
+    /// [`SceneSystem::force`] alone: for a step whose last evaluation was elsewhere.
+    pub fn refresh_internal_forces(&mut self, x: &[[f64; 2]], v: &[[f64; 2]]) {
+        if !self.internal_force.is_empty() {
+            self.elements
+                .set_internal_forces(x, v, &mut self.internal_force, &mut self.scratch);
+        }
     }
 
     /// Constrained DOFs (fixed or prescribed velocity).
@@ -203,6 +240,9 @@ impl SceneSystem {
         let s = clock(self.timing);
         self.elements
             .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+        if !self.internal_force.is_empty() {
+            self.internal_force.copy_from_slice(&self.force);
+        }
         self.timers.internal_forces += secs(s);
         if !self.model.loads.is_empty() || self.model.gravity.is_some() {
             let s = clock(self.timing);
@@ -304,10 +344,12 @@ impl SecondOrderSystem for SceneSystem {
     }
 
     fn end_of_step(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.evaluated_at_end = false;
         self.end_contributions(t, x, v, false);
     }
 
     fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[f64], v: &[f64]) {
+        self.evaluated_at_end = true;
         self.end_contributions(t, x, v, true);
     }
 }
