@@ -9,9 +9,12 @@
 //! - [`driver`]: time step `h = safety (h omega)_scheme / omega_max (sqrt(1+z^2) - z)`, the
 //!   dynamic and dynamic-relaxation loops, frames, histories, summary.
 //! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain).
+//! - [`diagnosis`]: why a run stopped (instability, relaxation not converged), in the
+//!   scene's terms, with the fix.
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
 pub mod contact_stage;
+pub mod diagnosis;
 pub mod driver;
 pub mod error;
 pub mod fracture_stage;
@@ -27,4 +30,5 @@ pub mod system;
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 pub use error::{RunError, SceneError};
+pub use fdem_mesh::{excerpt, shorten, shorten_to};
 pub use scene::Scene;
