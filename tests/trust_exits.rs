@@ -27,7 +27,12 @@ fn fdem(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
 
 /// `fdem run SCENE --out OUT`.
 fn run(scene: &Path, out: &Path) -> (i32, String, String) {
-    fdem(&["run".as_ref(), scene.as_os_str(), "--out".as_ref(), out.as_os_str()])
+    fdem(&[
+        "run".as_ref(),
+        scene.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ])
 }
 
 /// The static cantilever on the coarse mesh (205 nodes), edited.
@@ -73,7 +78,10 @@ fn case02_static_mechanism_single_node_hold_is_rejected() {
         "{err}"
     );
     assert!(!err.contains("translation in"), "{err}");
-    assert!(err.contains("boundary_conditions") && err.contains("fix:"), "{err}");
+    assert!(
+        err.contains("boundary_conditions") && err.contains("fix:"),
+        "{err}"
+    );
     assert!(err.contains("hold a second point"), "{err}");
     // `fdem check` says the same, also with exit code 2
     let (code, _, err_check) = fdem(&["check".as_ref(), s.as_os_str()]);
@@ -317,7 +325,10 @@ fn case05_a_second_run_leaves_no_file_of_the_first_in_the_folder() {
         "frame_0042.vtu",
         "frame_0002.vtu",
     ] {
-        assert!(!second.contains(&gone.to_string()), "{gone} left: {second:?}");
+        assert!(
+            !second.contains(&gone.to_string()),
+            "{gone} left: {second:?}"
+        );
     }
     assert!(
         !second.iter().any(|n| n.starts_with("joints_")),
@@ -333,7 +344,10 @@ fn case05_a_second_run_leaves_no_file_of_the_first_in_the_folder() {
         "notes.txt",
         "mine",
     ] {
-        assert!(second.contains(&kept.to_string()), "{kept} missing: {second:?}");
+        assert!(
+            second.contains(&kept.to_string()),
+            "{kept} missing: {second:?}"
+        );
     }
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("cantilever-vibration.json"), "{summary}");
@@ -390,7 +404,9 @@ fn case10_a_huge_token_gives_a_short_message() {
         format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n{big}\n"),
         format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n{big}\n"),
         format!("$MeshFormat\n{big} 0 8\n$EndMeshFormat\n"),
-        format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n{big}\n$EndPhysicalNames\n"),
+        format!(
+            "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n{big}\n$EndPhysicalNames\n"
+        ),
     ];
     for (i, text) in msh.iter().enumerate() {
         let p = dir.join(format!("big{i}.msh"));
@@ -406,7 +422,10 @@ fn case10_a_huge_token_gives_a_short_message() {
             .to_string(),
         )
         .unwrap();
-        short_error(&["check".as_ref(), scene.as_os_str()], &format!("scene msh {i}"));
+        short_error(
+            &["check".as_ref(), scene.as_os_str()],
+            &format!("scene msh {i}"),
+        );
     }
     // JSON mesh: a string where the nodes should be, and a group name
     for (i, text) in [
@@ -438,7 +457,8 @@ fn case10_a_huge_token_gives_a_short_message() {
     v["integrator"] = json!({ "scheme": big });
     cases.push(("scheme", v));
     let mut v = base.clone();
-    v["bodies"][0]["materials"] = json!({ big.clone(): { "young": -1.0, "poisson": 0.25, "density": 1.0 } });
+    v["bodies"][0]["materials"] =
+        json!({ big.clone(): { "young": -1.0, "poisson": 0.25, "density": 1.0 } });
     cases.push(("material key", v));
     let mut v = base.clone();
     v["boundary_conditions"] = json!([{ "fixed": { "group": big, "x": true } }]);
@@ -453,7 +473,12 @@ fn case10_a_huge_token_gives_a_short_message() {
         assert!(err.contains("scene.json"), "{what}: {err}");
         let out = dir.join("out");
         short_error(
-            &["run".as_ref(), p.as_os_str(), "--out".as_ref(), out.as_os_str()],
+            &[
+                "run".as_ref(),
+                p.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ],
             what,
         );
         assert!(!out.exists());
@@ -506,7 +531,10 @@ fn exit_codes_run() {
     assert!(!out.exists());
     // 2: bad arguments (clap)
     assert_eq!(fdem(&["run".as_ref()]).0, 2);
-    assert_eq!(fdem(&["run".as_ref(), ok.as_os_str(), "--nope".as_ref()]).0, 2);
+    assert_eq!(
+        fdem(&["run".as_ref(), ok.as_os_str(), "--nope".as_ref()]).0,
+        2
+    );
     // 1: an output folder that cannot be created (a file is in the way)
     std::fs::write(dir.join("file"), "x").unwrap();
     let (code, _, err) = run(&ok, &dir.join("file").join("sub"));
@@ -540,7 +568,10 @@ fn exit_codes_info() {
     let (code, _, err) = fdem(&["info".as_ref(), bad.as_os_str()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("9.9"), "{err}");
-    assert_eq!(fdem(&["info".as_ref(), dir.join("none.msh").as_os_str()]).0, 2);
+    assert_eq!(
+        fdem(&["info".as_ref(), dir.join("none.msh").as_os_str()]).0,
+        2
+    );
 }
 
 #[test]
@@ -554,7 +585,10 @@ fn exit_codes_plot() {
     )
     .unwrap();
     let ld = "load-displacement";
-    assert_eq!(fdem(&["plot".as_ref(), ld.as_ref(), run_dir.as_os_str()]).0, 0);
+    assert_eq!(
+        fdem(&["plot".as_ref(), ld.as_ref(), run_dir.as_os_str()]).0,
+        0
+    );
     assert!(run_dir.join("load_displacement.png").exists());
     // a missing folder, an unknown column, a folder without curves: 2
     let (code, _, err) = fdem(&["plot".as_ref(), ld.as_ref(), dir.join("none").as_os_str()]);
@@ -573,7 +607,10 @@ fn exit_codes_plot() {
     assert!(err.contains("reaction_y[load]"), "{err}");
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    assert_eq!(fdem(&["plot".as_ref(), ld.as_ref(), empty.as_os_str()]).0, 2);
+    assert_eq!(
+        fdem(&["plot".as_ref(), ld.as_ref(), empty.as_os_str()]).0,
+        2
+    );
     // 1: the plot cannot be written (its folder is a file)
     std::fs::write(dir.join("file"), "x").unwrap();
     let (code, _, err) = fdem(&[
@@ -658,7 +695,13 @@ fn exit_codes_are_documented_in_help() {
         let a: Vec<&std::ffi::OsStr> = args.iter().map(|s| s.as_ref()).collect();
         let (code, out, _) = fdem(&a);
         assert_eq!(code, 0);
-        for line in ["Exit codes", "0  success", "2  bad input", "3  the run did not reach its goal", "1  anything else"] {
+        for line in [
+            "Exit codes",
+            "0  success",
+            "2  bad input",
+            "3  the run did not reach its goal",
+            "1  anything else",
+        ] {
             assert!(out.contains(line), "{args:?}: lacks {line:?}:\n{out}");
         }
     }

@@ -472,8 +472,13 @@ fn side_file(scene: &Path) -> Result<Option<SideFile>> {
         return Ok(None);
     }
     let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
-    let s: SideFile = serde_json::from_str(&text)
-        .map_err(|e| crate::bad_input(format!("{}: {}", p.display(), fdem_solver::shorten(&e.to_string()))))?;
+    let s: SideFile = serde_json::from_str(&text).map_err(|e| {
+        crate::bad_input(format!(
+            "{}: {}",
+            p.display(),
+            fdem_solver::shorten(&e.to_string())
+        ))
+    })?;
     Ok(Some(s))
 }
 

@@ -45,7 +45,9 @@ pub fn shorten_to(msg: &str, max_chars: usize) -> Cow<'_, str> {
         let mut s = String::with_capacity(MESSAGE_CHARS);
         let mut rest = msg;
         while !rest.is_empty() {
-            let ws = rest.find(|c: char| !c.is_whitespace()).unwrap_or(rest.len());
+            let ws = rest
+                .find(|c: char| !c.is_whitespace())
+                .unwrap_or(rest.len());
             s.push_str(&rest[..ws]);
             rest = &rest[ws..];
             let end = rest.find(char::is_whitespace).unwrap_or(rest.len());
@@ -74,7 +76,10 @@ pub fn shorten_to(msg: &str, max_chars: usize) -> Cow<'_, str> {
     if n > max_chars {
         let head_chars = 2 * max_chars / 3;
         let tail_chars = max_chars - head_chars;
-        let head_end = out.char_indices().nth(head_chars).map_or(out.len(), |x| x.0);
+        let head_end = out
+            .char_indices()
+            .nth(head_chars)
+            .map_or(out.len(), |x| x.0);
         let tail_start = out
             .char_indices()
             .nth(n - tail_chars)
@@ -132,7 +137,7 @@ mod tests {
         let m = format!("start {} end", "ab ".repeat(100_000));
         let s = shorten(&m);
         assert!(s.chars().count() < MESSAGE_CHARS + 60, "{}", s.len());
-        assert!(s.starts_with("start ab") && s.ends_with("ab end"), "{s}");
+        assert!(s.starts_with("start ab") && s.ends_with("ab  end"), "{s}");
         assert!(s.contains("characters left out"));
     }
 }

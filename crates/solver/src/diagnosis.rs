@@ -71,7 +71,8 @@ impl InversionWatch {
             let a0 = signed_area(&model.x0, t);
             if a * a0 < 0.0 {
                 let c = |k: usize| {
-                    (model.x0[t[0] as usize][k] + model.x0[t[1] as usize][k]
+                    (model.x0[t[0] as usize][k]
+                        + model.x0[t[1] as usize][k]
                         + model.x0[t[2] as usize][k])
                         / 3.0
                 };
@@ -317,9 +318,8 @@ pub fn unstable(
             "lower the time step: `integrator.safety` (now {}){}",
             scene.integrator.safety,
             match scene.integrator.time_step {
-                TimeStep::Fixed(h) => format!(
-                    ", or the fixed `integrator.time_step` (now {h:e} s), or use \"auto\""
-                ),
+                TimeStep::Fixed(h) =>
+                    format!(", or the fixed `integrator.time_step` (now {h:e} s), or use \"auto\""),
                 _ => String::new(),
             }
         )

@@ -20,8 +20,8 @@ use fdem_mesh::{PlaneKind, reference_gradients};
 use crate::driver::{Energies, Loaded, Summary, frame_from_parts};
 use crate::error::{RunError, SceneError};
 use crate::model::{Model, ramp_integral};
-use crate::scene::Scene;
 use crate::output::FrameData;
+use crate::scene::Scene;
 use crate::system::StageTimers;
 
 /// The static displacement (flat DOFs) of a loaded scene.
@@ -250,7 +250,7 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
         }
     }
     for p in &mut parts {
-        if !(p.size > 0.0) {
+        if p.size.is_nan() || p.size <= 0.0 {
             p.size = 1.0;
         }
     }
@@ -309,7 +309,8 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
                 }
                 let o = 3 * index_in_block[p];
                 for k in 0..2 {
-                    let held = model.constrained[2 * n as usize + k] || (shared && !joined_analysis);
+                    let held =
+                        model.constrained[2 * n as usize + k] || (shared && !joined_analysis);
                     if held {
                         let r = row(p, n, k);
                         add(&[(o + r[0].0, r[0].1), (o + r[1].0, r[1].1)]);
@@ -338,7 +339,9 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
         };
         let s = eig.S().column_vector();
         let lmax = (0..dim).map(|i| s[i]).fold(1.0, f64::max);
-        let null: Vec<usize> = (0..dim).filter(|&i| s[i] <= FREE_MOTION_TOL * lmax).collect();
+        let null: Vec<usize> = (0..dim)
+            .filter(|&i| s[i] <= FREE_MOTION_TOL * lmax)
+            .collect();
         if null.is_empty() {
             continue;
         }
@@ -379,7 +382,13 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
                     let w = pr[o + 2] / parts[p].size;
                     let c = parts[p].centroid;
                     // round-off below 1e-9 of the part's size shown as 0
-                    let tidy = |v: f64| if v.abs() < 1e-9 * parts[p].size { 0.0 } else { v };
+                    let tidy = |v: f64| {
+                        if v.abs() < 1e-9 * parts[p].size {
+                            0.0
+                        } else {
+                            v
+                        }
+                    };
                     motions.push(format!(
                         "rotation about ({:.4e}, {:.4e}) m",
                         tidy(c[0] - pr[o + 1] / w),
@@ -443,7 +452,9 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
             );
         }
         let groups = groups_of(part.body);
-        let fix = if motions.iter().any(|m| m.starts_with("rotation about")) && part.constrained_dofs > 0 {
+        let fix = if motions.iter().any(|m| m.starts_with("rotation about"))
+            && part.constrained_dofs > 0
+        {
             format!(
                 "hold a second point of {} away from the first (e.g. a `fixed` condition on another of its groups: {groups})",
                 body_name(part.body)

@@ -230,10 +230,7 @@ pub(crate) fn read_gmsh(bytes: &[u8], path: &str) -> Result<RawMesh, MeshError> 
         "0" => false,
         "1" => true,
         t => {
-            return Err(c.err(format!(
-                "bad file type \"{}\" in $MeshFormat",
-                excerpt(t)
-            )));
+            return Err(c.err(format!("bad file type \"{}\" in $MeshFormat", excerpt(t))));
         }
     };
     if binary {
