@@ -86,7 +86,7 @@ pub enum RunError {
     /// A relaxation that did not reach its tolerance within the duration (its output and
     /// summary, with `converged: false`, are written).
     #[error(
-        "the relaxation did not converge: relative residual {residual:.3e} at the end of the duration (t = {time:e} s, {steps} steps), above the tolerance {tolerance:e}\n  fix: {fix}"
+        "the relaxation did not converge: relative residual {residual:.3e} at the end of the duration (t = {time:.4e} s, {steps} steps), above the tolerance {tolerance:e}\n  fix: {fix}"
     )]
     NotConverged {
         /// The residual reached: |out-of-balance force| / |load|.

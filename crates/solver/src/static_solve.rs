@@ -429,7 +429,7 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
         "the supports do not hold the model: the static solve would be singular (an arbitrary rigid motion added to any answer)",
     );
     let mut fixes = Vec::new();
-    for (p, motions) in free.iter().take(5) {
+    for (p, motions) in free.iter().take(4) {
         let part = &parts[*p];
         let n_parts = parts.iter().filter(|q| q.body == part.body).count();
         let name = if n_parts > 1 {
@@ -492,8 +492,8 @@ pub fn check_supports(scene: &Scene, file: &Path, model: &Model) -> Result<(), S
             fixes.push(fix);
         }
     }
-    if free.len() > 5 {
-        let _ = write!(message, "\n  and {} more free parts", free.len() - 5);
+    if free.len() > 4 {
+        let _ = write!(message, "\n  and {} more free parts", free.len() - 4);
     }
     Err(SceneError::Invalid {
         file: file.to_path_buf(),
