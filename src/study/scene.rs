@@ -1108,16 +1108,22 @@ pub fn run(args: &SceneArgs) -> Result<()> {
     }
     fractions.sort_by(f64::total_cmp);
     fractions.dedup();
-    // Bad input is reported before anything is written: the scene must load, as a dynamic
-    // analysis.
-    let l0 = driver::load(&args.scene)?;
-    if l0.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
-        return Err(crate::bad_input(format!(
-            "{}: the study needs a dynamic analysis with a positive duration",
-            args.scene.display()
-        )));
+    // Bad input (exit code 2): the scene must load, as a dynamic analysis; checked before
+    // anything is written unless the side file edits the scene (then on the edited scene).
+    let validate = |scene: &Path| -> Result<()> {
+        let l0 = driver::load(scene)?;
+        if l0.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
+            return Err(crate::bad_input(format!(
+                "{}: the study needs a dynamic analysis with a positive duration",
+                args.scene.display()
+            )));
+        }
+        Ok(())
+    };
+    let edits = side.as_ref().is_some_and(|s| !s.set.is_empty());
+    if !edits {
+        validate(&args.scene)?;
     }
-    drop(l0);
     let stem = args
         .scene
         .file_stem()
@@ -1130,6 +1136,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{stem}")));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let scene = study_scene(&args.scene, side.as_ref(), &out)?;
+    if edits {
+        validate(&scene)?;
+    }
     let active = active_bound_run(&scene, &out.join("runs").join("active-bound"))?;
     let r_active = active.as_ref().map(|a| a.ratio).unwrap_or(1.0);
     let start_dir = out.join("runs").join("probe-start");

@@ -509,7 +509,7 @@ impl Writer {
             return Err(RunError::Unstable {
                 step: 0,
                 time: data.time,
-                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)\n  fix: lower `integrator.safety`, and check the materials (young, density) and the loads".into(),
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)\n  fix: lower the time step (`integrator.safety`), and check the materials (young, density) and the loads".into(),
             });
         }
         let name = format!("frame_{:04}.vtu", self.frames);
