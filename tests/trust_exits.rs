@@ -540,6 +540,15 @@ fn exit_codes_run() {
     std::fs::write(dir.join("file"), "x").unwrap();
     let (code, _, err) = run(&ok, &dir.join("file").join("sub"));
     assert_eq!(code, 1, "{err}");
+    // 0: a relaxation that converges (the shipped cantilever)
+    let relax = common::root().join("examples/cantilever-relaxation.json");
+    let (code, _, err) = run(&relax, &dir.join("relax"));
+    assert_eq!(code, 0, "{err}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("relax").join("summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["converged"], json!(true));
     // 3: see case09 (not converged) and the absurd load (unstable)
 }
 
