@@ -5,6 +5,9 @@
 //! - `fdem info MESH`: describe a mesh file (`src/cmd/info.rs`).
 //! - `fdem plot load-displacement DIR...`: load-displacement curves of runs (`src/cmd/plot.rs`).
 //! - `fdem study oscillator [--out DIR]`: the time-integration study (`src/study/`).
+//!
+//! Exit codes ([`EXIT_CODES`], from the typed error: [`exit_code`]): 0 success, 2 bad input,
+//! 3 a run that did not reach its goal, 1 anything else.
 
 mod cmd;
 mod plot;
@@ -16,9 +19,18 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
+/// The exit codes, as `--help` shows them (README.md, "Exit codes", says the same).
+const EXIT_CODES: &str = "\
+Exit codes (every subcommand):
+  0  success
+  2  bad input: the scene, a mesh, a run folder or an argument is invalid (nothing is written)
+  3  the run did not reach its goal: a relaxation that did not converge, or a run stopped as
+     unstable (its output so far is written)
+  1  anything else (e.g. a file that cannot be written)";
+
 /// fdem: a 2D combined finite-discrete element solver.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(version, about, after_help = EXIT_CODES)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -27,10 +39,12 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scene: writes a ParaView collection (.pvd + .vtu), histories.csv and summary.json.
+    #[command(after_help = EXIT_CODES)]
     Run {
         /// The scene file (JSON, see docs/scene-format.md).
         scene: PathBuf,
-        /// Output folder (default results/<scene name>).
+        /// Output folder (default results/<scene name>); the files an earlier run wrote
+        /// there are removed first, other files are kept.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Also write each frame's arrays as JSON (frame_NNNN.json), for independent checks.
@@ -38,20 +52,22 @@ enum Command {
         raw: bool,
     },
     /// Validate a scene: report the mesh, each scheme's stable time step and the run time.
+    #[command(after_help = EXIT_CODES)]
     Check {
         /// The scene file.
         scene: PathBuf,
     },
     /// Describe a mesh file: counts, physical groups, element sizes.
+    #[command(after_help = EXIT_CODES)]
     Info {
         /// The mesh file (.msh or .json).
         mesh: PathBuf,
     },
     /// Plots of run results (PNG and SVG).
-    #[command(subcommand)]
+    #[command(subcommand, after_help = EXIT_CODES)]
     Plot(cmd::plot::PlotCommand),
     /// Numerical studies that reproduce and extend the reference's comparisons.
-    #[command(subcommand)]
+    #[command(subcommand, after_help = EXIT_CODES)]
     Study(study::StudyCommand),
 }
 
@@ -77,14 +93,50 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // The whole chain of causes on one line, no backtrace: the message says the fix.
-            eprintln!("error: {e:#}");
-            // 2: the input (scene, mesh) is invalid; 1: the run itself failed.
-            let input = e.downcast_ref::<fdem_solver::SceneError>().is_some()
-                || matches!(
-                    e.downcast_ref::<fdem_solver::RunError>(),
-                    Some(fdem_solver::RunError::Scene(_))
-                );
-            ExitCode::from(if input { 2 } else { 1 })
+            // (Messages quote input through `fdem_solver::excerpt`; `shorten` is a last guard.)
+            eprintln!(
+                "error: {}",
+                fdem_solver::shorten_to(&format!("{e:#}"), 4000)
+            );
+            ExitCode::from(exit_code(&e))
         }
     }
+}
+
+/// An error in the input a command was given (its arguments, or a file or folder they name
+/// that is not what the command needs): exit code 2.
+#[derive(Debug)]
+pub(crate) struct BadInput(pub String);
+
+impl std::fmt::Display for BadInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadInput {}
+
+/// A [`BadInput`] error with `message`.
+pub(crate) fn bad_input(message: impl Into<String>) -> anyhow::Error {
+    BadInput(message.into()).into()
+}
+
+/// The exit code of an error (the table in [`EXIT_CODES`]), from the first typed error in
+/// its chain of causes: 2 for bad input (a scene, mesh or argument error, a static analysis
+/// that the supports do not hold), 3 for a run that did not reach its goal, 1 otherwise.
+fn exit_code(e: &anyhow::Error) -> u8 {
+    use fdem_solver::RunError;
+    for cause in e.chain() {
+        if let Some(r) = cause.downcast_ref::<RunError>() {
+            return match r {
+                RunError::Scene(_) | RunError::Static { .. } => 2,
+                RunError::Unstable { .. } | RunError::NotConverged { .. } => 3,
+                RunError::Output { .. } => 1,
+            };
+        }
+        if cause.is::<fdem_solver::SceneError>() || cause.is::<BadInput>() {
+            return 2;
+        }
+    }
+    1
 }

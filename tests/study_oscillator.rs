@@ -86,7 +86,8 @@ fn bad_input_gets_a_clear_error_and_a_non_zero_exit() {
         all.extend_from_slice(args);
         let o = fdem(&all);
         let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        // exit code 2: bad input (README, "Exit codes")
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
         assert!(
             err.contains(expected) && !err.contains("panicked"),
             "{args:?}: {err}"

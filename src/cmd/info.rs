@@ -4,11 +4,11 @@ use std::path::Path;
 
 use anyhow::Result;
 
-/// Prints a description of the mesh.
+/// Prints a description of the mesh; a mesh that cannot be read is bad input (exit code 2).
 pub fn info(mesh: &Path) -> Result<()> {
     println!(
         "{}",
-        fdem_solver::mesh_adapter::describe_file(mesh).map_err(anyhow::Error::msg)?
+        fdem_solver::mesh_adapter::describe_file(mesh).map_err(crate::bad_input)?
     );
     Ok(())
 }

@@ -14,7 +14,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Subcommand;
 
 use crate::plot::{Plot, Scale, Series};
@@ -96,8 +96,9 @@ impl Table {
                 continue;
             }
             let row: Result<Vec<f64>, _> = l.split(',').map(|s| s.trim().parse::<f64>()).collect();
-            let row =
-                row.with_context(|| format!("{} line {}: not a number", path.display(), i + 2))?;
+            let row = row.map_err(|_| {
+                crate::bad_input(format!("{} line {}: not a number", path.display(), i + 2))
+            })?;
             rows.push(row);
         }
         Ok(Some(Table {
@@ -118,13 +119,15 @@ impl Table {
             .map(|(i, _)| i);
         let first = hits.next();
         if let Some(second) = hits.next() {
-            bail!(
-                "{}: the column {name} appears more than once (columns {} and {}), so it is not                  clear which one is meant; columns: {} (re-run the scene: runs now name such                  columns body/group, e.g. v_x[disc/center])",
+            return Err(crate::bad_input(format!(
+                "{}: the column {name} appears more than once (columns {} and {}), so it is not \
+                 clear which one is meant; columns: {} (re-run the scene: runs now name such \
+                 columns body/group, e.g. v_x[disc/center])",
                 self.path.display(),
                 first.unwrap_or(0) + 1,
                 second + 1,
                 self.head.join(",")
-            );
+            )));
         }
         Ok(first)
     }
@@ -147,19 +150,25 @@ struct Curve {
 
 /// The curve of run folder `dir`.
 fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
+    if !dir.is_dir() {
+        return Err(crate::bad_input(format!(
+            "{}: no such folder: give the folder of a run (the --out of fdem run)",
+            dir.display()
+        )));
+    }
     let walls = Table::read(&dir.join("walls.csv"))?;
     let hist = Table::read(&dir.join("histories.csv"))?;
     let tables: Vec<&Table> = walls.iter().chain(hist.iter()).collect();
     if tables.is_empty() {
-        bail!(
+        return Err(crate::bad_input(format!(
             "{}: neither walls.csv nor histories.csv: is this an fdem run folder? (a scene \
              needs moving walls in \"contact\" or a \"reaction\" probe in \"histories\")",
             dir.display()
-        );
+        )));
     }
     if load.is_some() || disp.is_some() {
         let (Some(l), Some(d)) = (load, disp) else {
-            bail!("give both --load and --displacement");
+            return Err(crate::bad_input("give both --load and --displacement"));
         };
         for t in &tables {
             if let (Some(cl), Some(cd)) = (t.col(l)?, t.col(d)?) {
@@ -170,15 +179,19 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
                 });
             }
         }
-        bail!(
-            "{}: no file has both columns {l} and {d} (columns: {})",
+        return Err(crate::bad_input(format!(
+            "{}: no file has both columns {} and {} (columns: {})",
             dir.display(),
-            tables
-                .iter()
-                .map(|t| format!("{}: {}", t.path.display(), t.head.join(",")))
-                .collect::<Vec<_>>()
-                .join("; ")
-        );
+            fdem_solver::excerpt(l),
+            fdem_solver::excerpt(d),
+            fdem_solver::shorten(
+                &tables
+                    .iter()
+                    .map(|t| format!("{}: {}", t.path.display(), t.head.join(",")))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            )
+        )));
     }
     if let Some(w) = &walls {
         // Moving walls: their names from the u_y[...] columns, axis of the larger motion.
@@ -248,12 +261,12 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
             }
         }
     }
-    bail!(
+    Err(crate::bad_input(format!(
         "{}: no load-displacement data: no moving wall in walls.csv, and histories.csv has no \
          group with both a \"reaction\" and a \"displacement\" probe (add them to the scene, or \
          name the columns with --load and --displacement)",
         dir.display()
-    )
+    )))
 }
 
 fn abs_pairs(x: Vec<f64>, y: Vec<f64>) -> Vec<(f64, f64)> {

@@ -1,4 +1,5 @@
-//! `fdem run SCENE [--out DIR]`: runs a scene and writes its results.
+//! `fdem run SCENE [--out DIR]`: runs a scene and writes its results (the run owns the
+//! folder: fdem's files of an earlier run there are removed first).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -63,5 +64,10 @@ pub fn run(scene: &Path, out: Option<PathBuf>, raw: bool) -> Result<()> {
         }
     }
     println!("results in {}", out.display());
+    // A relaxation that did not reach its tolerance: its output is written, and the exit
+    // code (3) says the goal was not reached.
+    if let Some(e) = fdem_solver::diagnosis::not_converged(&loaded.scene, &summary) {
+        return Err(e.into());
+    }
     Ok(())
 }

@@ -18,7 +18,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 use fdem_time::stability::spectral_radius;
 use fdem_time::systems::Oscillator;
@@ -128,7 +128,9 @@ struct Report<'a> {
 
 fn positive(name: &str, v: f64) -> Result<f64> {
     if !v.is_finite() || v <= 0.0 {
-        bail!("--{name} must be a positive, finite number, got {v}");
+        return Err(crate::bad_input(format!(
+            "--{name} must be a positive, finite number, got {v}"
+        )));
     }
     Ok(v)
 }
@@ -141,20 +143,23 @@ fn validate(args: &OscillatorArgs) -> Result<(Vec<SchemeKind>, Vec<f64>, f64)> {
         args.schemes
             .iter()
             .map(|s| s.trim().parse::<SchemeKind>())
-            .collect::<Result<Vec<_>, _>>()?
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| crate::bad_input(e.to_string()))?
     };
     let h_min = positive("h-min", args.h_min)?;
     let h_max = positive("h-max", args.h_max)?;
     let h_step = positive("h-step", args.h_step)?;
     let periods = positive("periods", args.periods)?;
     if h_min > h_max {
-        bail!("--h-min ({h_min}) must not exceed --h-max ({h_max})");
+        return Err(crate::bad_input(format!(
+            "--h-min ({h_min}) must not exceed --h-max ({h_max})"
+        )));
     }
     let n = ((h_max - h_min) / h_step + 1e-9).floor();
     if n > 1e5 {
-        bail!(
+        return Err(crate::bad_input(format!(
             "--h-step {h_step} gives {n} steps between {h_min} and {h_max}: at most 100000 are allowed"
-        );
+        )));
     }
     let round = |h: f64| (h * 1e12).round() / 1e12;
     let hs = (0..=n as usize)

@@ -107,7 +107,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 use fdem_solver::RunError;
 use fdem_solver::driver::{self, RunOptions};
@@ -468,7 +468,13 @@ fn side_file(scene: &Path) -> Result<Option<SideFile>> {
         return Ok(None);
     }
     let text = std::fs::read_to_string(&p).with_context(|| format!("reading {}", p.display()))?;
-    let s: SideFile = serde_json::from_str(&text).with_context(|| format!("in {}", p.display()))?;
+    let s: SideFile = serde_json::from_str(&text).map_err(|e| {
+        crate::bad_input(format!(
+            "{}: {}",
+            p.display(),
+            fdem_solver::shorten(&e.to_string())
+        ))
+    })?;
     Ok(Some(s))
 }
 
@@ -478,18 +484,24 @@ fn study_scene(scene: &Path, side: Option<&SideFile>, out: &Path) -> Result<Path
     let Some(side) = side.filter(|s| !s.set.is_empty()) else {
         return Ok(scene.to_path_buf());
     };
-    let text =
-        std::fs::read_to_string(scene).with_context(|| format!("reading {}", scene.display()))?;
-    let mut v: serde_json::Value =
-        serde_json::from_str(&text).with_context(|| format!("in {}", scene.display()))?;
+    let text = std::fs::read_to_string(scene)
+        .map_err(|e| crate::bad_input(format!("{}: cannot read the file: {e}", scene.display())))?;
+    let mut v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        crate::bad_input(format!(
+            "{}: {}",
+            scene.display(),
+            fdem_solver::shorten(&e.to_string())
+        ))
+    })?;
     let side_path = scene.with_extension("study.json");
     for (ptr, val) in &side.set {
-        let slot = v.pointer_mut(ptr).with_context(|| {
-            format!(
-                "{}: `set` names {ptr}, which is not in {} (a JSON pointer to an existing field, e.g. /duration)",
+        let slot = v.pointer_mut(ptr).ok_or_else(|| {
+            crate::bad_input(format!(
+                "{}: `set` names {}, which is not in {} (a JSON pointer to an existing field, e.g. /duration)",
                 side_path.display(),
+                fdem_solver::excerpt(ptr),
                 scene.display()
-            )
+            ))
         })?;
         *slot = val.clone();
     }
@@ -602,10 +614,10 @@ fn one_run(
     l.scene.output.frames = 0;
     let duration = l.scene.duration.unwrap_or(0.0);
     if duration <= 0.0 || l.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
-        bail!(
+        return Err(crate::bad_input(format!(
             "{}: the study needs a dynamic analysis with a positive duration",
             scene.display()
-        );
+        )));
     }
     (l.n_steps, l.dt) = driver::step_count(duration, fraction * l.dt_limit);
     let e_kin0 = l.model.kinetic_energy(&l.model.v0);
@@ -1027,10 +1039,11 @@ fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
         .iter()
         .map(|n| {
             n.parse::<SchemeKind>().map_err(|_| {
-                anyhow::anyhow!(
-                    "unknown scheme '{n}': use one of {}",
+                crate::bad_input(format!(
+                    "unknown scheme '{}': use one of {}",
+                    fdem_solver::excerpt(n),
                     SchemeKind::valid_names()
-                )
+                ))
             })
         })
         .collect()
@@ -1082,10 +1095,28 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         DEFAULT_FRACTIONS.to_vec()
     };
     if fractions.is_empty() || fractions.iter().any(|f| !(*f > 0.0 && f.is_finite())) {
-        bail!("--fractions must be positive numbers, e.g. 0.1,0.5,0.9");
+        return Err(crate::bad_input(
+            "--fractions must be positive numbers, e.g. 0.1,0.5,0.9",
+        ));
     }
     fractions.sort_by(f64::total_cmp);
     fractions.dedup();
+    // Bad input (exit code 2): the scene must load, as a dynamic analysis; checked before
+    // anything is written unless the side file edits the scene (then on the edited scene).
+    let validate = |scene: &Path| -> Result<()> {
+        let l0 = driver::load(scene)?;
+        if l0.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
+            return Err(crate::bad_input(format!(
+                "{}: the study needs a dynamic analysis with a positive duration",
+                args.scene.display()
+            )));
+        }
+        Ok(())
+    };
+    let edits = side.as_ref().is_some_and(|s| !s.set.is_empty());
+    if !edits {
+        validate(&args.scene)?;
+    }
     let stem = args
         .scene
         .file_stem()
@@ -1098,6 +1129,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("out/study-{stem}")));
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let scene = study_scene(&args.scene, side.as_ref(), &out)?;
+    if edits {
+        validate(&scene)?;
+    }
     let active = active_bound_run(&scene, &out.join("runs").join("active-bound"))?;
     let r_active = active.as_ref().map(|a| a.ratio).unwrap_or(1.0);
     let start_dir = out.join("runs").join("probe-start");
@@ -1123,9 +1157,9 @@ pub fn run(args: &SceneArgs) -> Result<()> {
         .and_then(|s| s.probe_amplitude)
         .unwrap_or(PROBE_AMPLITUDE);
     if !(amplitude > 0.0 && amplitude < 1e-2) {
-        bail!(
+        return Err(crate::bad_input(format!(
             "`probe_amplitude` must be in (0, 1e-2) of the model size (default {PROBE_AMPLITUDE})"
-        );
+        )));
     }
     let analytical = side.and_then(|s| s.reference);
     let l0 = driver::load(&scene)?;

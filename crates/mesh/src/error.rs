@@ -1,5 +1,6 @@
 //! Errors of mesh reading and validation. Each names the file, the item and the fault.
 
+use crate::excerpt::{excerpt, shorten};
 use crate::ids::{NodeId, TriId};
 
 /// Everything that can go wrong when reading or validating a mesh.
@@ -14,7 +15,7 @@ pub enum MeshError {
         source: std::io::Error,
     },
     /// The file is not a mesh of a known format, or is truncated or malformed.
-    #[error("{path}:{line}: {message}")]
+    #[error("{path}:{line}: {}", shorten(message))]
     Parse {
         /// The file.
         path: String,
@@ -25,7 +26,8 @@ pub enum MeshError {
     },
     /// A Gmsh format version that fdem does not read.
     #[error(
-        "{path}: Gmsh format version {version} is not supported; fdem reads 4.1 (ASCII or binary) and 2.2 (ASCII): re-save with `gmsh in.msh -save -format msh41 -o out.msh`"
+        "{path}: Gmsh format version {} is not supported; fdem reads 4.1 (ASCII or binary) and 2.2 (ASCII): re-save with `gmsh in.msh -save -format msh41 -o out.msh`",
+        excerpt(version)
     )]
     UnsupportedVersion {
         /// The file.
@@ -140,7 +142,7 @@ pub enum MeshError {
         tag: u64,
     },
     /// A physical group asked for by name is not in the mesh.
-    #[error("mesh has no physical group named \"{name}\"; it has: {available:?}")]
+    #[error("mesh has no physical group named \"{}\"; it has: {}", excerpt(name), shorten(&format!("{available:?}")))]
     MissingGroup {
         /// The requested name.
         name: String,
@@ -148,7 +150,7 @@ pub enum MeshError {
         available: Vec<String>,
     },
     /// A JSON mesh that does not follow the schema.
-    #[error("{path}: invalid JSON mesh: {source}")]
+    #[error("{path}: invalid JSON mesh: {}", shorten(&source.to_string()))]
     Json {
         /// The file.
         path: String,
@@ -168,7 +170,7 @@ pub enum MeshError {
         fix: &'static str,
     },
     /// The number of materials does not match the regions of the mesh.
-    #[error("the mesh has {regions} material regions {names:?} but {given} materials were given")]
+    #[error("the mesh has {regions} material regions {} but {given} materials were given", shorten(&format!("{names:?}")))]
     MaterialCount {
         /// Regions in the mesh.
         regions: usize,

@@ -24,6 +24,7 @@
 
 pub mod elements;
 pub mod error;
+pub mod excerpt;
 pub mod explode;
 pub mod forces;
 pub mod ids;
@@ -37,6 +38,7 @@ pub mod triangle;
 
 pub use elements::{Elements, MaterialConsts, TriData};
 pub use error::MeshError;
+pub use excerpt::{excerpt, shorten, shorten_to};
 pub use explode::{Exploded, InternalEdge, explode};
 pub use forces::ForceScratch;
 pub use ids::{EdgeId, NodeId, RegionId, TriId};

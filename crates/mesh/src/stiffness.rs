@@ -123,10 +123,11 @@ pub fn solve_static(
     }
     let kf = SparseColMat::<usize, f64>::try_new_from_triplets(nf, nf, &trip)
         .map_err(|e| bad(format!("cannot build the free block: {e:?}")))?;
-    let llt = kf.sp_cholesky(Side::Lower).map_err(|e| {
-        bad(format!(
-            "the stiffness is not positive definite ({e:?}): the body is not held (add supports)"
-        ))
+    let llt = kf.sp_cholesky(Side::Lower).map_err(|_| {
+        bad(
+            "the stiffness is singular (not positive definite): a body is not held (add supports)"
+                .into(),
+        )
     })?;
     llt.solve_in_place(rhs.as_mut());
     for d in 0..n {

@@ -28,6 +28,7 @@ use fdem_time::{SchemeKind, State};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::diagnosis::{self, Found, InversionWatch};
 use crate::error::{RunError, SceneError};
 pub use crate::ledger::Energies;
 use crate::ledger::{Books, kinetic_energy};
@@ -77,6 +78,7 @@ pub struct Loaded {
 /// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let mut scene = Scene::from_file(file)?;
+    static_solve::check_sections(&scene, file)?;
     let dir = file.parent().unwrap_or(Path::new("."));
     let mut read = Vec::new();
     for i in 0..scene.bodies.len() {
@@ -108,6 +110,9 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         meshes.push(mesh);
     }
     let model = model::build(&scene, file, &inputs, &refs)?;
+    if scene.analysis == Analysis::Static {
+        static_solve::check_supports(&scene, file, &model)?;
+    }
     crate::stages::validate(&scene, file)?;
     let xi = scene.damping.viscosity_ratio;
     let elements = mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
@@ -458,10 +463,12 @@ struct Writer {
 }
 
 impl Writer {
+    /// Claims the output folder: creates it, and removes the files of an earlier run
+    /// (`output::folder`) so that none is mistaken for this run's.
     fn new(options: &RunOptions, level: u32) -> Result<Self, RunError> {
-        std::fs::create_dir_all(&options.out_dir).map_err(|e| RunError::Output {
+        crate::output::folder::claim(&options.out_dir).map_err(|e| RunError::Output {
             file: options.out_dir.clone(),
-            message: e.to_string(),
+            message: format!("cannot prepare the output folder: {e}"),
         })?;
         Ok(Self {
             dir: options.out_dir.clone(),
@@ -486,7 +493,7 @@ impl Writer {
             return Err(RunError::Unstable {
                 step: 0,
                 time: data.time,
-                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)".into(),
+                message: "non-finite positions, velocities, forces or stresses in an output frame (not written)\n  fix: lower the time step (`integrator.safety`), and check the materials (young, density) and the loads".into(),
             });
         }
         let name = format!("frame_{:04}.vtu", self.frames);
@@ -698,8 +705,8 @@ pub fn run_outcome(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Outcome, RunError> {
     let wall = Instant::now();
-    let mut writer = Writer::new(options, l.scene.output.compression)?;
     if l.scene.analysis == Analysis::Static {
+        // Solved (and checked: a singular stiffness is bad input) before the folder is touched.
         let (frame, mut summary) = static_solve::solve(l)?;
         // the static terms as a ledger (gravity's work `1/2 sum m g . u` taken apart)
         let gravity = l.model.gravity.map_or(0.0, |g| {
@@ -712,6 +719,7 @@ pub fn run_outcome(
                 .sum::<f64>()
         });
         summary.energy = Energies::from_static(&summary.energy, gravity);
+        let mut writer = Writer::new(options, l.scene.output.compression)?;
         let s = Instant::now();
         if l.scene.output.frames > 0 {
             writer.frame(&frame)?;
@@ -748,6 +756,7 @@ pub fn run_outcome(
             joint_state: None,
         });
     }
+    let writer = Writer::new(options, l.scene.output.compression)?;
     dynamic(l, options, progress, writer, wall)
 }
 
@@ -792,13 +801,7 @@ fn dynamic_run(
         .histories
         .every
         .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64;
-    crate::stages::attach(&l.scene, &l.file, &mut *sys, l.dt, &options.out_dir, every).map_err(
-        |e| RunError::Unstable {
-            step: 0,
-            time: 0.0,
-            message: e.to_string(),
-        },
-    )?;
+    crate::stages::attach(&l.scene, &l.file, &mut *sys, l.dt, &options.out_dir, every)?;
     let n = sys.model.n_nodes();
     let mut x0 = sys.model.x0.as_flattened().to_vec();
     let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -885,6 +888,8 @@ fn dynamic_run(
     // bound of `energy_growth` while growing is an unstable mode, reported long before it
     // overflows.
     let mut e_prev_check = books.initial();
+    // Triangles turned inside out, looked for at the same checks: the cause of an instability.
+    let mut inversions = InversionWatch::default();
     let mut steps_done = 0u64;
     let mut step = 0u64;
     loop {
@@ -931,25 +936,21 @@ fn dynamic_run(
         // Works and dissipations of this step.
         books.step(&mut *sys, &state);
         if step.is_multiple_of(check_every) || last {
+            inversions.scan(&sys.model, state.x_nodes(), step, state.t);
+            let unstable = |sys: &SceneSystem, watch: &InversionWatch, found| {
+                diagnosis::unstable(&l.scene, &sys.model, watch, step, state.t, found)
+            };
             if let Some(message) = crate::stages::first_error(sys) {
                 let _ = writer.summary(&partial_summary(
                     l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
-                return Err(RunError::Unstable {
-                    step,
-                    time: state.t,
-                    message,
-                });
+                return Err(unstable(sys, &inversions, Found::Stage(message)));
             }
             if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
                 let _ = writer.summary(&partial_summary(
                     l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
-                return Err(RunError::Unstable {
-                    step,
-                    time: state.t,
-                    message: "non-finite positions or velocities".into(),
-                });
+                return Err(unstable(sys, &inversions, Found::NonFinite));
             }
             let (stored, walls) =
                 stage_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
@@ -969,11 +970,7 @@ fn dynamic_run(
                 let _ = writer.summary(&partial_summary(
                     l, sys, steps_done, &state, wall, step_time, &writer, &books,
                 ));
-                return Err(RunError::Unstable {
-                    step,
-                    time: state.t,
-                    message,
-                });
+                return Err(unstable(sys, &inversions, Found::EnergyGrowth(message)));
             }
             e_prev_check = e_now;
             if relaxation {
@@ -1029,7 +1026,25 @@ fn dynamic_run(
                 (step as f64) >= tf.round()
             };
         if frame_due || (frames > 0 && (last || converged == Some(true)) && next_frame <= frames) {
-            emit(&mut *sys, &state, &mut writer)?;
+            if let Err(e) = emit(&mut *sys, &state, &mut writer) {
+                // a frame with non-finite values: the same diagnosis as at the checks
+                return Err(match e {
+                    RunError::Unstable { .. } => {
+                        let _ = writer.summary(&partial_summary(
+                            l, sys, steps_done, &state, wall, step_time, &writer, &books,
+                        ));
+                        diagnosis::unstable(
+                            &l.scene,
+                            &sys.model,
+                            &inversions,
+                            step,
+                            state.t,
+                            Found::Frame,
+                        )
+                    }
+                    e => e,
+                });
+            }
             next_frame += 1;
             if let Some(hh) = &hist {
                 let _ = hh.writer.flush();

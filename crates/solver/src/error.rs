@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use fdem_mesh::shorten;
+
 /// An error in a scene file or in what it refers to.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -14,7 +16,7 @@ pub enum SceneError {
         message: String,
     },
     /// The JSON is malformed, a field has the wrong type, is unknown or missing.
-    #[error("{}:{line}:{column}: at `{path}`: {message}\n  fix: {fix}", file.display())]
+    #[error("{}:{line}:{column}: at `{}`: {}\n  fix: {}", file.display(), shorten(path), shorten(message), shorten(fix))]
     Parse {
         /// The scene file.
         file: PathBuf,
@@ -30,7 +32,7 @@ pub enum SceneError {
         fix: String,
     },
     /// A value is out of range or inconsistent.
-    #[error("{}: at `{path}`: {message}\n  fix: {fix}", file.display())]
+    #[error("{}: at `{}`: {}\n  fix: {}", file.display(), shorten(path), shorten(message), shorten(fix))]
     Invalid {
         /// The scene file.
         file: PathBuf,
@@ -42,7 +44,7 @@ pub enum SceneError {
         fix: String,
     },
     /// The mesh a body names could not be loaded.
-    #[error("{}: at `{path}`: cannot load mesh {}: {message}\n  fix: check the path (relative to the scene file) and the mesh", file.display(), mesh.display())]
+    #[error("{}: at `{}`: cannot load mesh {}: {}\n  fix: check the path (relative to the scene file) and the mesh", file.display(), shorten(path), mesh.display(), shorten(message))]
     Mesh {
         /// The scene file.
         file: PathBuf,
@@ -69,17 +71,34 @@ pub enum RunError {
         /// The cause.
         message: String,
     },
-    /// The solution became unstable (NaN or infinite values).
-    #[error(
-        "the solution became unstable at step {step} (t = {time:e} s): {message}\n  fix: lower the time step or its safety factor, or check the materials"
-    )]
+    /// The solution became unstable (non-finite values, energy growth, triangles turned
+    /// inside out, a stage's error) and the run was stopped (its output so far is written).
+    #[error("the solution became unstable at step {step} (t = {time:e} s): {message}")]
     Unstable {
         /// Step number.
         step: u64,
         /// Simulated time [s].
         time: f64,
-        /// What was found.
+        /// What was found, its likely cause in the input, and (last line) the fix for that
+        /// cause (`crate::diagnosis`).
         message: String,
+    },
+    /// A relaxation that did not reach its tolerance within the duration (its output and
+    /// summary, with `converged: false`, are written).
+    #[error(
+        "the relaxation did not converge: relative residual {residual:.3e} at the end of the duration (t = {time:.4e} s, {steps} steps), above the tolerance {tolerance:e}\n  fix: {fix}"
+    )]
+    NotConverged {
+        /// The residual reached: |out-of-balance force| / |load|.
+        residual: f64,
+        /// `integrator.relaxation_tolerance`.
+        tolerance: f64,
+        /// Steps run.
+        steps: u64,
+        /// Simulated time reached [s].
+        time: f64,
+        /// What to change.
+        fix: String,
     },
     /// The static solve failed.
     #[error("static solve failed: {message}\n  fix: {fix}")]

@@ -13,9 +13,12 @@
 //! - [`ledger`]: the energy ledger (initial, supplied, present, dissipated, error) that the
 //!   console, `summary.json` and `histories.csv` report.
 //! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain).
+//! - [`diagnosis`]: why a run stopped (instability, relaxation not converged), in the
+//!   scene's terms, with the fix.
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
 pub mod contact_stage;
+pub mod diagnosis;
 pub mod driver;
 pub mod error;
 pub mod fracture_stage;
@@ -34,4 +37,5 @@ pub mod system;
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 pub use error::{RunError, SceneError};
+pub use fdem_mesh::{excerpt, shorten, shorten_to};
 pub use scene::Scene;

@@ -3,6 +3,7 @@
 //! corrupt count gives an error rather than a huge allocation.
 
 use crate::error::MeshError;
+use crate::excerpt::excerpt;
 
 pub(crate) struct Cursor<'a> {
     pub b: &'a [u8],
@@ -90,7 +91,7 @@ impl<'a> Cursor<'a> {
     fn parse<T: std::str::FromStr>(&mut self, what: &str) -> Result<T, MeshError> {
         let t = self.token()?;
         t.parse()
-            .map_err(|_| self.err(format!("expected {what}, found \"{t}\"")))
+            .map_err(|_| self.err(format!("expected {what}, found \"{}\"", excerpt(t))))
     }
 
     /// A Gmsh `int` (4 bytes in binary).
@@ -146,7 +147,7 @@ impl<'a> Cursor<'a> {
         if t.trim() != end {
             return Err(self.err(format!(
                 "expected {end}, found \"{}\" (truncated or inconsistent counts)",
-                t.chars().take(40).collect::<String>()
+                excerpt(t)
             )));
         }
         Ok(())

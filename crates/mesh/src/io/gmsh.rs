@@ -5,6 +5,7 @@
 
 use super::cursor::Cursor;
 use crate::error::MeshError;
+use crate::excerpt::excerpt;
 use crate::ids::{NodeId, TriId};
 use crate::mesh::{PhysicalGroup, RawMesh};
 use std::collections::{BTreeMap, HashMap};
@@ -191,11 +192,11 @@ fn physical_names(c: &mut Cursor, g: &mut Groups) -> Result<(), MeshError> {
             .next()
             .and_then(|s| s.parse().ok())
             .filter(|d| *d <= 3)
-            .ok_or_else(|| c.err(format!("bad physical name line \"{line}\"")))?;
+            .ok_or_else(|| c.err(format!("bad physical name line \"{}\"", excerpt(line))))?;
         let tag: i64 = it
             .next()
             .and_then(|s| s.parse().ok())
-            .ok_or_else(|| c.err(format!("bad physical name line \"{line}\"")))?;
+            .ok_or_else(|| c.err(format!("bad physical name line \"{}\"", excerpt(line))))?;
         let name = it.next().unwrap_or("").trim().trim_matches('"').to_string();
         g.names.insert((dim, tag), name);
     }
@@ -228,7 +229,9 @@ pub(crate) fn read_gmsh(bytes: &[u8], path: &str) -> Result<RawMesh, MeshError> 
     let binary = match file_type {
         "0" => false,
         "1" => true,
-        t => return Err(c.err(format!("bad file type \"{t}\" in $MeshFormat"))),
+        t => {
+            return Err(c.err(format!("bad file type \"{}\" in $MeshFormat", excerpt(t))));
+        }
     };
     if binary {
         // One '\n', then the int 1 written in the writer's byte order.
@@ -274,7 +277,7 @@ fn other_section(c: &mut Cursor, s: &str) -> Result<(), MeshError> {
     } else {
         Err(c.err(format!(
             "expected a section such as $Nodes, found \"{}\"",
-            s.chars().take(40).collect::<String>()
+            excerpt(s)
         )))
     }
 }

@@ -93,7 +93,10 @@ pub(crate) fn read_json(bytes: &[u8], path: &str) -> Result<RawMesh, MeshError> 
         let field_err = |what: &str, v: u32| MeshError::Parse {
             path: path.to_string(),
             line: 0,
-            message: format!("group \"{}\": {what} {v} does not exist", g.name),
+            message: format!(
+                "group \"{}\": {what} {v} does not exist",
+                crate::excerpt::excerpt(&g.name)
+            ),
         };
         if g.dim > 2 {
             return Err(field_err("dimension", g.dim as u32));

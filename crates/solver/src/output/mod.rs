@@ -3,9 +3,11 @@
 //!
 //! Every file is written whole or not at all ([`atomic::write_atomic`]: a temporary file in
 //! the same folder, then a rename), and the `.pvd` collection is rewritten after each frame,
-//! so an interrupted run leaves a readable result. vtkio is used only in [`vtu`].
+//! so an interrupted run leaves a readable result. A run owns its folder: it first removes
+//! every file an earlier run wrote there ([`folder::claim`]). vtkio is used only in [`vtu`].
 
 pub mod atomic;
+pub mod folder;
 pub mod frame;
 pub mod history;
 pub mod joints;
