@@ -408,6 +408,9 @@ pub struct ContactStage {
     node_x: Vec<[f64; 2]>,
     /// Contact energy stored at t = 0 (potential and friction springs) [J].
     stored0: f64,
+    /// Book the work of the contact forces on the nodes (`node_work`) and report the
+    /// `contact_residual` (set when the run records the `energy` probe; off, it costs nothing).
+    pub book_work: bool,
 }
 
 /// Triangle pairs bonded by the fracture stage (intact joints, intact stars), passed to the
@@ -509,6 +512,7 @@ impl ContactStage {
             node_force_now: Vec::new(),
             node_x: Vec::new(),
             stored0: 0.0,
+            book_work: false,
         };
         let c = &stage.contact;
         let n = c.laws.n_materials() as u32;
@@ -577,7 +581,7 @@ impl ForceContribution for ContactStage {
             .contact
             .compute_forces(x, v, &self.tris, &self.labels, self.dt);
         self.contact.add_forces(&self.tris, f);
-        if self.node_x.is_empty() {
+        if self.book_work && self.node_x.is_empty() {
             // The first evaluation, at the initial state: the forces and positions the nodal
             // work starts from, and the energy stored then.
             self.node_force = vec![[0.0; 2]; x.len()];
@@ -767,11 +771,15 @@ impl ForceContribution for ContactStage {
         // What the contact's books do not explain of the work its forces did on the nodes:
         // the pair potential is exact for rigid relative motion only (docs/contact.md
         // section 2), and the friction and damping books are their own quadratures.
-        let residual = r.wall_work
-            - (stored - self.stored0 - self.switch_jump)
-            - e.friction_dissipated
-            - self.damping_dissipated
-            - self.node_work;
+        let residual = if self.book_work {
+            r.wall_work
+                - (stored - self.stored0 - self.switch_jump)
+                - e.friction_dissipated
+                - self.damping_dissipated
+                - self.node_work
+        } else {
+            0.0
+        };
         StageReport {
             stored,
             contact_residual: residual,

@@ -141,6 +141,11 @@ pub fn attach(
         crate::contact_stage::ContactStage::new(scene, &sys.model, dt, Some(out_dir), every)
     {
         stage.bonded = bonded;
+        stage.book_work = scene
+            .histories
+            .probes
+            .iter()
+            .any(|p| matches!(p, crate::scene::Probe::Energy));
         sys.contributions.push(Box::new(stage));
     }
     Ok(())
