@@ -235,17 +235,20 @@ impl Loaded {
     }
 }
 
-/// `fdem check`'s report: the stable step of every scheme and the estimated run time, from a
-/// timed force evaluation.
+/// `fdem check`'s report: the stable step of every scheme and the estimated run time
+/// ([`run_time_estimate`]); another scheme's row scales the scene scheme's step cost by its
+/// force evaluations per step.
 pub fn check_report(l: &Loaded) -> String {
     let mut s = String::new();
     let n_tri = l.elements.len().max(1);
     let x = &l.model.x0;
     let mut f = vec![[0.0; 2]; x.len()];
     let mut scratch = fdem_mesh::ForceScratch::new(&l.elements);
+    // one untimed pass warms the caches and the thread pool
+    l.elements.internal_forces(x, x, &mut f, &mut scratch);
     let start = Instant::now();
     let mut evals = 0;
-    while evals < 3 || (start.elapsed().as_secs_f64() < 0.2 && evals < 100) {
+    while evals < 3 || (start.elapsed().as_secs_f64() < 0.05 && evals < 100) {
         l.elements.internal_forces(x, x, &mut f, &mut scratch);
         evals += 1;
     }
@@ -257,13 +260,50 @@ pub fn check_report(l: &Loaded) -> String {
     );
     let _ = writeln!(
         s,
-        "one force evaluation: {:.3e} s ({:.1} M triangles/s)",
+        "one force evaluation of the elements: {:.3e} s ({:.1} M triangles/s)",
         per_eval,
         n_tri as f64 / per_eval / 1e6
     );
     if l.scene.analysis == Analysis::Static {
         let _ = writeln!(s, "static analysis: one sparse Cholesky solve");
         return s;
+    }
+    let e = match run_time_estimate(l) {
+        Ok(e) => e,
+        Err(e) => {
+            let _ = writeln!(s, "no run-time estimate: {e}");
+            return s;
+        }
+    };
+    let sample = &e.sample;
+    let _ = writeln!(
+        s,
+        "one step of {} (timed over {} steps from the start, {}): {:.3e} s",
+        l.scheme,
+        sample.steps,
+        if sample.stages.is_empty() {
+            "elements only".to_string()
+        } else {
+            sample
+                .stages
+                .iter()
+                .map(|(n, t)| format!("{n} {t:.2e} s"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        sample.per_step,
+    );
+    if let Some(r) = &e.released {
+        let _ = writeln!(
+            s,
+            "contact with every bonded pair released ({} couples): {:.3e} s per step; counted \
+             for a quarter of the pairs over the run: {:.3e} s per step ({:.3} s if no joint \
+             softens, {:.3} s if all were released from the start)",
+            r.couples, r.per_step, e.per_step, e.intact, e.all_released
+        );
+    }
+    if !e.why.is_empty() {
+        let _ = writeln!(s, "{}", e.why);
     }
     let duration = l.scene.duration.unwrap_or(0.0);
     let safety = l.scene.integrator.safety;
@@ -272,24 +312,229 @@ pub fn check_report(l: &Loaded) -> String {
         "{:<20} {:>10} {:>12} {:>12} {:>10} {:>12}",
         "scheme", "h*omega", "h_limit [s]", "h used [s]", "steps", "est. time"
     );
+    let own = l.scheme.cost().force_equivalents(false).max(1) as f64;
     for k in SchemeKind::ALL {
         let lim = stable_step(k, l.omega_max, l.z_high);
-        let h = if k == l.scheme { l.dt } else { safety * lim };
-        let steps = (duration / h).ceil();
-        let est = steps * k.cost().force_equivalents(false) as f64 * per_eval * 1.15;
+        let (h, n) = if k == l.scheme {
+            (l.dt, e.steps as f64)
+        } else {
+            let h = safety * lim;
+            // the same fraction of the duration as the scene's scheme (a converging
+            // relaxation stops at the same time)
+            (
+                h,
+                (duration / h).ceil() * e.steps as f64 / l.n_steps.max(1) as f64,
+            )
+        };
+        let est = n * e.per_step * k.cost().force_equivalents(false) as f64 / own;
         let _ = writeln!(
             s,
-            "{:<20} {:>10.4} {:>12.4e} {:>12.4e} {:>10} {:>11.1}s{}",
+            "{:<20} {:>10.4} {:>12.4e} {:>12.4e} {:>10} {:>11.3}s{}",
             k.name(),
             k.stability_limit(),
             lim,
             h,
-            steps,
+            n.ceil(),
             est,
             if k == l.scheme { "  <- scene" } else { "" }
         );
     }
+    let _ = writeln!(
+        s,
+        "estimated run time {:.3} s (the steps; frames and histories come on top)",
+        e.seconds
+    );
     s
+}
+
+/// The estimated stepping time of a run ([`run_time_estimate`]).
+#[derive(Debug, Clone)]
+pub struct RunTimeEstimate {
+    /// The estimate [s]: `per_step * steps`.
+    pub seconds: f64,
+    /// Estimated wall time of one step [s].
+    pub per_step: f64,
+    /// Steps expected ([`expected_steps`]).
+    pub steps: u64,
+    /// Why `steps` differs from the scene's step count (empty when it does not).
+    pub why: String,
+    /// The timed steps from the start.
+    pub sample: StepSample,
+    /// Contact with every bonded pair released (scenes with contact and joints).
+    pub released: Option<ReleasedContact>,
+    /// The estimate if no joint softened over the run (the sample's step cost) [s].
+    pub intact: f64,
+    /// The estimate if every bonded pair were released from the start [s].
+    pub all_released: f64,
+}
+
+/// The part of the bonded pairs counted as released over a fracturing run (time average):
+/// the contact stage costs its sampled cost at the start plus this fraction of the extra cost
+/// of releasing every bonded pair. The shipped fracturing examples release 36 % (a split
+/// disc) to 76 % (a fragmenting block) of their pairs by the end, mostly in the second half.
+pub const RELEASED_FRACTION: f64 = 0.25;
+
+/// The estimated stepping time of a dynamic or relaxation run, measured rather than modelled:
+/// [`sample_steps`] times steps of the scene's scheme on a scratch copy of the system with
+/// its contact and joint stages attached as a run attaches them (elements, loads, damping,
+/// joints, contact forces and detection, the scheme's own loops). In a scene with contact
+/// and joints, softening joints hand their triangle pairs to contact over the run, so contact
+/// costs more later than at the start: [`contact_all_released`] times the contact stage with
+/// every bonded pair released, and [`RELEASED_FRACTION`] of that extra cost is added. The
+/// step cost times [`expected_steps`] is the estimate. Frames and histories are not counted.
+pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
+    let sample = sample_steps(l, 0.25)?;
+    let (steps, why) = expected_steps(l);
+    let released = contact_all_released(l, 0.05).map(|(per_pass, couples)| {
+        // one contact pass per force evaluation, one commit per step
+        let forces = f64::from(l.scheme.cost().forces.max(1));
+        ReleasedContact {
+            per_step: per_pass * forces,
+            couples,
+        }
+    });
+    let contact_now = sample
+        .stages
+        .iter()
+        .find(|(n, _)| n == "contact")
+        .map_or(0.0, |(_, t)| *t);
+    let extra = released
+        .as_ref()
+        .map_or(0.0, |r| (r.per_step - contact_now).max(0.0));
+    let per_step = sample.per_step + RELEASED_FRACTION * extra;
+    Ok(RunTimeEstimate {
+        seconds: per_step * steps as f64,
+        per_step,
+        steps,
+        why,
+        intact: sample.per_step * steps as f64,
+        all_released: (sample.per_step + extra) * steps as f64,
+        sample,
+        released,
+    })
+}
+
+/// The contact stage with every bonded pair released (see [`contact_all_released`]).
+#[derive(Debug, Clone)]
+pub struct ReleasedContact {
+    /// Wall time of the contact stage per step [s].
+    pub per_step: f64,
+    /// Triangle couples.
+    pub couples: usize,
+}
+
+/// A timed sample of a run's steps (see [`sample_steps`]).
+#[derive(Debug, Clone)]
+pub struct StepSample {
+    /// Steps timed.
+    pub steps: u64,
+    /// Wall time of one step [s].
+    pub per_step: f64,
+    /// The stages attached (`"fracture"`, `"contact"`) and the wall time of each per step [s].
+    pub stages: Vec<(String, f64)>,
+}
+
+/// Times steps of the scene's scheme on a scratch copy of the system (model and elements
+/// cloned, the scene's stages attached as a run attaches them but writing no files), from the
+/// run's initial state at the run's step, for about `budget` seconds of wall time (at least
+/// 20 steps after two untimed ones, at most the run's own step count).
+pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
+    let mut sys = SceneSystem::new(
+        l.model.clone(),
+        l.elements.clone(),
+        l.scene.damping.mass_proportional,
+    );
+    crate::stages::attach_to(&l.scene, &l.file, &mut sys, l.dt, None, u64::MAX)?;
+    let n = sys.model.n_nodes();
+    let mut x0 = sys.model.x0.as_flattened().to_vec();
+    let mut v0 = sys.model.v0.as_flattened().to_vec();
+    for &d in sys.constrained() {
+        v0[d] = 0.0;
+    }
+    fdem_time::SecondOrderSystem::prescribe(&mut sys, 0.0, &mut x0, &mut v0);
+    let mut state = State::new(0.0, x0, v0);
+    let mut integ = l.scheme.build(2 * n);
+    let h = l.dt;
+    let warm = 2.min(l.n_steps);
+    for _ in 0..warm {
+        integ.step(&mut sys, &mut state, h);
+    }
+    sys.contribution_times.iter_mut().for_each(|t| *t = 0.0);
+    let start = Instant::now();
+    let mut steps = 0u64;
+    let left = l.n_steps - warm;
+    while steps < left && (steps < 20 || start.elapsed().as_secs_f64() < budget) {
+        integ.step(&mut sys, &mut state, h);
+        steps += 1;
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let per = |t: f64| if steps > 0 { t / steps as f64 } else { 0.0 };
+    Ok(StepSample {
+        steps,
+        per_step: per(wall),
+        stages: sys
+            .contributions
+            .iter()
+            .zip(sys.contribution_times.iter().chain(std::iter::repeat(&0.0)))
+            .map(|(c, t)| (c.name().to_string(), per(*t)))
+            .collect(),
+    })
+}
+
+/// One force pass and one commit of the contact stage with every bonded pair released, as
+/// if the scene's fracture regions were broken into separate triangles from the start: its
+/// wall time [s] (timed over about `budget` seconds after one untimed pass, which detects)
+/// and its triangle couples. `None` without contact or without joints (then nothing is ever
+/// released).
+pub fn contact_all_released(l: &Loaded, budget: f64) -> Option<(f64, usize)> {
+    l.scene.fracture.as_ref()?;
+    let (mut stage, _) =
+        crate::contact_stage::ContactStage::new(&l.scene, &l.model, l.dt, None, u64::MAX)?;
+    let x = &l.model.x0;
+    let v = vec![[0.0; 2]; x.len()];
+    let mut f = vec![[0.0; 2]; x.len()];
+    stage.add_forces(0.0, x, &v, &mut f);
+    let start = Instant::now();
+    let mut passes = 0u32;
+    while passes < 3 || (start.elapsed().as_secs_f64() < budget && passes < 1000) {
+        stage.add_forces(0.0, x, &v, &mut f);
+        stage.end_of_step(0.0, x, &v);
+        passes += 1;
+    }
+    Some((
+        start.elapsed().as_secs_f64() / f64::from(passes),
+        stage.n_couples(),
+    ))
+}
+
+/// The number of steps a run is expected to take, and a line saying why when it is not the
+/// scene's step count. A relaxation stops when the relative residual reaches
+/// `relaxation_tolerance`: with mass-proportional damping `alpha` no mode decays faster than
+/// `exp(-alpha t / 2)` (the rate of an underdamped mode; an overdamped one is slower), so the
+/// residual falls by `tol` no sooner than `t = 2 ln(1/tol) / alpha`, the expected time (a
+/// lower bound, the answer when the lowest mode is underdamped); the duration caps it.
+pub fn expected_steps(l: &Loaded) -> (u64, String) {
+    let alpha = l.scene.damping.mass_proportional;
+    let tol = l.scene.integrator.relaxation_tolerance;
+    if l.scene.analysis == Analysis::Relaxation
+        && alpha > 0.0
+        && tol > 0.0
+        && tol < 1.0
+        && l.dt > 0.0
+    {
+        let t = 2.0 * (1.0 / tol).ln() / alpha;
+        let steps = ((t / l.dt).ceil() as u64).clamp(1, l.n_steps.max(1));
+        if steps < l.n_steps {
+            return (
+                steps,
+                format!(
+                    "relaxation: the residual reaches {tol:e} after about t = 2 ln(1/tol) / alpha = {t:.3e} s ({steps} of at most {} steps)",
+                    l.n_steps
+                ),
+            );
+        }
+    }
+    (l.n_steps, String::new())
 }
 
 /// Options of a run.
