@@ -523,7 +523,9 @@ fn fuzz_regressions_are_answered_without_panics_or_hangs() {
             match verdict {
                 Verdict::Ok => {}
                 Verdict::Panic(m) => failures.push(format!("{}: panic: {m}", f.display())),
-                Verdict::Hang => failures.push(format!("{}: no answer within {limit:?}", f.display())),
+                Verdict::Hang => {
+                    failures.push(format!("{}: no answer within {limit:?}", f.display()))
+                }
             }
         }
     }
@@ -555,11 +557,15 @@ fn mutations_are_deterministic_and_reach_every_kind() {
     let seed = b"$Nodes\n1 2 3\n4.5 6e7 -8\n$EndNodes\n".to_vec();
     let a: Vec<Vec<u8>> = {
         let mut r = Rng(7);
-        (0..50).map(|_| mutate(&seed, b"{\"x\":1}", &mut r)).collect()
+        (0..50)
+            .map(|_| mutate(&seed, b"{\"x\":1}", &mut r))
+            .collect()
     };
     let b: Vec<Vec<u8>> = {
         let mut r = Rng(7);
-        (0..50).map(|_| mutate(&seed, b"{\"x\":1}", &mut r)).collect()
+        (0..50)
+            .map(|_| mutate(&seed, b"{\"x\":1}", &mut r))
+            .collect()
     };
     assert_eq!(a, b, "the same seed gives the same inputs");
     assert!(a.iter().any(|m| m != &seed));
@@ -573,7 +579,10 @@ fn mutations_are_deterministic_and_reach_every_kind() {
             "no input with {x}"
         );
     }
-    assert!(many.iter().any(|m| m.len() < seed.len() / 2), "no truncation");
+    assert!(
+        many.iter().any(|m| m.len() < seed.len() / 2),
+        "no truncation"
+    );
     assert!(many.iter().any(|m| m.len() > seed.len() + 8), "no growth");
     assert_eq!(numbers(b"a 1.5e3 -2 x e"), vec![(2, 7), (8, 10)]);
 }

@@ -437,7 +437,8 @@ pub struct StepSample {
 /// Times steps of the scene's scheme on a scratch copy of the system (model and elements
 /// cloned, the scene's stages attached as a run attaches them but writing no files), from the
 /// run's initial state at the run's step, for about `budget` seconds of wall time (at least
-/// 20 steps after two untimed ones, at most the run's own step count).
+/// 20 steps after two untimed ones, at most the run's own step count), in batches of about a
+/// tenth of it: the median batch gives the cost of a step and of each stage.
 pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
     let mut sys = SceneSystem::new(
         l.model.clone(),
@@ -459,31 +460,48 @@ pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
     for _ in 0..warm {
         integ.step(&mut sys, &mut state, h);
     }
-    sys.contribution_times.iter_mut().for_each(|t| *t = 0.0);
+    // Batches of steps, each about a tenth of the budget: the median batch is the cost of
+    // a step, robust to the machine's other work stopping the process now and then.
+    let mut batches: Vec<(f64, Vec<f64>)> = Vec::new();
     let start = Instant::now();
     let mut steps = 0u64;
     let left = l.n_steps - warm;
     while steps < left && (steps < 20 || start.elapsed().as_secs_f64() < budget) {
-        integ.step(&mut sys, &mut state, h);
-        steps += 1;
+        sys.contribution_times.iter_mut().for_each(|t| *t = 0.0);
+        let b0 = Instant::now();
+        let mut k = 0u64;
+        while steps < left && (k < 2 || b0.elapsed().as_secs_f64() < 0.1 * budget) {
+            integ.step(&mut sys, &mut state, h);
+            steps += 1;
+            k += 1;
+        }
+        let per = |t: f64| t / k as f64;
+        batches.push((
+            per(b0.elapsed().as_secs_f64()),
+            sys.contribution_times.iter().map(|t| per(*t)).collect(),
+        ));
     }
-    let wall = start.elapsed().as_secs_f64();
-    let per = |t: f64| if steps > 0 { t / steps as f64 } else { 0.0 };
+    batches.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (per_step, stage_times) = batches
+        .get(batches.len() / 2)
+        .cloned()
+        .unwrap_or((0.0, Vec::new()));
     Ok(StepSample {
         steps,
-        per_step: per(wall),
+        per_step,
         stages: sys
             .contributions
             .iter()
-            .zip(sys.contribution_times.iter().chain(std::iter::repeat(&0.0)))
-            .map(|(c, t)| (c.name().to_string(), per(*t)))
+            .zip(stage_times.into_iter().chain(std::iter::repeat(0.0)))
+            .map(|(c, t)| (c.name().to_string(), t))
             .collect(),
     })
 }
 
 /// One force pass and one commit of the contact stage with every bonded pair released, as
 /// if the scene's fracture regions were broken into separate triangles from the start: its
-/// wall time [s] (timed over about `budget` seconds after one untimed pass, which detects)
+/// wall time [s] (the median of five batches over about `budget` seconds in all, after one
+/// untimed pass, which detects)
 /// and its triangle couples. `None` without contact or without joints (then nothing is ever
 /// released).
 pub fn contact_all_released(l: &Loaded, budget: f64) -> Option<(f64, usize)> {
@@ -494,17 +512,20 @@ pub fn contact_all_released(l: &Loaded, budget: f64) -> Option<(f64, usize)> {
     let v = vec![[0.0; 2]; x.len()];
     let mut f = vec![[0.0; 2]; x.len()];
     stage.add_forces(0.0, x, &v, &mut f);
-    let start = Instant::now();
-    let mut passes = 0u32;
-    while passes < 3 || (start.elapsed().as_secs_f64() < budget && passes < 1000) {
-        stage.add_forces(0.0, x, &v, &mut f);
-        stage.end_of_step(0.0, x, &v);
-        passes += 1;
+    // the median of five batches (robust to the machine's other work)
+    let mut batches = Vec::new();
+    for _ in 0..5 {
+        let b0 = Instant::now();
+        let mut passes = 0u32;
+        while passes < 1 || (b0.elapsed().as_secs_f64() < 0.2 * budget && passes < 200) {
+            stage.add_forces(0.0, x, &v, &mut f);
+            stage.end_of_step(0.0, x, &v);
+            passes += 1;
+        }
+        batches.push(b0.elapsed().as_secs_f64() / f64::from(passes));
     }
-    Some((
-        start.elapsed().as_secs_f64() / f64::from(passes),
-        stage.n_couples(),
-    ))
+    batches.sort_by(f64::total_cmp);
+    Some((batches[2], stage.n_couples()))
 }
 
 /// The number of steps a run is expected to take, and a line saying why when it is not the
