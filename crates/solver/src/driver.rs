@@ -383,9 +383,9 @@ pub const RELEASED_FRACTION: f64 = 0.25;
 /// every bonded pair released, and [`RELEASED_FRACTION`] of that extra cost is added. The
 /// step cost times [`expected_steps`] is the estimate. Frames and histories are not counted.
 pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
-    let sample = sample_steps(l, 0.25)?;
+    let sample = sample_steps(l, 0.2)?;
     let (steps, why) = expected_steps(l);
-    let released = contact_all_released(l, 0.05).map(|(per_pass, couples)| {
+    let released = contact_all_released(l, 0.15).map(|(per_pass, couples)| {
         // one contact pass per force evaluation, one commit per step
         let forces = f64::from(l.scheme.cost().forces.max(1));
         ReleasedContact {
@@ -460,17 +460,22 @@ pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
     for _ in 0..warm {
         integ.step(&mut sys, &mut state, h);
     }
-    // Batches of steps, each about a tenth of the budget: the median batch is the cost of
-    // a step, robust to the machine's other work stopping the process now and then.
+    // Batches of steps, each about a tenth of the budget (or an eighth of a short run): the
+    // median batch is the cost of a step, robust to the machine's other work stopping the
+    // process now and then.
     let mut batches: Vec<(f64, Vec<f64>)> = Vec::new();
     let start = Instant::now();
     let mut steps = 0u64;
     let left = l.n_steps - warm;
+    let batch_steps = left.div_ceil(8).max(2);
     while steps < left && (steps < 20 || start.elapsed().as_secs_f64() < budget) {
         sys.contribution_times.iter_mut().for_each(|t| *t = 0.0);
         let b0 = Instant::now();
         let mut k = 0u64;
-        while steps < left && (k < 2 || b0.elapsed().as_secs_f64() < 0.1 * budget) {
+        while steps < left
+            && k < batch_steps
+            && (k < 2 || b0.elapsed().as_secs_f64() < 0.1 * budget)
+        {
             integ.step(&mut sys, &mut state, h);
             steps += 1;
             k += 1;
@@ -500,7 +505,7 @@ pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
 
 /// One force pass and one commit of the contact stage with every bonded pair released, as
 /// if the scene's fracture regions were broken into separate triangles from the start: its
-/// wall time [s] (the median of five batches over about `budget` seconds in all, after one
+/// wall time [s] (the median of seven batches over about `budget` seconds in all, after one
 /// untimed pass, which detects)
 /// and its triangle couples. `None` without contact or without joints (then nothing is ever
 /// released).
@@ -512,12 +517,12 @@ pub fn contact_all_released(l: &Loaded, budget: f64) -> Option<(f64, usize)> {
     let v = vec![[0.0; 2]; x.len()];
     let mut f = vec![[0.0; 2]; x.len()];
     stage.add_forces(0.0, x, &v, &mut f);
-    // the median of five batches (robust to the machine's other work)
+    // the median of seven batches (robust to the machine's other work)
     let mut batches = Vec::new();
-    for _ in 0..5 {
+    for _ in 0..7 {
         let b0 = Instant::now();
         let mut passes = 0u32;
-        while passes < 1 || (b0.elapsed().as_secs_f64() < 0.2 * budget && passes < 200) {
+        while passes < 1 || (b0.elapsed().as_secs_f64() < budget / 7.0 && passes < 200) {
             stage.add_forces(0.0, x, &v, &mut f);
             stage.end_of_step(0.0, x, &v);
             passes += 1;
@@ -525,7 +530,7 @@ pub fn contact_all_released(l: &Loaded, budget: f64) -> Option<(f64, usize)> {
         batches.push(b0.elapsed().as_secs_f64() / f64::from(passes));
     }
     batches.sort_by(f64::total_cmp);
-    Some((batches[2], stage.n_couples()))
+    Some((batches[3], stage.n_couples()))
 }
 
 /// The number of steps a run is expected to take, and a line saying why when it is not the
