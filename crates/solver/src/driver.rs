@@ -438,7 +438,8 @@ pub struct StepSample {
 /// cloned, the scene's stages attached as a run attaches them but writing no files), from the
 /// run's initial state at the run's step, for about `budget` seconds of wall time (at least
 /// 20 steps after two untimed ones, at most the run's own step count), in batches of about a
-/// tenth of it: the median batch gives the cost of a step and of each stage.
+/// tenth of it (at most an eighth of the run's steps): the median batch gives the cost of a
+/// step and of each stage.
 pub fn sample_steps(l: &Loaded, budget: f64) -> Result<StepSample, SceneError> {
     let mut sys = SceneSystem::new(
         l.model.clone(),
