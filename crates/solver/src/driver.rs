@@ -296,10 +296,15 @@ pub fn check_report(l: &Loaded) -> String {
     if let Some(r) = &e.released {
         let _ = writeln!(
             s,
-            "contact with every bonded pair released ({} couples): {:.3e} s per step; counted \
-             for a fifth of the pairs over the run: {:.3e} s per step ({:.3} s if no joint \
-             softens, {:.3} s if all were released from the start)",
-            r.couples, r.per_step, e.per_step, e.intact, e.all_released
+            "contact with every bonded pair released ({} couples): {:.3e} s per step; joints \
+             expected to soften from {:.0} % of the run on: {:.3e} s per step ({:.3} s if no \
+             joint softens, {:.3} s if all were released from the start)",
+            r.couples,
+            r.per_step,
+            100.0 * (1.0 - e.softening_part),
+            e.per_step,
+            e.intact,
+            e.all_released
         );
     }
     if !e.why.is_empty() {
@@ -366,14 +371,21 @@ pub struct RunTimeEstimate {
     pub intact: f64,
     /// The estimate if every bonded pair were released from the start [s].
     pub all_released: f64,
+    /// The part of the run after the first joint is expected to soften (0 to 1).
+    pub softening_part: f64,
 }
 
-/// The part of the bonded pairs counted as released over a fracturing run (time average):
-/// the contact stage costs its sampled cost at the start plus this fraction of the extra cost
-/// of releasing every bonded pair. The shipped fracturing examples release 36 % (a split
-/// disc) to 76 % (a fragmenting block) of their pairs by the end, mostly late in the run:
-/// about a fifth on average over the run.
-pub const RELEASED_FRACTION: f64 = 0.2;
+/// The part of the bonded pairs counted as released from the first softening of a joint to
+/// the end of a fracturing run (time average over that part of the run; see
+/// [`run_time_estimate`]). The shipped fracturing examples release 36 % (a disc split along
+/// one diameter) to 76 % (a fragmenting block) of their pairs by the end.
+pub const RELEASED_FRACTION: f64 = 0.5;
+
+/// The least part of the extra cost of releasing every bonded pair that a scene with contact
+/// and joints is counted for, softening or not: loaded contact (engaged couples, the active
+/// frequency bound) and damaged joints cost more than at the start even where few pairs are
+/// released (the split disc's contact averages a tenth of the all-released cost).
+pub const RELEASED_FLOOR: f64 = 0.1;
 
 /// The estimated stepping time of a dynamic or relaxation run, measured rather than modelled:
 /// it times steps of the scene's scheme on a scratch copy of the system with its contact and
@@ -381,8 +393,12 @@ pub const RELEASED_FRACTION: f64 = 0.2;
 /// forces and detection, the scheme's own loops), from the run's initial state. In a scene
 /// with contact and joints, softening joints hand their triangle pairs to contact over the
 /// run, so contact costs more later than at the start: it also times the contact stage with
-/// every bonded pair released, and adds [`RELEASED_FRACTION`] of that extra cost. The step
-/// cost times [`expected_steps`] is the estimate. Frames and histories are not counted.
+/// every bonded pair released, and adds [`RELEASED_FRACTION`] of that extra cost over the part
+/// of the run after the first joint softens (at least [`RELEASED_FLOOR`] of it). That time is extrapolated from the sample: the
+/// largest joint utilisation `u` at its end `t_s` (normal traction over the tensile strength,
+/// shear traction over the Coulomb strength) grows about in proportion to time under a
+/// steady loading, so softening starts near `t_s / u`. The step cost times
+/// [`expected_steps`] is the estimate. Frames and histories are not counted.
 pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
     let (steps, why) = expected_steps(l);
     let mut stepper = Stepper::new(l)?;
@@ -440,7 +456,17 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
     let extra = released
         .as_ref()
         .map_or(0.0, |r| (r.per_step - contact_now).max(0.0));
-    let per_step = sample.per_step + RELEASED_FRACTION * extra;
+    // the part of the run after the first softening (0 when the sample saw no load)
+    let t_s = stepper.state.t;
+    let t_end = l.n_steps as f64 * l.dt;
+    let after = match (&released, stepper.utilisation(l)) {
+        (Some(_), Some(u)) if u > 0.0 && t_end > 0.0 => {
+            let t_soft = softening_time(l, t_s, u, t_end);
+            (t_end - t_soft) / t_end
+        }
+        _ => 0.0,
+    };
+    let per_step = sample.per_step + (RELEASED_FRACTION * after).max(RELEASED_FLOOR) * extra;
     Ok(RunTimeEstimate {
         seconds: per_step * steps as f64,
         per_step,
@@ -448,9 +474,51 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
         why,
         intact: sample.per_step * steps as f64,
         all_released: (sample.per_step + extra) * steps as f64,
+        softening_part: after,
         sample,
         released,
     })
+}
+
+/// When the first joint is expected to soften, from its utilisation `u` at time `t_s`
+/// (capped at `t_end`): the utilisation grows in proportion to the loading, the displacement
+/// of the moving walls (`ramp_integral` of the slowest ramp) when the scene has any, else
+/// time.
+fn softening_time(l: &Loaded, t_s: f64, u: f64, t_end: f64) -> f64 {
+    if u >= 1.0 {
+        return t_s.min(t_end);
+    }
+    let ramp = l
+        .scene
+        .contact
+        .as_ref()
+        .map(|c| {
+            c.walls
+                .iter()
+                .filter(|w| w.velocity != [0.0, 0.0])
+                .map(|w| w.ramp)
+                .fold(f64::NAN, f64::max)
+        })
+        .unwrap_or(f64::NAN);
+    if ramp.is_nan() {
+        return (t_s / u).min(t_end);
+    }
+    let load = |t: f64| model::ramp_integral(t, ramp);
+    let target = load(t_s) / u;
+    if load(t_end) <= target {
+        return t_end;
+    }
+    // bisection: load() increases with t
+    let (mut lo, mut hi) = (t_s, t_end);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if load(mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
 }
 
 /// The contact stage with every bonded pair released (see [`run_time_estimate`]).
@@ -517,6 +585,36 @@ impl Stepper {
             left: l.n_steps - warm,
             steps: 0,
         })
+    }
+
+    /// The largest utilisation of the joints at the current state (`sigma / f_t` in tension,
+    /// `|tau| / (c + max(-sigma, 0) tan phi)` in shear; 1 once a joint softens or breaks);
+    /// `None` without joints.
+    fn utilisation(&self, l: &Loaded) -> Option<f64> {
+        let state = self
+            .sys
+            .contributions
+            .iter()
+            .find_map(|c| c.joint_state())?;
+        let set = crate::fracture_stage::joint_set(&l.scene, &self.sys.model, &l.file).ok()??;
+        let x = self.state.x_nodes();
+        let frame = crate::output::JointFrame::new(&set, state, x);
+        let mut u = 0.0f64;
+        for j in 0..frame.len() {
+            if frame.damage[j] > 0.0 || frame.broken[j] != 0 {
+                return Some(1.0);
+            }
+            let m = &set.materials[set.material[j] as usize];
+            let sigma = frame.normal_traction[j];
+            let shear = m.cohesion + (-sigma).max(0.0) * m.tan_phi;
+            if m.ft > 0.0 {
+                u = u.max(sigma / m.ft);
+            }
+            if shear > 0.0 {
+                u = u.max(frame.shear_traction[j].abs() / shear);
+            }
+        }
+        Some(u)
     }
 
     /// A batch of at least two steps (fewer at the end of the run), for about `secs` seconds
