@@ -379,7 +379,7 @@ pub struct RunTimeEstimate {
 /// the end of a fracturing run (time average over that part of the run; see
 /// [`run_time_estimate`]). The shipped fracturing examples release 36 % (a disc split along
 /// one diameter) to 76 % (a fragmenting block) of their pairs by the end.
-pub const RELEASED_FRACTION: f64 = 0.5;
+pub const RELEASED_FRACTION: f64 = 0.4;
 
 /// The least part of the extra cost of releasing every bonded pair that a scene with contact
 /// and joints is counted for, softening or not: loaded contact (engaged couples, the active
@@ -403,28 +403,42 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
     let (steps, why) = expected_steps(l);
     let mut stepper = Stepper::new(l)?;
     let mut released = Released::new(l);
-    // Seven rounds, each a batch of steps then a batch of released-contact passes, so that
-    // both see the same load of the machine; the median batch of each is its cost (robust
-    // to the machine's other work stopping the process now and then). About 0.2 s of steps
-    // and 0.15 s of contact in all; a short run's steps in at most eight batches.
+    // Rounds of a batch of steps then a batch of released-contact passes, so that both see
+    // the same load of the machine; the median batch of each is its cost (robust to the
+    // machine's other work stopping the process now and then). At least seven rounds and
+    // 0.2 s (about 0.2 s of steps and 0.15 s of contact); a batch is at most an eighth of
+    // the run's steps, and a short run is started again when its steps are used up.
     let rounds = 7;
     let batch_steps = stepper.left.div_ceil(8).max(2);
     let mut step_batches: Vec<(f64, Vec<f64>)> = Vec::new();
     let mut contact_batches = Vec::new();
+    let mut timed = 0u64;
     let start = Instant::now();
-    for r in 0..rounds {
-        if let Some(b) = stepper.batch(0.2 / rounds as f64, batch_steps) {
-            step_batches.push(b);
+    let mut r = 0;
+    loop {
+        match stepper.batch(0.2 / rounds as f64, batch_steps) {
+            Some(b) => step_batches.push(b),
+            // a run of at most two steps: nothing to time
+            None if stepper.steps == 0 => break,
+            None => {
+                // a short run's steps are used up: start it again, so that the sample
+                // spans the budget's wall time (and the machine's load over it)
+                timed += stepper.steps;
+                stepper = Stepper::new(l)?;
+                continue;
+            }
         }
         if let Some(c) = &mut released {
             contact_batches.push(c.batch(0.15 / rounds as f64));
         }
-        // a short run may take all its steps in the first rounds; a run of slow steps
-        // stops after the budget
-        if r >= 2 && start.elapsed().as_secs_f64() > 0.6 {
+        r += 1;
+        // a run of slow steps stops after the budget
+        let el = start.elapsed().as_secs_f64();
+        if (r >= rounds && el >= 0.2) || (r >= 3 && el > 0.6) || r >= 64 {
             break;
         }
     }
+    timed += stepper.steps;
     step_batches.sort_by(|a, b| a.0.total_cmp(&b.0));
     contact_batches.sort_by(f64::total_cmp);
     let (per_step, stage_times) = step_batches
@@ -432,7 +446,7 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
         .cloned()
         .unwrap_or((0.0, Vec::new()));
     let sample = StepSample {
-        steps: stepper.steps,
+        steps: timed,
         per_step,
         stages: stepper
             .sys
