@@ -2,7 +2,9 @@
 meshio and by VTK's vtkXMLUnstructuredGridReader, and its points, cells and arrays must equal
 the solver's raw dump (frame_NNNN.json) exactly. In fracturing runs the joint series
 (joints.pvd, joints_NNNN.vtu: one line cell per joint) is read the same way and compared with
-the dump's "joints" object; a run without joints must have no joint series. Prints
+the dump's "joints" object; a run without joints must have no joint series. The cell
+connectivity and offsets are Int64, so meshio's cells are integers and index the points
+(`points[cells]`, as a user's script does). Prints
 'N passed, N failed'; exits non-zero on any failure."""
 import json
 import os
@@ -98,6 +100,7 @@ def check_joints(out, entries):
         check(f"{tag}: meshio points (joint mid-surface ends)", same(m.points, pts))
         ln = [c.data for c in m.cells if c.type == "line"]
         check(f"{tag}: meshio one line cell per joint", len(ln) == 1 and same(ln[0], lines))
+        check_indexing(tag, os.path.join(out, f), m, ln, 2)
         for k in JOINT_ARRAYS:
             check(f"{tag}: meshio cell {k}", same(m.cell_data[k][0], np.asarray(j[k])))
         vp, conn, pd, cd, types = read_vtk(os.path.join(out, f), 2)
@@ -127,6 +130,24 @@ def check_joints(out, entries):
           set(broken) == set(ev), f"{len(broken)} vs {len(ev)}")
     check(f"{out}: failure times agree with fractures.csv",
           all(abs(broken[i] - ev[i]) <= 1e-8 * abs(ev[i]) for i in set(broken) & set(ev)))
+
+
+def check_indexing(tag, path, m, cells, verts):
+    """A user's script indexes the points with the cells: the connectivity (and offsets) are
+    Int64 in the file, so meshio gives integer cells and `points[cells]` has one row of
+    `verts` points per cell."""
+    header = open(path, "rb").read()
+    for name in (b"connectivity", b"offsets"):
+        check(f"{tag}: {name.decode()} is Int64", b'type="Int64" Name="' + name + b'"' in header)
+    ok = len(cells) == 1 and np.issubdtype(cells[0].dtype, np.integer)
+    check(f"{tag}: meshio cells are integers", ok, str(cells[0].dtype) if cells else "none")
+    if ok:
+        try:
+            p = m.points[cells[0]]
+            check(f"{tag}: points[cells] has shape (n, {verts}, 3)",
+                  p.shape == (len(cells[0]), verts, 3), str(p.shape))
+        except IndexError as e:
+            check(f"{tag}: points[cells]", False, str(e))
 
 
 def read_vtk(path, verts=3):
@@ -161,6 +182,7 @@ for out in sys.argv[1:]:
         check(f"{tag}: meshio points", same(m.points, exp["points"]))
         tri = [c.data for c in m.cells if c.type == "triangle"]
         check(f"{tag}: meshio triangles", len(tri) == 1 and same(tri[0], exp["cells"]))
+        check_indexing(tag, os.path.join(out, f), m, tri, 3)
         for k, v in exp["point"].items():
             check(f"{tag}: meshio point {k}", same(m.point_data[k], v))
         for k, v in exp["cell"].items():

@@ -521,6 +521,11 @@ impl ContactStage {
         Some((stage, report))
     }
 
+    /// Triangle couples of the last detection (pairs within the buffer, bonded pairs excluded).
+    pub fn n_couples(&self) -> usize {
+        self.contact.couples().len()
+    }
+
     fn place_walls(&mut self, t: f64) {
         for (w, m) in self.contact.walls.iter_mut().zip(&self.motion) {
             let r = ramp_integral(t, m.ramp);

@@ -112,6 +112,19 @@ pub fn attach(
     out_dir: &Path,
     every: u64,
 ) -> Result<(), SceneError> {
+    attach_to(scene, file, sys, dt, Some(out_dir), every)
+}
+
+/// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
+/// the stages of `fdem check`'s timed sample of the run.
+pub fn attach_to(
+    scene: &Scene,
+    file: &Path,
+    sys: &mut SceneSystem,
+    dt: f64,
+    out_dir: Option<&Path>,
+    every: u64,
+) -> Result<(), SceneError> {
     let mut bonded = None;
     if let Some(set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
         let initial = scene
@@ -133,12 +146,12 @@ pub fn attach(
             });
         }
         let (stage, b, _) =
-            crate::fracture_stage::FractureStage::new(set, &sys.model, Some(out_dir), initial);
+            crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial);
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }
     if let Some((mut stage, _)) =
-        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, Some(out_dir), every)
+        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, out_dir, every)
     {
         stage.bonded = bonded;
         stage.book_work = scene

@@ -130,7 +130,45 @@ pub(crate) fn piece_bytes(piece: UnstructuredGridPiece, level: u32) -> Result<Ve
         .map_err(|e| e.to_string())?;
     let mut bytes = Vec::new();
     xml.write(&mut bytes).map_err(|e| e.to_string())?;
-    Ok(bytes)
+    cells_as_int64(bytes)
+}
+
+/// Relabels the `connectivity` and `offsets` arrays of the piece's `<Cells>` from `UInt64`
+/// to `Int64`, VTK's own type for both (meshio reads `UInt64` connectivity as float64, so
+/// `points[cells]` fails in a user's script).
+///
+/// vtkio holds cell vertex numbers as `u64` (`VertexNumbers::XML`) and keeps the XML model's
+/// fields private, so the type is changed in the written header. This is exact: the values
+/// are vertex indices and offsets, far below `2^63`, whose `u64` and `i64` bytes are the
+/// same; the data (inline base64, compressed or not) and its block headers do not depend on
+/// the type name. Only the `type` attribute of those two headers inside `<Cells>` changes,
+/// and each must be found exactly once, so a change in vtkio's output is an error rather
+/// than a silently mislabelled file. Writing the grid ourselves instead would duplicate
+/// vtkio's whole encoder (zlib blocks, base64, ranges) for two attribute values.
+fn cells_as_int64(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
+    let text = String::from_utf8(bytes).map_err(|_| "vtkio wrote a frame that is not UTF-8")?;
+    let (Some(start), Some(end)) = (text.find("<Cells>"), text.find("</Cells>")) else {
+        return Err("vtkio wrote no <Cells> element".into());
+    };
+    let mut cells = text[start..end].to_string();
+    for name in ["connectivity", "offsets"] {
+        let from = format!("<DataArray type=\"UInt64\" Name=\"{name}\"");
+        if cells.matches(&from).count() != 1 {
+            return Err(format!(
+                "vtkio wrote an unexpected header for the cell {name} (expected one UInt64 array)"
+            ));
+        }
+        cells = cells.replacen(
+            &from,
+            &format!("<DataArray type=\"Int64\" Name=\"{name}\""),
+            1,
+        );
+    }
+    let mut out = String::with_capacity(text.len());
+    out.push_str(&text[..start]);
+    out.push_str(&cells);
+    out.push_str(&text[end..]);
+    Ok(out.into_bytes())
 }
 
 #[cfg(test)]
@@ -174,5 +212,58 @@ mod tests {
         };
         let s: Vec<f64> = s.data.cast_into().unwrap();
         assert_eq!(s, vec![1.0, 3.0, 0.0, 3.0, 2.0, 0.0, 0.0, 0.0, 0.5]);
+    }
+
+    #[test]
+    fn connectivity_and_offsets_are_int64_compressed_or_not_and_read_back_exactly() {
+        let frame = FrameData {
+            points: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]],
+            triangles: vec![[0, 1, 2], [1, 3, 2]],
+            displacement: vec![[0.0; 2]; 4],
+            velocity: vec![[0.0; 2]; 4],
+            force: vec![[0.0; 2]; 4],
+            reaction: vec![[0.0; 2]; 4],
+            stress: vec![[0.0; 4]; 2],
+            principal: vec![[0.0; 2]; 2],
+            von_mises: vec![0.0; 2],
+            energy_density: vec![0.0; 2],
+            material: vec![0; 2],
+            body: vec![0; 2],
+            ..Default::default()
+        };
+        for level in [0, 6] {
+            let bytes = encode(&frame, level).unwrap();
+            let text = String::from_utf8(bytes.clone()).unwrap();
+            assert!(text.contains("<DataArray type=\"Int64\" Name=\"connectivity\""));
+            assert!(text.contains("<DataArray type=\"Int64\" Name=\"offsets\""));
+            assert!(!text.contains("UInt64\" Name=\"connectivity"));
+            assert!(!text.contains("UInt64\" Name=\"offsets"));
+            // the cell types stay UInt8, the header type of the compressed blocks UInt64
+            assert!(text.contains("<DataArray type=\"UInt8\" Name=\"types\""));
+            let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
+            let vtk: Vtk = back.try_into().unwrap();
+            let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+                panic!("not an unstructured grid")
+            };
+            let Piece::Inline(p) = &pieces[0] else {
+                panic!("not inline")
+            };
+            let VertexNumbers::XML {
+                connectivity,
+                offsets,
+            } = &p.cells.cell_verts
+            else {
+                panic!("not XML cells")
+            };
+            assert_eq!(connectivity, &vec![0, 1, 2, 1, 3, 2], "level {level}");
+            assert_eq!(offsets, &vec![3, 6], "level {level}");
+        }
+    }
+
+    #[test]
+    fn an_unexpected_cells_header_is_an_error_not_a_mislabelled_file() {
+        let xml = b"<Cells><DataArray type=\"UInt32\" Name=\"connectivity\"></Cells>".to_vec();
+        assert!(cells_as_int64(xml).unwrap_err().contains("connectivity"));
+        assert!(cells_as_int64(b"<Piece></Piece>".to_vec()).is_err());
     }
 }
