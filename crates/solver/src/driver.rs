@@ -344,7 +344,7 @@ pub fn check_report(l: &Loaded) -> String {
             // relaxation stops at the same time)
             (
                 h,
-                (duration / h).ceil() * e.steps as f64 / l.n_steps.max(1) as f64,
+                limits::step_count(duration, h) * e.steps as f64 / l.n_steps.max(1) as f64,
             )
         };
         let est = n * e.per_step * k.cost().force_equivalents(false) as f64 / own;
