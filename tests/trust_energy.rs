@@ -246,3 +246,39 @@ fn case06_disc_collision_reports_its_initial_kinetic_energy() {
     let first_kinetic = common::column(&head, &rows, "initial_kinetic")[0];
     assert!((first_kinetic - k0).abs() <= 1e-12 * k0);
 }
+
+/// Without the `energy` probe the run does not book the work of the element and contact
+/// forces (it costs about a tenth of the step): `residuals_booked` is false, both residuals
+/// are 0 and `error` holds them, so it equals the booked run's `error + contact_residual +
+/// elastic_residual` (the same trajectory: the books do not change the motion) to round-off.
+#[test]
+fn case06_without_the_energy_probe_the_residuals_stay_in_the_error() {
+    let edit = |probe: bool| {
+        move |v: &mut serde_json::Value| {
+            v["bodies"][0]["offset"] = serde_json::json!([-0.025025, 0.0]);
+            v["bodies"][1]["offset"] = serde_json::json!([0.025025, 0.0]);
+            v["duration"] = serde_json::json!(60e-6);
+            v["output"]["frames"] = serde_json::json!(0);
+            if !probe {
+                v["histories"] = serde_json::json!({ "probes": [] });
+            }
+        }
+    };
+    let booked = common::edited_example("disc-collision.json", "energy-booked", edit(true));
+    let plain = common::edited_example("disc-collision.json", "energy-plain", edit(false));
+    let b = common::run(&booked).0.summary.energy;
+    let p = common::run(&plain).0.summary.energy;
+    assert!(b.residuals_booked && !p.residuals_booked);
+    assert_eq!((p.contact_residual, p.elastic_residual), (0.0, 0.0));
+    // in contact: the residuals are far above the integration error (4.3e-4 of in play)
+    assert!(
+        (b.contact_residual + b.elastic_residual).abs() > 1e-4 * b.in_play,
+        "{b:?}"
+    );
+    let expect = b.error + b.contact_residual + b.elastic_residual;
+    assert!(
+        (p.error - expect).abs() <= 1e-12 * b.in_play,
+        "unbooked error {} vs booked error + residuals {expect}",
+        p.error
+    );
+}

@@ -528,12 +528,20 @@ fn external_loads(m: &Model, loaded_dofs: &[usize], t: f64, buf: &mut [f64]) {
 mod tests {
     use super::*;
 
-    /// The names of `summary.json`'s `energy` object are the ledger's column names (those of
-    /// the console and of `histories.csv`), one for one.
+    /// The names of the numbers of `summary.json`'s `energy` object are the ledger's column
+    /// names (those of the console and of `histories.csv`), one for one; the one other field
+    /// is the flag `residuals_booked`.
     #[test]
     fn summary_names_are_the_column_names() {
         let v = serde_json::to_value(Energies::default()).unwrap();
-        let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        let o = v.as_object().unwrap();
+        assert_eq!(o["residuals_booked"], serde_json::json!(false));
+        let mut keys: Vec<&str> = o
+            .iter()
+            .filter(|(_, v)| v.is_number())
+            .map(|(k, _)| k.as_str())
+            .collect();
+        assert_eq!(keys.len() + 1, o.len());
         let mut names = Energies::column_names().to_vec();
         keys.sort_unstable();
         names.sort_unstable();
