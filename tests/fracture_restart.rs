@@ -248,3 +248,37 @@ fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A saved fracture state of another scene (another number of joints) is refused before the
+/// run folder is claimed: the earlier run's files there stay.
+#[test]
+fn a_saved_state_of_another_scene_is_refused_before_the_folder_is_touched() {
+    let dir = common::temp_dir("fracture-restart-mismatch");
+    let p = scene(&dir);
+    let l0 = driver::load(&p).unwrap();
+    let (dt, n) = (l0.dt, l0.n_steps);
+    let out = dir.join("out");
+    let first = run(&mut load(&p, dt, n / 10), &out);
+    let mut js = first.joint_state.clone().expect("the joints' state");
+    js.intact.pop();
+    let before = std::fs::read(out.join("summary.json")).unwrap();
+    let mut l = load(&p, dt, n / 10);
+    l.scene.fracture.as_mut().unwrap().initial_state = Some(js);
+    let e = driver::run_outcome(
+        &mut l,
+        &RunOptions {
+            out_dir: out.clone(),
+            raw: false,
+        },
+        &mut |_| {},
+    )
+    .err()
+    .expect("a state with a joint less is refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("saved fracture state") && msg.contains("fracture"),
+        "{msg}"
+    );
+    assert_eq!(std::fs::read(out.join("summary.json")).unwrap(), before);
+    assert!(out.join("fractures.csv").exists());
+}

@@ -1201,6 +1201,8 @@ pub fn run_outcome(
             joint_state: None,
         });
     }
+    // the stages' own input, checked before the folder is claimed
+    crate::fracture_stage::check_initial_state(&l.scene, &l.file)?;
     let writer = Writer::new(options, l.scene.output.compression)?;
     dynamic(l, options, progress, writer, wall)
 }

@@ -164,6 +164,30 @@ pub fn joint_set(
         })
 }
 
+/// Checks that a saved fracture state ([`FractureSection::initial_state`]) has as many joints
+/// as the scene: `Ok` without a saved state (nothing is computed then).
+pub fn check_initial_state(scene: &Scene, file: &Path) -> Result<(), SceneError> {
+    let Some(section) = &scene.fracture else {
+        return Ok(());
+    };
+    let Some(s) = &section.initial_state else {
+        return Ok(());
+    };
+    let n: usize = section.joints.iter().map(|(_, j)| j.len()).sum();
+    if s.intact.len() != n {
+        return Err(SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: "fracture".into(),
+            message: format!(
+                "the saved fracture state has {} joints, the scene {n}",
+                s.intact.len()
+            ),
+            fix: "start from a state saved by a run of this scene".into(),
+        });
+    }
+    Ok(())
+}
+
 /// The joints' term of the frequency bound [rad/s].
 pub fn omega_joints(set: &JointSet, model: &Model) -> f64 {
     let state = JointState::new(set, &model.x0);

@@ -126,25 +126,12 @@ pub fn attach_to(
     every: u64,
 ) -> Result<(), SceneError> {
     let mut bonded = None;
+    crate::fracture_stage::check_initial_state(scene, file)?;
     if let Some(set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
         let initial = scene
             .fracture
             .as_ref()
             .and_then(|f| f.initial_state.clone());
-        if let Some(s) = &initial
-            && s.intact.len() != set.len()
-        {
-            return Err(SceneError::Invalid {
-                file: file.to_path_buf(),
-                path: "fracture".into(),
-                message: format!(
-                    "the saved fracture state has {} joints, the scene {}",
-                    s.intact.len(),
-                    set.len()
-                ),
-                fix: "start from a state saved by a run of this scene".into(),
-            });
-        }
         let (stage, b, _) =
             crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial);
         bonded = Some(b);
