@@ -782,6 +782,23 @@ impl Contact {
         }
     }
 
+    /// The couples of the last pass in contact with a load (active, normal force not 0), in
+    /// couple order, each with the six nodes of its two triangles.
+    fn loaded_couples<'a>(
+        &'a self,
+        tris: &'a [[u32; 3]],
+    ) -> impl Iterator<Item = (&'a CoupleForce, [u32; 6])> + 'a {
+        self.results
+            .iter()
+            .zip(&self.couples)
+            .zip(&self.flags)
+            .filter(|((r, _), f)| **f != 0 && r.active && r.fn_total != 0.0)
+            .map(|((r, c), _)| {
+                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+                (r, [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]])
+            })
+    }
+
     /// Adds to `f`, in couple order then plane-pair order, the nodal forces that `couple`
     /// picks from each couple in contact and `wall` from each plane pair.
     fn scatter(
@@ -791,18 +808,7 @@ impl Contact {
         couple: impl Fn(&CoupleForce) -> [V2; 6],
         wall: impl Fn(&WallForce) -> [V2; 3],
     ) {
-        for ((r, c), _) in self
-            .results
-            .iter()
-            .zip(&self.couples)
-            .zip(&self.flags)
-            .filter(|(_, f)| **f != 0)
-        {
-            if !r.active || r.fn_total == 0.0 {
-                continue;
-            }
-            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-            let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+        for (r, nodes) in self.loaded_couples(tris) {
             let g = couple(r);
             for k in 0..6 {
                 let n = nodes[k] as usize;
@@ -844,18 +850,7 @@ impl Contact {
         let planes = self.walls.iter().any(|w| w.law.damping > 0.0);
         let mut p = 0.0;
         if pairs {
-            for ((r, c), _) in self
-                .results
-                .iter()
-                .zip(&self.couples)
-                .zip(&self.flags)
-                .filter(|(_, f)| **f != 0)
-            {
-                if !r.active || r.fn_total == 0.0 {
-                    continue;
-                }
-                let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-                let nodes = [ti[0], ti[1], ti[2], tj[0], tj[1], tj[2]];
+            for (r, nodes) in self.loaded_couples(tris) {
                 for k in 0..6 {
                     p -= dot(r.damping[k], v[nodes[k] as usize]);
                 }

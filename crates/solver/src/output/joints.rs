@@ -309,7 +309,6 @@ impl JointSeries {
 mod tests {
     use super::*;
     use fdem_fracture::{Joint, JointMaterialInput};
-    use vtkio::model::{DataSet, Piece, Vtk};
 
     fn one_joint() -> (JointSet, Vec<[f64; 2]>) {
         let mat = JointMaterialInput {
@@ -360,14 +359,7 @@ mod tests {
         let text = String::from_utf8(bytes.clone()).unwrap();
         assert!(text.contains("vtkZLibDataCompressor"));
         assert!(text.contains("Name=\"time_of_failure\""));
-        let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
-        let vtk: Vtk = back.try_into().unwrap();
-        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-            panic!("not an unstructured grid")
-        };
-        let Piece::Inline(p) = &pieces[0] else {
-            panic!("not inline")
-        };
+        let p = &crate::output::vtu::read_back(bytes);
         assert_eq!(p.cells.types, vec![CellType::Line]);
         let pts: Vec<f64> = p.points.cast_into().unwrap();
         assert_eq!(pts, vec![0.0, 0.0, 0.0, 0.01, 0.0, 0.0]);

@@ -171,6 +171,21 @@ fn cells_as_int64(bytes: Vec<u8>) -> Result<Vec<u8>, String> {
     Ok(out.into_bytes())
 }
 
+/// Reads the bytes of a `.vtu` file back with vtkio into its one inline piece (the tests'
+/// read-back of the triangle and joint frames).
+#[cfg(test)]
+pub(crate) fn read_back(bytes: Vec<u8>) -> UnstructuredGridPiece {
+    let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
+    let vtk: Vtk = back.try_into().unwrap();
+    let DataSet::UnstructuredGrid { mut pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let Piece::Inline(p) = pieces.swap_remove(0) else {
+        panic!("not inline")
+    };
+    *p
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -197,14 +212,7 @@ mod tests {
         let text = String::from_utf8(bytes.clone()).unwrap();
         assert!(text.contains("vtkZLibDataCompressor"));
         assert!(text.contains("Name=\"stress\"") && text.contains("NumberOfComponents=\"9\""));
-        let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
-        let vtk: Vtk = back.try_into().unwrap();
-        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-            panic!("not an unstructured grid")
-        };
-        let Piece::Inline(p) = &pieces[0] else {
-            panic!("not inline")
-        };
+        let p = &read_back(bytes);
         let pts: Vec<f64> = p.points.cast_into().unwrap();
         assert_eq!(pts, vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
         let Attribute::DataArray(s) = &p.data.cell[0] else {
@@ -240,14 +248,7 @@ mod tests {
             assert!(!text.contains("UInt64\" Name=\"offsets"));
             // the cell types stay UInt8, the header type of the compressed blocks UInt64
             assert!(text.contains("<DataArray type=\"UInt8\" Name=\"types\""));
-            let back = vtkio::xml::VTKFile::parse(std::io::Cursor::new(bytes)).unwrap();
-            let vtk: Vtk = back.try_into().unwrap();
-            let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-                panic!("not an unstructured grid")
-            };
-            let Piece::Inline(p) = &pieces[0] else {
-                panic!("not inline")
-            };
+            let p = &read_back(bytes);
             let VertexNumbers::XML {
                 connectivity,
                 offsets,
