@@ -1,4 +1,4 @@
-//! The solver at the extremes of what a user may ask of it (issue 7, elastic part): each scheme
+//! The solver at the extremes of what a user may ask of it (elastic scenes): each scheme
 //! just below and just above its predicted stable step, a stiffness contrast of 10^6, a body
 //! spinning through many turns, near-degenerate triangles (aspect ratio 1000), the same scene
 //! in mm-N-MPa and m-N-Pa, and a long run of a free elastic body. Every test asserts a number

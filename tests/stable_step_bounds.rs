@@ -1,7 +1,7 @@
 //! The contact and joint terms of the stable-step bound against the highest frequency of the
 //! whole system, measured by power iteration (`M^-1 K v` by central differences of the total
 //! force of the composed system, elements and stages, at a fixed state): the bound must not be
-//! below it (the step would be unstable) and should not be far above it (issue 7's factor 2 on
+//! below it (the step would be unstable) and should not be far above it (the factor-2 rule on
 //! the step). Derivations: docs/contact.md section 12, docs/fracture.md section 8.
 
 mod common;

@@ -103,8 +103,8 @@ fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
 /// measured against its own energy. For every scheme the predicted step must be stable (1.01
 /// of it: scene run and probe), and so must the active prediction (`r` = 1.077 times it: the
 /// contact engaged in the scene's states), with the step at 2 x the active prediction
-/// unstable; measured (2026-11-22, probes 5000 radians of the state's measured top mode
-/// long; session 6 with the band probes: PC-4 [1.30, 1.35), OMF30 [1.2, 1.30), OMF32 [1.294,
+/// unstable; measured (probes 5000 radians of the state's measured top mode
+/// long, with the band probes: PC-4 [1.30, 1.35), OMF30 [1.2, 1.30), OMF32 [1.294,
 /// 1.302)): every scheme in [1.2, 1.35) x the active prediction, OMF32 included (it is unstable
 /// on the oscillator only in the narrow band `h omega` in [3.122, 3.160] and stable again up
 /// to 5.6925, docs/time-integration.md; probes measured in radians of the bound, 1.3 times
@@ -275,9 +275,9 @@ fn active_probe_start_holds_the_collision_state_and_brackets_the_stable_step() {
 /// collision as studied (`examples/disc-collision.json` and its side file: the frozen state of
 /// peak engaged contact): the top of that state's spectrum is a few contact modes above a gap,
 /// so a ladder of fractions steps over OMF32's 1.2 %-wide unstable band, and the scheme reads
-/// stable up to its window's end (session 5: [2.5, 3) x the active prediction, outside the
-/// factor 2). The study adds the steps that put the measured top mode into the band, and the
-/// first instability is found there. Measured (2026-11-22, release build 19 s): `omega_top`
+/// stable up to its window's end (a ladder alone read [2.5, 3) x the active prediction,
+/// outside the factor 2). The study adds the steps that put the measured top mode into the band, and the
+/// first instability is found there. Measured (release build, 19 s): `omega_top`
 /// 2.334e6 rad/s, every ladder fraction up to 1.75 x active stable (energy ratios within
 /// 0.9-1.001), the first band fraction unstable (ratio 1.056): observed [1.750, 1.754) x
 /// active; `h omega_top` there 3.103, so the true top frequency is at least 0.6 % above the
@@ -409,7 +409,7 @@ fn active_probe_start_keeps_the_fracture_state_and_brackets_the_stable_step() {
 }
 
 /// The first scheme's observed limit `lim` (a `study.json` `limits` entry) against the active
-/// prediction: stable at it, unstable by twice it (issue 7's factor-2 rule).
+/// prediction: stable at it, unstable by twice it (the factor-2 rule).
 fn assert_within_factor_two_of_active(lim: &serde_json::Value) {
     let lo_a = lim["observed_over_active_at_least"].as_f64().unwrap();
     let hi_a = lim["observed_over_active_below"].as_f64();

@@ -1,5 +1,5 @@
 //! An upper bound on the highest frequency that the contact **engaged in a given state** adds
-//! (issue 7: the a-priori bound of the solver assumes every edge pressed flat along its whole
+//! (the a-priori bound of the solver assumes every edge pressed flat along its whole
 //! length; curved or sparse contact engages a small part of that).
 //!
 //! **Stiffness of one engaged edge.** An edge `A -> B` of body E inside triangle T carries the
