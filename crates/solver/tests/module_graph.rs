@@ -169,7 +169,10 @@ fn tokenize(text: &str) -> Vec<Token> {
                         i += 1;
                     }
                     let name: String = s[start..i].iter().collect();
-                    out.push(Token { tok: Tok::Ident(name), line });
+                    out.push(Token {
+                        tok: Tok::Ident(name),
+                        line,
+                    });
                 }
             } else if word == "b" && s.get(i) == Some(&'\'') {
                 // a byte literal b'x' / b'\n'
@@ -182,13 +185,22 @@ fn tokenize(text: &str) -> Vec<Token> {
                 }
                 i += 1;
             } else {
-                out.push(Token { tok: Tok::Ident(word), line });
+                out.push(Token {
+                    tok: Tok::Ident(word),
+                    line,
+                });
             }
         } else if c == ':' && next == Some(':') {
-            out.push(Token { tok: Tok::Path, line });
+            out.push(Token {
+                tok: Tok::Path,
+                line,
+            });
             i += 2;
         } else {
-            out.push(Token { tok: Tok::Punct(c), line });
+            out.push(Token {
+                tok: Tok::Punct(c),
+                line,
+            });
             i += 1;
         }
     }
@@ -351,7 +363,11 @@ fn named_paths(text: &str, module: &[String]) -> Vec<Named> {
                 }
                 for p in paths {
                     if let Some(abs) = absolute(&p, &here, &children) {
-                        out.push(Named { module_path: abs, line, text: p.join("::") });
+                        out.push(Named {
+                            module_path: abs,
+                            line,
+                            text: p.join("::"),
+                        });
                     }
                 }
             }
@@ -369,7 +385,11 @@ fn named_paths(text: &str, module: &[String]) -> Vec<Named> {
                     i += 2;
                 }
                 if let Some(abs) = absolute(&p, &here, &children) {
-                    out.push(Named { module_path: abs, line, text: p.join("::") });
+                    out.push(Named {
+                        module_path: abs,
+                        line,
+                        text: p.join("::"),
+                    });
                 }
             }
             _ => i += 1,
@@ -383,7 +403,10 @@ fn named_paths(text: &str, module: &[String]) -> Vec<Named> {
 fn module_of(rel: &str) -> Vec<String> {
     let rel = rel.strip_suffix(".rs").unwrap_or(rel);
     let mut parts: Vec<String> = rel.split('/').map(str::to_string).collect();
-    if matches!(parts.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+    if matches!(
+        parts.last().map(String::as_str),
+        Some("mod" | "lib" | "main")
+    ) {
         parts.pop();
     }
     parts
@@ -399,8 +422,10 @@ struct Edge {
 /// The file graph of sources given as (path relative to `src/`, text): for each file, the
 /// files it names, with the first place it names each.
 fn file_graph(files: &[(String, String)]) -> BTreeMap<String, BTreeMap<String, Edge>> {
-    let by_module: BTreeMap<Vec<String>, String> =
-        files.iter().map(|(f, _)| (module_of(f), f.clone())).collect();
+    let by_module: BTreeMap<Vec<String>, String> = files
+        .iter()
+        .map(|(f, _)| (module_of(f), f.clone()))
+        .collect();
     let mut graph = BTreeMap::new();
     for (file, text) in files {
         let targets: &mut BTreeMap<String, Edge> = graph.entry(file.clone()).or_default();
@@ -410,9 +435,10 @@ fn file_graph(files: &[(String, String)]) -> BTreeMap<String, BTreeMap<String, E
                 .find_map(|k| by_module.get(&n.module_path[..k]))
                 .expect("the crate root is a module with a file");
             if target != file {
-                targets
-                    .entry(target.clone())
-                    .or_insert(Edge { line: n.line, text: n.text });
+                targets.entry(target.clone()).or_insert(Edge {
+                    line: n.line,
+                    text: n.text,
+                });
             }
         }
     }
@@ -641,7 +667,10 @@ fn example() -> Vec<(String, String)> {
              #[cfg(test)]\nmod tests {\n    use super::*;\n    use self::inner::X;\n}\n",
         ),
         // c names nothing of a or b (strings and char literals only)
-        ("c.rs", "pub fn g() -> char { let _ = r#\"crate::a\"#; '{' }\n"),
+        (
+            "c.rs",
+            "pub fn g() -> char { let _ = r#\"crate::a\"#; '{' }\n",
+        ),
         ("error.rs", "pub struct E;\n"),
         // a parent re-exporting its child's item, and the child naming the re-export
         (
@@ -649,7 +678,10 @@ fn example() -> Vec<(String, String)> {
             "mod frame;\nmod vtu;\npub use frame::Frame;\npub use self::vtu::write;\n",
         ),
         ("out/frame.rs", "pub struct Frame;\n"),
-        ("out/vtu.rs", "use super::Frame;\npub fn write(_: &super::frame::Frame) {}\n"),
+        (
+            "out/vtu.rs",
+            "use super::Frame;\npub fn write(_: &super::frame::Frame) {}\n",
+        ),
     ];
     files
         .iter()
