@@ -25,6 +25,7 @@ pub mod fracture_stage;
 pub mod ledger;
 pub mod limits;
 pub mod mesh_adapter;
+pub mod mesh_input;
 pub mod model;
 pub mod output;
 pub mod resolve;

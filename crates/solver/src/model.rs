@@ -11,27 +11,13 @@
 //!
 //! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::SceneError;
+pub use crate::mesh_input::MeshInput;
 use crate::resolve::Resolved;
 use crate::scene::{BoundaryCondition, MaterialSpec, Scene};
-
-/// One body's mesh as the solver needs it (filled by the mesh adapter).
-#[derive(Debug, Clone, Default)]
-pub struct MeshInput {
-    /// Node positions [m].
-    pub nodes: Vec<[f64; 2]>,
-    /// Triangles (CCW node indices).
-    pub triangles: Vec<[u32; 3]>,
-    /// Name of the physical surface group of each triangle ("" when it has none).
-    pub triangle_group: Vec<String>,
-    /// Nodes of every named physical group (points, edges and surfaces), sorted, unique.
-    pub node_groups: BTreeMap<String, Vec<u32>>,
-    /// Edges (node pairs) of every named physical edge group.
-    pub edge_groups: BTreeMap<String, Vec<[u32; 2]>>,
-}
 
 /// A load with a ramp: nodal forces (DOF, value) at full strength.
 #[derive(Debug, Clone)]

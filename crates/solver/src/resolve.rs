@@ -19,7 +19,7 @@ use std::path::Path;
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::model::MeshInput;
+use crate::mesh_input::MeshInput;
 use crate::scene::{BoundaryCondition, Probe, Scene};
 
 /// The names a mesh offers to a scene.
