@@ -257,7 +257,8 @@ fn use_tree(toks: &[Token], i: &mut usize, prefix: &[String], out: &mut Vec<Vec<
         Some(Tok::Ident(seg)) => {
             *i += 1;
             let mut path = prefix.to_vec();
-            if !(seg == "self" && !prefix.is_empty()) {
+            // `a::{self, ..}` names `a` itself
+            if seg != "self" || prefix.is_empty() {
                 path.push(seg.clone());
             }
             if is(toks.get(*i), &Tok::Path) {
@@ -610,6 +611,19 @@ fn no_import_cycle_among_the_solver_files() {
          down, or by naming the sibling file instead of the parent's re-export):\n{}",
         describe(&graph, &comps)
     );
+}
+
+/// Prints the file graph (`cargo test -p fdem-solver --test module_graph -- --ignored
+/// --nocapture`): each file and the files it uses, with the first line that uses each.
+#[test]
+#[ignore = "prints the graph; run on demand"]
+fn print_the_file_graph() {
+    for (file, targets) in file_graph(&sources()) {
+        println!("{file}");
+        for (t, e) in targets {
+            println!("  -> {t}  ({}:{} {})", file, e.line, e.text);
+        }
+    }
 }
 
 #[test]
