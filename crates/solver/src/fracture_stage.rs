@@ -1,6 +1,6 @@
-//! The joint (fracture) stage: the scene's `"fracture"` section, the mesh crate's explode of
-//! the fracturing regions at load time, and the fracture crate's joints as a
-//! [`ForceContribution`].
+//! The joint (fracture) stage: the mesh crate's explode of the fracturing regions of the
+//! scene's `"fracture"` section ([`crate::scene::fracture`]) at load time, and the fracture
+//! crate's joints as a [`ForceContribution`].
 //!
 //! Each force evaluation adds the forces of the intact joints (Munjiza's combined single and
 //! smeared crack model, docs/fracture.md); the end-of-step hook commits damage
@@ -28,53 +28,19 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use fdem_fracture::{
-    FractureEvent, Joint, JointMaterialInput, JointScratch, JointSet, JointState,
-    accumulate_joint_forces, commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
+    FractureEvent, Joint, JointScratch, JointSet, JointState, accumulate_joint_forces,
+    commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
 };
 use fdem_mesh::Mesh;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::contact_stage::BondedPairs;
 use crate::error::SceneError;
 use crate::model::Model;
 use crate::scene::Scene;
+pub use crate::scene::fracture::{FractureSection, Region};
 use crate::star_bonds::StarBonds;
 use crate::system::{ForceContribution, StageReport};
-
-/// The scene's `"fracture"` section.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct FractureSection {
-    /// The fracturing regions: each names a body (optional when there is one) and its
-    /// surface groups to explode (all triangles of the body when `groups` is left out).
-    pub regions: Vec<Region>,
-    /// The joint material (SI units): tensile_strength, cohesion, friction_angle_deg,
-    /// fracture_energy_i, fracture_energy_ii, penalty_normal, penalty_tangential.
-    pub material: JointMaterialInput,
-    /// The joints found at load time, per body (filled by [`explode_body`]).
-    #[serde(skip)]
-    pub joints: Vec<(usize, Vec<Joint>)>,
-    /// A saved fracture state to start from (not part of the scene file): the joints'
-    /// histories (damage, shear secant, mode indicator, energy books), which are broken and
-    /// when, e.g. a run's [`crate::driver::Outcome::joint_state`]. The stage adopts it when
-    /// attached: the broken joints stay broken and the pairs their breaks and softenings
-    /// released are contact couples from the first force evaluation. `None`: the fresh
-    /// state at the model's reference positions.
-    #[serde(skip)]
-    pub initial_state: Option<JointState>,
-}
-
-/// A fracturing region.
-#[derive(Debug, Clone, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct Region {
-    /// Body name (needed when the scene has several bodies).
-    #[serde(default)]
-    pub body: Option<String>,
-    /// Surface groups to explode (default: the whole body).
-    #[serde(default)]
-    pub groups: Option<Vec<String>>,
-}
 
 /// Explodes body `bi`'s mesh when `region` (the fracture region that names the body, as
 /// [`crate::resolve::resolve`] found it) is given, recording its joints (local node and

@@ -1,7 +1,9 @@
 //! fdem's solver: reads a JSON scene, composes the mesh and time crates into one system,
 //! runs a dynamic, dynamic-relaxation or static analysis, and writes ParaView output.
 //!
-//! - [`scene`]: the JSON scene format (`docs/scene-format.md`).
+//! - [`scene`]: the JSON scene format (`docs/scene-format.md`), one file per part; it depends
+//!   on nothing of the stages that read it.
+//! - [`mesh_input`]: one body's mesh as the solver needs it (nodes, triangles, named groups).
 //! - [`resolve`]: every name a scene refers to, resolved once against the bodies' meshes.
 //! - [`limits`]: the derived quantities of a run (step, steps, frames, rows) checked.
 //! - [`model`]: all bodies in one node numbering; constraints; consistent nodal loads.
@@ -25,6 +27,7 @@ pub mod fracture_stage;
 pub mod ledger;
 pub mod limits;
 pub mod mesh_adapter;
+pub mod mesh_input;
 pub mod model;
 pub mod output;
 pub mod resolve;

@@ -6,7 +6,8 @@ use std::path::Path;
 
 use fdem_mesh::{ElasticLaw, Elements, Material, Mesh, PlaneKind};
 
-use crate::model::{MeshInput, Model};
+use crate::mesh_input::MeshInput;
+use crate::model::Model;
 use crate::scene::{Law, MaterialSpec, Plane};
 
 /// Reads a mesh file (Gmsh `.msh` or JSON) with the mesh crate.

@@ -11,27 +11,13 @@
 //!
 //! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::SceneError;
+pub use crate::mesh_input::MeshInput;
 use crate::resolve::Resolved;
 use crate::scene::{BoundaryCondition, MaterialSpec, Scene};
-
-/// One body's mesh as the solver needs it (filled by the mesh adapter).
-#[derive(Debug, Clone, Default)]
-pub struct MeshInput {
-    /// Node positions [m].
-    pub nodes: Vec<[f64; 2]>,
-    /// Triangles (CCW node indices).
-    pub triangles: Vec<[u32; 3]>,
-    /// Name of the physical surface group of each triangle ("" when it has none).
-    pub triangle_group: Vec<String>,
-    /// Nodes of every named physical group (points, edges and surfaces), sorted, unique.
-    pub node_groups: BTreeMap<String, Vec<u32>>,
-    /// Edges (node pairs) of every named physical edge group.
-    pub edge_groups: BTreeMap<String, Vec<[u32; 2]>>,
-}
 
 /// A load with a ramp: nodal forces (DOF, value) at full strength.
 #[derive(Debug, Clone)]
@@ -190,7 +176,24 @@ pub fn build(
         probe_body: refs.probes.clone(),
         ..Default::default()
     };
-    let mut edge_groups: Vec<(u32, String, Vec<[u32; 2]>)> = Vec::new();
+    let edge_groups = add_bodies(&mut m, scene, file, meshes)?;
+    lump_masses(&mut m);
+    constrain_and_load(&mut m, scene, file, refs, &edge_groups)?;
+    Ok(m)
+}
+
+/// Every body's edge groups in the model's numbering: (body, group name, edges).
+type EdgeGroups = Vec<(u32, String, Vec<[u32; 2]>)>;
+
+/// Appends the bodies' nodes, triangles, materials and node groups to `m`; returns their
+/// edge groups.
+fn add_bodies(
+    m: &mut Model,
+    scene: &Scene,
+    file: &Path,
+    meshes: &[MeshInput],
+) -> Result<EdgeGroups, SceneError> {
+    let mut edge_groups: EdgeGroups = Vec::new();
     for (bi, (body, mesh)) in scene.bodies.iter().zip(meshes).enumerate() {
         let base = m.x0.len() as u32;
         m.body_nodes.push(base..base + mesh.nodes.len() as u32);
@@ -244,7 +247,11 @@ pub fn build(
             ));
         }
     }
-    // Lumped masses.
+    Ok(edge_groups)
+}
+
+/// Lumped masses `m_i = sum rho A0 t / 3`.
+fn lump_masses(m: &mut Model) {
     m.mass = vec![0.0; m.x0.len()];
     for (e, t) in m.triangles.iter().enumerate() {
         let [a, b, c] = t.map(|i| m.x0[i as usize]);
@@ -255,6 +262,17 @@ pub fn build(
             m.mass[i as usize] += third;
         }
     }
+}
+
+/// The constrained and prescribed DOFs and the ramped loads of the scene's boundary
+/// conditions (the groups of body `refs.conditions[i]`).
+fn constrain_and_load(
+    m: &mut Model,
+    scene: &Scene,
+    file: &Path,
+    refs: &Resolved,
+    edge_groups: &EdgeGroups,
+) -> Result<(), SceneError> {
     // Edge -> opposite node, for outward normals of loaded edges.
     let mut opposite: HashMap<(u32, u32), u32> = HashMap::new();
     for t in &m.triangles {
@@ -333,38 +351,14 @@ pub fn build(
                     _ => unreachable!(),
                 };
                 let edges = edges_of(group)?;
-                let mut forces = Vec::with_capacity(4 * edges.len());
-                for &[a, b] in edges {
-                    let Some(&c) = opposite.get(&(a.min(b), a.max(b))) else {
-                        return Err(SceneError::Invalid {
-                            file: file.to_path_buf(),
-                            path: format!("{path}.group"),
-                            message: format!(
-                                "edge ({a}, {b}) of group '{group}' is not an edge of any triangle"
-                            ),
-                            fix: "mesh the edge group conforming with the surface".into(),
-                        });
-                    };
-                    let (pa, pb, pc) = (m.x0[a as usize], m.x0[b as usize], m.x0[c as usize]);
-                    let e = [pb[0] - pa[0], pb[1] - pa[1]];
-                    let len = (e[0] * e[0] + e[1] * e[1]).sqrt();
-                    let mut n = [e[1] / len, -e[0] / len];
-                    // Outward: away from the opposite node.
-                    if n[0] * (pc[0] - pa[0]) + n[1] * (pc[1] - pa[1]) > 0.0 {
-                        n = [-n[0], -n[1]];
-                    }
-                    let th = node_thickness[a as usize];
-                    let fvec = match bc {
-                        BoundaryCondition::Pressure(p) => [-p.value * n[0], -p.value * n[1]],
-                        BoundaryCondition::Traction(p) => p.value,
-                        _ => unreachable!(),
-                    };
-                    for node in [a, b] {
-                        for k in 0..2 {
-                            forces.push((2 * node + k as u32, 0.5 * fvec[k] * len * th));
-                        }
-                    }
-                }
+                let forces = edge_forces(m, bc, group, edges, &opposite, &node_thickness).map_err(
+                    |message| SceneError::Invalid {
+                        file: file.to_path_buf(),
+                        path: format!("{path}.group"),
+                        message,
+                        fix: "mesh the edge group conforming with the surface".into(),
+                    },
+                )?;
                 m.loads.push(RampedLoad { ramp, forces });
             }
             BoundaryCondition::PointLoad(p) => {
@@ -381,7 +375,48 @@ pub fn build(
             }
         }
     }
-    Ok(m)
+    Ok(())
+}
+
+/// The consistent nodal forces (DOF, value) at full strength of a pressure or traction `bc`
+/// on `edges` of group `group` (module docs); `opposite`: the node opposite each edge (key:
+/// sorted node pair), for the outward normal. An edge of no triangle is an error (message).
+fn edge_forces(
+    m: &Model,
+    bc: &BoundaryCondition,
+    group: &str,
+    edges: &[[u32; 2]],
+    opposite: &HashMap<(u32, u32), u32>,
+    node_thickness: &[f64],
+) -> Result<Vec<(u32, f64)>, String> {
+    let mut forces = Vec::with_capacity(4 * edges.len());
+    for &[a, b] in edges {
+        let Some(&c) = opposite.get(&(a.min(b), a.max(b))) else {
+            return Err(format!(
+                "edge ({a}, {b}) of group '{group}' is not an edge of any triangle"
+            ));
+        };
+        let (pa, pb, pc) = (m.x0[a as usize], m.x0[b as usize], m.x0[c as usize]);
+        let e = [pb[0] - pa[0], pb[1] - pa[1]];
+        let len = (e[0] * e[0] + e[1] * e[1]).sqrt();
+        let mut n = [e[1] / len, -e[0] / len];
+        // Outward: away from the opposite node.
+        if n[0] * (pc[0] - pa[0]) + n[1] * (pc[1] - pa[1]) > 0.0 {
+            n = [-n[0], -n[1]];
+        }
+        let th = node_thickness[a as usize];
+        let fvec = match bc {
+            BoundaryCondition::Pressure(p) => [-p.value * n[0], -p.value * n[1]],
+            BoundaryCondition::Traction(p) => p.value,
+            _ => unreachable!(),
+        };
+        for node in [a, b] {
+            for k in 0..2 {
+                forces.push((2 * node + k as u32, 0.5 * fvec[k] * len * th));
+            }
+        }
+    }
+    Ok(forces)
 }
 
 fn same(a: &MaterialSpec, b: &MaterialSpec) -> bool {

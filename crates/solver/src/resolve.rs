@@ -19,7 +19,7 @@ use std::path::Path;
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::model::MeshInput;
+use crate::mesh_input::MeshInput;
 use crate::scene::{BoundaryCondition, Probe, Scene};
 
 /// The names a mesh offers to a scene.
@@ -345,44 +345,360 @@ fn list<S: AsRef<str>>(names: &[S]) -> String {
     }
 }
 
-/// Resolves every name of `scene` against its bodies' meshes (`meshes[i]` of `bodies[i]`).
-pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resolved, SceneError> {
-    let bad = |path: &str, message: String, fix: String| SceneError::Invalid {
-        file: file.to_path_buf(),
-        path: path.to_string(),
-        message,
-        fix,
-    };
-    let named: Vec<&str> = scene
-        .bodies
-        .iter()
-        .filter_map(|b| b.name.as_deref())
-        .collect();
-    let body_fix = || {
-        if named.is_empty() {
+/// What the checks of [`resolve`] share: the scene, its file and its bodies' mesh names.
+struct Resolver<'a> {
+    scene: &'a Scene,
+    file: &'a Path,
+    meshes: &'a [MeshNames],
+    /// The bodies' names, in scene order.
+    named: Vec<&'a str>,
+}
+
+impl<'a> Resolver<'a> {
+    fn bad(&self, path: &str, message: String, fix: String) -> SceneError {
+        SceneError::Invalid {
+            file: self.file.to_path_buf(),
+            path: path.to_string(),
+            message,
+            fix,
+        }
+    }
+
+    /// The fix for a body name that names no body.
+    fn body_fix(&self) -> String {
+        if self.named.is_empty() {
             "no body has a name: give the body a \"name\" and use it here".to_string()
         } else {
-            format!("use one of: {}", list(&named))
+            format!("use one of: {}", list(&self.named))
         }
-    };
-    let body_index = |name: &str| {
-        scene
+    }
+
+    fn body_index(&self, name: &str) -> Option<usize> {
+        self.scene
             .bodies
             .iter()
             .position(|b| b.name.as_deref() == Some(name))
-    };
-    let label = |bi: usize| match &scene.bodies[bi].name {
-        Some(n) => format!("body '{n}' ({})", meshes[bi].source),
-        None => format!("bodies[{bi}] ({})", meshes[bi].source),
+    }
+
+    /// A body as messages name it: by name or index, with its mesh file.
+    fn label(&self, bi: usize) -> String {
+        match &self.scene.bodies[bi].name {
+            Some(n) => format!("body '{n}' ({})", self.meshes[bi].source),
+            None => format!("bodies[{bi}] ({})", self.meshes[bi].source),
+        }
+    }
+
+    /// A body's or a wall's own name: no characters of the CSV column names; bodies unique.
+    fn own_name(&self, r: &Ref<'_>) -> Result<(), SceneError> {
+        let what = if r.kind == RefKind::BodyName {
+            "body"
+        } else {
+            "wall"
+        };
+        if r.name.is_empty() || r.name.contains([',', '[', ']', '/']) {
+            return Err(self.bad(
+                &r.path,
+                format!(
+                    "the {what} name '{}' is empty or has one of the characters , [ ] / \
+                     that the CSV column names use",
+                    r.name
+                ),
+                format!("give the {what} a name without them"),
+            ));
+        }
+        if r.kind == RefKind::BodyName {
+            let first = self.body_index(r.name).unwrap_or(0);
+            if format!("bodies[{first}].name") != r.path {
+                return Err(self.bad(
+                    &r.path,
+                    format!("bodies[{first}] is also named '{}'", r.name),
+                    "give every body its own name".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A body named by a condition, probe, fracture region or contact pair.
+    fn body(&self, r: &Ref<'_>, out: &mut Resolved) -> Result<(), SceneError> {
+        let Some(bi) = self.body_index(r.name) else {
+            return Err(self.bad(
+                &r.path,
+                format!("no body is named '{}'", r.name),
+                self.body_fix(),
+            ));
+        };
+        match r.slot {
+            Slot::Region(i) => {
+                if let Some(prev) = out.fracture_region[bi] {
+                    return Err(self.bad(
+                        &r.path,
+                        format!(
+                            "fracture.regions[{prev}] already makes body '{}' fracture",
+                            r.name
+                        ),
+                        "list all the body's fracturing groups in one region".into(),
+                    ));
+                }
+                out.fracture_region[bi] = Some(i);
+            }
+            Slot::Pair(i, k) => out.pairs[i][k] = bi,
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// A key of a body's materials: a surface group of its mesh, or `"*"`.
+    fn material_key(&self, r: &Ref<'_>) -> Result<(), SceneError> {
+        let Scope::Index(bi) = r.body else {
+            return Ok(());
+        };
+        let m = &self.meshes[bi];
+        if r.name != "*" && !m.regions.iter().any(|g| g == r.name) {
+            return Err(self.bad(
+                &r.path,
+                format!(
+                    "the mesh {} has no surface group named '{}'",
+                    m.source, r.name
+                ),
+                format!(
+                    "use one of: {} (or \"*\" for every triangle)",
+                    list(&m.regions)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A group of the named body's mesh (or of the only body's that has it), of the
+    /// dimension the field needs.
+    fn group(&self, r: &Ref<'_>, out: &mut Resolved) -> Result<(), SceneError> {
+        let Scope::Named(body) = r.body else {
+            return Ok(());
+        };
+        let names_of = |bi: usize| -> &Vec<String> {
+            match r.kind {
+                RefKind::EdgeGroup => &self.meshes[bi].edges,
+                RefKind::SurfaceGroup => &self.meshes[bi].surfaces,
+                _ => &self.meshes[bi].all,
+            }
+        };
+        let what = match r.kind {
+            RefKind::EdgeGroup => "edge group (dimension 1)",
+            RefKind::SurfaceGroup => "surface group (dimension 2)",
+            _ => "group",
+        };
+        let note = match r.kind {
+            RefKind::EdgeGroup => " (pressure and traction act on the edges of an edge group)",
+            RefKind::SurfaceGroup => " (a fracturing region is made of surface groups)",
+            _ => "",
+        };
+        let bodies: Vec<usize> = match body {
+            // the body field was resolved just before
+            Some(b) => self.body_index(b).into_iter().collect(),
+            None => (0..self.scene.bodies.len()).collect(),
+        };
+        let hits: Vec<usize> = bodies
+            .iter()
+            .copied()
+            .filter(|&bi| names_of(bi).iter().any(|g| g == r.name))
+            .collect();
+        let bi = match (hits.len(), body) {
+            (1, _) => hits[0],
+            (0, _) if bodies.len() == 1 => {
+                let bi = bodies[0];
+                let other = if r.kind != RefKind::Group
+                    && self.meshes[bi].all.iter().any(|g| g == r.name)
+                {
+                    " (a group of another dimension has this name)"
+                } else {
+                    ""
+                };
+                return Err(self.bad(
+                    &r.path,
+                    format!("{} has no {what} named '{}'{other}", self.label(bi), r.name),
+                    format!("use one of: {}{note}", list(names_of(bi))),
+                ));
+            }
+            (0, _) => {
+                let mut all: Vec<String> = Vec::new();
+                for &bi in &bodies {
+                    for g in names_of(bi) {
+                        let n = match &self.scene.bodies[bi].name {
+                            Some(b) => format!("{g} (body {b})"),
+                            None => format!("{g} (bodies[{bi}])"),
+                        };
+                        all.push(n);
+                    }
+                }
+                return Err(self.bad(
+                    &r.path,
+                    format!("no body's mesh has a {what} named '{}'", r.name),
+                    format!("use one of: {}{note}", list(&all)),
+                ));
+            }
+            _ => {
+                let which: Vec<String> = hits.iter().map(|&b| self.label(b)).collect();
+                let names: Vec<&str> = hits
+                    .iter()
+                    .filter_map(|&b| self.scene.bodies[b].name.as_deref())
+                    .collect();
+                let parent = r.path.rsplit_once('.').map_or("", |p| p.0);
+                return Err(self.bad(
+                    &r.path,
+                    format!(
+                        "several bodies have a {what} named '{}': {}",
+                        r.name,
+                        list(&which)
+                    ),
+                    if names.len() == hits.len() {
+                        format!("add \"body\" to {parent}: one of: {}", list(&names))
+                    } else {
+                        format!("name the bodies (\"name\") and add \"body\" to {parent}")
+                    },
+                ));
+            }
+        };
+        match r.slot {
+            Slot::Condition(i) => out.conditions[i] = bi,
+            Slot::Probe(i) => out.probes[i] = Some(bi),
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Fracture regions without a body: the only body (several bodies refused before).
+    fn regions_without_body(&self, out: &mut Resolved) -> Result<(), SceneError> {
+        if let Some(fr) = &self.scene.fracture {
+            for (i, r) in fr.regions.iter().enumerate() {
+                if r.body.is_some() {
+                    continue;
+                }
+                if let Some(prev) = out.fracture_region[0] {
+                    return Err(self.bad(
+                        &format!("fracture.regions[{i}]"),
+                        format!("fracture.regions[{prev}] already makes the body fracture"),
+                        "list all the body's fracturing groups in one region".into(),
+                    ));
+                }
+                out.fracture_region[0] = Some(i);
+            }
+        }
+        Ok(())
+    }
+
+    /// Every material region of every body has a material.
+    fn materials_cover_regions(&self) -> Result<(), SceneError> {
+        for (bi, (b, m)) in self.scene.bodies.iter().zip(self.meshes).enumerate() {
+            if b.materials.contains_key("*") {
+                continue;
+            }
+            if let Some(g) = m.regions.iter().find(|g| !b.materials.contains_key(*g)) {
+                return Err(self.bad(
+                    &format!("bodies[{bi}].materials"),
+                    format!(
+                        "the surface group '{g}' of {} has no material (given: {})",
+                        m.source,
+                        list(&b.materials.keys().collect::<Vec<_>>())
+                    ),
+                    format!("add a material for \"{g}\" or a default under \"*\""),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Wall names, given or default (`wall<i>`, as in walls.csv), are unique; one law per
+    /// pair of bodies.
+    fn contact_names(&self, out: &Resolved) -> Result<(), SceneError> {
+        if let Some(c) = &self.scene.contact {
+            let names: Vec<String> = c
+                .walls
+                .iter()
+                .enumerate()
+                .map(|(i, w)| w.name.clone().unwrap_or_else(|| format!("wall{i}")))
+                .collect();
+            for (j, n) in names.iter().enumerate() {
+                if let Some(i) = names[..j].iter().position(|m| m == n) {
+                    let path = if c.walls[j].name.is_some() {
+                        format!("contact.walls[{j}].name")
+                    } else {
+                        format!("contact.walls[{i}].name")
+                    };
+                    return Err(self.bad(
+                        &path,
+                        format!(
+                            "contact.walls[{i}] and contact.walls[{j}] are both named '{n}' (an unnamed wall i is 'wall<i>')"
+                        ),
+                        "give every wall its own name".into(),
+                    ));
+                }
+            }
+            // One law per pair of bodies.
+            for j in 0..out.pairs.len() {
+                let key = |p: [usize; 2]| [p[0].min(p[1]), p[0].max(p[1])];
+                if let Some(i) = (0..j).find(|&i| key(out.pairs[i]) == key(out.pairs[j])) {
+                    return Err(self.bad(
+                        &format!("contact.pairs[{j}].bodies"),
+                        format!("contact.pairs[{i}] is already the pair of these two bodies"),
+                        "give each pair of bodies one entry".into(),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// No two probes give the same columns.
+    fn probes_unique(&self, out: &Resolved) -> Result<(), SceneError> {
+        for j in 0..self.scene.histories.probes.len() {
+            let same = |i: usize| {
+                let (a, b) = (
+                    &self.scene.histories.probes[i],
+                    &self.scene.histories.probes[j],
+                );
+                std::mem::discriminant(a) == std::mem::discriminant(b)
+                    && out.probes[i] == out.probes[j]
+                    && match (a, b) {
+                        (
+                            Probe::Displacement(x) | Probe::Velocity(x) | Probe::Reaction(x),
+                            Probe::Displacement(y) | Probe::Velocity(y) | Probe::Reaction(y),
+                        ) => x.group == y.group,
+                        _ => true,
+                    }
+            };
+            if let Some(i) = (0..j).find(|&i| same(i)) {
+                return Err(self.bad(
+                    &format!("histories.probes[{j}]"),
+                    format!("the same probe as histories.probes[{i}] (its columns would repeat)"),
+                    "remove one of the two".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Resolves every name of `scene` against its bodies' meshes (`meshes[i]` of `bodies[i]`).
+pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resolved, SceneError> {
+    let cx = Resolver {
+        scene,
+        file,
+        meshes,
+        named: scene
+            .bodies
+            .iter()
+            .filter_map(|b| b.name.as_deref())
+            .collect(),
     };
     if let Some(fr) = &scene.fracture
         && scene.bodies.len() > 1
         && let Some(i) = fr.regions.iter().position(|r| r.body.is_none())
     {
-        return Err(bad(
+        return Err(cx.bad(
             &format!("fracture.regions[{i}]"),
             "the scene has several bodies and the region names none".into(),
-            format!("add \"body\": {}", body_fix()),
+            format!("add \"body\": {}", cx.body_fix()),
         ));
     }
     let mut out = Resolved {
@@ -391,269 +707,15 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
         fracture_region: vec![None; scene.bodies.len()],
         pairs: vec![[0, 0]; scene.contact.as_ref().map_or(0, |c| c.pairs.len())],
     };
-    walk(scene, &mut |r: Ref<'_>| {
-        match r.kind {
-            RefKind::BodyName | RefKind::WallName => {
-                let what = if r.kind == RefKind::BodyName {
-                    "body"
-                } else {
-                    "wall"
-                };
-                if r.name.is_empty() || r.name.contains([',', '[', ']', '/']) {
-                    return Err(bad(
-                        &r.path,
-                        format!(
-                            "the {what} name '{}' is empty or has one of the characters , [ ] / \
-                             that the CSV column names use",
-                            r.name
-                        ),
-                        format!("give the {what} a name without them"),
-                    ));
-                }
-                if r.kind == RefKind::BodyName {
-                    let first = body_index(r.name).unwrap_or(0);
-                    if format!("bodies[{first}].name") != r.path {
-                        return Err(bad(
-                            &r.path,
-                            format!("bodies[{first}] is also named '{}'", r.name),
-                            "give every body its own name".into(),
-                        ));
-                    }
-                }
-            }
-            RefKind::Body => {
-                let Some(bi) = body_index(r.name) else {
-                    return Err(bad(
-                        &r.path,
-                        format!("no body is named '{}'", r.name),
-                        body_fix(),
-                    ));
-                };
-                match r.slot {
-                    Slot::Region(i) => {
-                        if let Some(prev) = out.fracture_region[bi] {
-                            return Err(bad(
-                                &r.path,
-                                format!(
-                                    "fracture.regions[{prev}] already makes body '{}' fracture",
-                                    r.name
-                                ),
-                                "list all the body's fracturing groups in one region".into(),
-                            ));
-                        }
-                        out.fracture_region[bi] = Some(i);
-                    }
-                    Slot::Pair(i, k) => out.pairs[i][k] = bi,
-                    _ => {}
-                }
-            }
-            RefKind::MaterialKey => {
-                let Scope::Index(bi) = r.body else {
-                    return Ok(());
-                };
-                let m = &meshes[bi];
-                if r.name != "*" && !m.regions.iter().any(|g| g == r.name) {
-                    return Err(bad(
-                        &r.path,
-                        format!(
-                            "the mesh {} has no surface group named '{}'",
-                            m.source, r.name
-                        ),
-                        format!(
-                            "use one of: {} (or \"*\" for every triangle)",
-                            list(&m.regions)
-                        ),
-                    ));
-                }
-            }
-            RefKind::Group | RefKind::EdgeGroup | RefKind::SurfaceGroup => {
-                let Scope::Named(body) = r.body else {
-                    return Ok(());
-                };
-                let names_of = |bi: usize| -> &Vec<String> {
-                    match r.kind {
-                        RefKind::EdgeGroup => &meshes[bi].edges,
-                        RefKind::SurfaceGroup => &meshes[bi].surfaces,
-                        _ => &meshes[bi].all,
-                    }
-                };
-                let what = match r.kind {
-                    RefKind::EdgeGroup => "edge group (dimension 1)",
-                    RefKind::SurfaceGroup => "surface group (dimension 2)",
-                    _ => "group",
-                };
-                let note = match r.kind {
-                    RefKind::EdgeGroup => {
-                        " (pressure and traction act on the edges of an edge group)"
-                    }
-                    RefKind::SurfaceGroup => " (a fracturing region is made of surface groups)",
-                    _ => "",
-                };
-                let bodies: Vec<usize> = match body {
-                    // the body field was resolved just before
-                    Some(b) => body_index(b).into_iter().collect(),
-                    None => (0..scene.bodies.len()).collect(),
-                };
-                let hits: Vec<usize> = bodies
-                    .iter()
-                    .copied()
-                    .filter(|&bi| names_of(bi).iter().any(|g| g == r.name))
-                    .collect();
-                let bi = match (hits.len(), body) {
-                    (1, _) => hits[0],
-                    (0, _) if bodies.len() == 1 => {
-                        let bi = bodies[0];
-                        let other = if r.kind != RefKind::Group
-                            && meshes[bi].all.iter().any(|g| g == r.name)
-                        {
-                            " (a group of another dimension has this name)"
-                        } else {
-                            ""
-                        };
-                        return Err(bad(
-                            &r.path,
-                            format!("{} has no {what} named '{}'{other}", label(bi), r.name),
-                            format!("use one of: {}{note}", list(names_of(bi))),
-                        ));
-                    }
-                    (0, _) => {
-                        let mut all: Vec<String> = Vec::new();
-                        for &bi in &bodies {
-                            for g in names_of(bi) {
-                                let n = match &scene.bodies[bi].name {
-                                    Some(b) => format!("{g} (body {b})"),
-                                    None => format!("{g} (bodies[{bi}])"),
-                                };
-                                all.push(n);
-                            }
-                        }
-                        return Err(bad(
-                            &r.path,
-                            format!("no body's mesh has a {what} named '{}'", r.name),
-                            format!("use one of: {}{note}", list(&all)),
-                        ));
-                    }
-                    _ => {
-                        let which: Vec<String> = hits.iter().map(|&b| label(b)).collect();
-                        let names: Vec<&str> = hits
-                            .iter()
-                            .filter_map(|&b| scene.bodies[b].name.as_deref())
-                            .collect();
-                        let parent = r.path.rsplit_once('.').map_or("", |p| p.0);
-                        return Err(bad(
-                            &r.path,
-                            format!(
-                                "several bodies have a {what} named '{}': {}",
-                                r.name,
-                                list(&which)
-                            ),
-                            if names.len() == hits.len() {
-                                format!("add \"body\" to {parent}: one of: {}", list(&names))
-                            } else {
-                                format!("name the bodies (\"name\") and add \"body\" to {parent}")
-                            },
-                        ));
-                    }
-                };
-                match r.slot {
-                    Slot::Condition(i) => out.conditions[i] = bi,
-                    Slot::Probe(i) => out.probes[i] = Some(bi),
-                    _ => {}
-                }
-            }
-        }
-        Ok(())
+    walk(scene, &mut |r: Ref<'_>| match r.kind {
+        RefKind::BodyName | RefKind::WallName => cx.own_name(&r),
+        RefKind::Body => cx.body(&r, &mut out),
+        RefKind::MaterialKey => cx.material_key(&r),
+        RefKind::Group | RefKind::EdgeGroup | RefKind::SurfaceGroup => cx.group(&r, &mut out),
     })?;
-    // Fracture regions without a body: the only body (several bodies refused above).
-    if let Some(fr) = &scene.fracture {
-        for (i, r) in fr.regions.iter().enumerate() {
-            if r.body.is_some() {
-                continue;
-            }
-            if let Some(prev) = out.fracture_region[0] {
-                return Err(bad(
-                    &format!("fracture.regions[{i}]"),
-                    format!("fracture.regions[{prev}] already makes the body fracture"),
-                    "list all the body's fracturing groups in one region".into(),
-                ));
-            }
-            out.fracture_region[0] = Some(i);
-        }
-    }
-    // Every material region of every body has a material.
-    for (bi, (b, m)) in scene.bodies.iter().zip(meshes).enumerate() {
-        if b.materials.contains_key("*") {
-            continue;
-        }
-        if let Some(g) = m.regions.iter().find(|g| !b.materials.contains_key(*g)) {
-            return Err(bad(
-                &format!("bodies[{bi}].materials"),
-                format!(
-                    "the surface group '{g}' of {} has no material (given: {})",
-                    m.source,
-                    list(&b.materials.keys().collect::<Vec<_>>())
-                ),
-                format!("add a material for \"{g}\" or a default under \"*\""),
-            ));
-        }
-    }
-    // Wall names, given or default (`wall<i>`, as in walls.csv), are unique.
-    if let Some(c) = &scene.contact {
-        let names: Vec<String> = c
-            .walls
-            .iter()
-            .enumerate()
-            .map(|(i, w)| w.name.clone().unwrap_or_else(|| format!("wall{i}")))
-            .collect();
-        for (j, n) in names.iter().enumerate() {
-            if let Some(i) = names[..j].iter().position(|m| m == n) {
-                let path = if c.walls[j].name.is_some() {
-                    format!("contact.walls[{j}].name")
-                } else {
-                    format!("contact.walls[{i}].name")
-                };
-                return Err(bad(
-                    &path,
-                    format!(
-                        "contact.walls[{i}] and contact.walls[{j}] are both named '{n}' (an unnamed wall i is 'wall<i>')"
-                    ),
-                    "give every wall its own name".into(),
-                ));
-            }
-        }
-        // One law per pair of bodies.
-        for j in 0..out.pairs.len() {
-            let key = |p: [usize; 2]| [p[0].min(p[1]), p[0].max(p[1])];
-            if let Some(i) = (0..j).find(|&i| key(out.pairs[i]) == key(out.pairs[j])) {
-                return Err(bad(
-                    &format!("contact.pairs[{j}].bodies"),
-                    format!("contact.pairs[{i}] is already the pair of these two bodies"),
-                    "give each pair of bodies one entry".into(),
-                ));
-            }
-        }
-    }
-    // No two probes give the same columns.
-    for j in 0..scene.histories.probes.len() {
-        let same = |i: usize| {
-            let (a, b) = (&scene.histories.probes[i], &scene.histories.probes[j]);
-            std::mem::discriminant(a) == std::mem::discriminant(b)
-                && out.probes[i] == out.probes[j]
-                && match (a, b) {
-                    (
-                        Probe::Displacement(x) | Probe::Velocity(x) | Probe::Reaction(x),
-                        Probe::Displacement(y) | Probe::Velocity(y) | Probe::Reaction(y),
-                    ) => x.group == y.group,
-                    _ => true,
-                }
-        };
-        if let Some(i) = (0..j).find(|&i| same(i)) {
-            return Err(bad(
-                &format!("histories.probes[{j}]"),
-                format!("the same probe as histories.probes[{i}] (its columns would repeat)"),
-                "remove one of the two".into(),
-            ));
-        }
-    }
+    cx.regions_without_body(&mut out)?;
+    cx.materials_cover_regions()?;
+    cx.contact_names(&out)?;
+    cx.probes_unique(&out)?;
     Ok(out)
 }

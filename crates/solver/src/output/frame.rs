@@ -42,7 +42,7 @@ pub struct FrameData {
     /// The joints as line cells (scenes with a `"fracture"` section only; written as
     /// `joints_NNNN.vtu` beside the frame, see [`super::joints`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub joints: Option<super::JointFrame>,
+    pub joints: Option<super::joint_frame::JointFrame>,
 }
 
 /// In-plane principal stresses (s1 >= s2) of (sxx, syy, sxy).

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::write_atomic;
+use super::atomic::write_atomic;
 
 /// Accumulates history rows in memory and writes `histories.csv` whole.
 #[derive(Debug, Clone)]

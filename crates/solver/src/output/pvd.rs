@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::write_atomic;
+use super::atomic::write_atomic;
 
 /// A growing `.pvd` collection of `.vtu` frames.
 #[derive(Debug, Clone)]

@@ -12,7 +12,7 @@ use vtkio::model::{
 };
 use vtkio::xml::Compressor;
 
-use super::FrameData;
+use super::frame::FrameData;
 
 fn vec3(v: &[[f64; 2]]) -> Vec<f64> {
     let mut out = Vec::with_capacity(v.len() * 3);

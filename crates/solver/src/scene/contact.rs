@@ -1,0 +1,205 @@
+//! The optional `"contact"` section: contact between the bodies (and between pieces of one
+//! body) and with rigid walls, its laws per pair of bodies, the detection buffer and the
+//! limits of a run with contact. The contact stage (`crate::contact_stage`) reads it.
+
+use std::path::Path;
+
+use fdem_contact::ContactLaw;
+use serde::{Deserialize, Serialize};
+
+use crate::error::SceneError;
+
+/// The scene's `"contact"` section. Present and `enabled` (default true): contact between all
+/// bodies (and between separate pieces of one body, e.g. crack faces), and with the walls.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// Contact switched on (default true).
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    /// The law between every pair of bodies not listed in `pairs`.
+    #[serde(default)]
+    pub default: LawSpec,
+    /// Laws for particular pairs of bodies (by body name; a body with itself is allowed).
+    #[serde(default)]
+    pub pairs: Vec<PairSpec>,
+    /// Rigid walls, floors and moving platens.
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    /// Detection buffer [m] (default 0: 0.2 times the mean triangle radius).
+    #[serde(default)]
+    pub buffer: f64,
+    /// Largest allowed `phi = 3 d / H` on a contact before the run stops as too deep a
+    /// penetration (default 0.5).
+    #[serde(default = "default_max_phi")]
+    pub max_phi: f64,
+    /// Steps between the samples of the active frequency bound recorded over the run
+    /// (`omega_active_max` in the summary; default 10; 1: every step, as `fdem study scene`'s
+    /// bound run takes it; 0: never). Each sample costs about a contact pass over the
+    /// couples that carry load.
+    #[serde(default = "default_active_every")]
+    pub active_bound_every: u64,
+}
+
+fn yes() -> bool {
+    true
+}
+fn default_max_phi() -> f64 {
+    0.5
+}
+fn default_active_every() -> u64 {
+    10
+}
+fn default_factor() -> f64 {
+    ContactLaw::DEFAULT_PENALTY_FACTOR
+}
+
+/// One contact law.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LawSpec {
+    /// Normal penalty `p` [Pa] (default: `penalty_factor` times the larger Young's modulus of
+    /// the two bodies).
+    #[serde(default)]
+    pub penalty: Option<f64>,
+    /// Penalty as a multiple of Young's modulus when `penalty` is not given (default 10).
+    #[serde(default = "default_factor")]
+    pub penalty_factor: f64,
+    /// Coulomb friction coefficient (default 0).
+    #[serde(default)]
+    pub friction: f64,
+    /// Tangential penalty `k_t` [Pa] (default: the normal penalty).
+    #[serde(default)]
+    pub tangential_penalty: Option<f64>,
+    /// Normal contact damping [Pa s/m] (default 0).
+    #[serde(default)]
+    pub damping: f64,
+}
+
+impl Default for LawSpec {
+    fn default() -> Self {
+        Self {
+            penalty: None,
+            penalty_factor: default_factor(),
+            friction: 0.0,
+            tangential_penalty: None,
+            damping: 0.0,
+        }
+    }
+}
+
+/// A contact law for one pair of bodies.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    /// The two body names.
+    pub bodies: [String; 2],
+    /// The law.
+    #[serde(default)]
+    pub law: LawSpec,
+    /// Set false to switch contact off between these bodies (default true).
+    #[serde(default = "yes")]
+    pub enabled: bool,
+}
+
+/// A rigid wall (half-space): the solid lies behind the line through `point`, `normal` points
+/// into the free side. With a `velocity` it is a platen moving as `point + velocity r(t)`.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    /// Name (in `walls.csv`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A point of the wall at t = 0 [m].
+    pub point: [f64; 2],
+    /// Outward normal (normalised here).
+    pub normal: [f64; 2],
+    /// Prescribed velocity [m/s] (default at rest).
+    #[serde(default)]
+    pub velocity: [f64; 2],
+    /// Ramp time of the velocity [s] (default 0: a step).
+    #[serde(default)]
+    pub ramp: f64,
+    /// The wall's contact law (penalty default: `penalty_factor` times the largest Young's
+    /// modulus of the scene).
+    #[serde(default)]
+    pub law: LawSpec,
+}
+
+impl ContactSection {
+    /// Checks the values (the body names are resolved by [`crate::resolve`]); `file` names
+    /// the scene in errors.
+    pub fn validate(&self, file: &Path) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path,
+            message,
+            fix: fix.into(),
+        };
+        let check_law = |path: String, l: &LawSpec| -> Result<(), SceneError> {
+            if let Some(p) = l.penalty
+                && (p.is_nan() || p <= 0.0)
+            {
+                return Err(bad(
+                    format!("{path}.penalty"),
+                    format!("penalty {p} must be > 0"),
+                    "give a positive penalty [Pa], e.g. 10 times Young's modulus",
+                ));
+            }
+            if l.penalty_factor.is_nan() || l.penalty_factor <= 0.0 {
+                return Err(bad(
+                    format!("{path}.penalty_factor"),
+                    "must be > 0".into(),
+                    "use e.g. 10",
+                ));
+            }
+            if l.friction.is_nan() || l.friction < 0.0 {
+                return Err(bad(
+                    format!("{path}.friction"),
+                    "must be >= 0".into(),
+                    "use a Coulomb coefficient such as 0.5",
+                ));
+            }
+            if let Some(k) = l.tangential_penalty
+                && (k.is_nan() || k <= 0.0)
+            {
+                return Err(bad(
+                    format!("{path}.tangential_penalty"),
+                    "must be > 0".into(),
+                    "leave it out to use the normal penalty",
+                ));
+            }
+            if l.damping.is_nan() || l.damping < 0.0 {
+                return Err(bad(
+                    format!("{path}.damping"),
+                    "must be >= 0".into(),
+                    "use 0",
+                ));
+            }
+            Ok(())
+        };
+        check_law("contact.default".into(), &self.default)?;
+        for (i, p) in self.pairs.iter().enumerate() {
+            check_law(format!("contact.pairs[{i}].law"), &p.law)?;
+        }
+        for (i, w) in self.walls.iter().enumerate() {
+            check_law(format!("contact.walls[{i}].law"), &w.law)?;
+            let n = (w.normal[0].powi(2) + w.normal[1].powi(2)).sqrt();
+            if !(n > 0.0 && n.is_finite()) {
+                return Err(bad(
+                    format!("contact.walls[{i}].normal"),
+                    "the normal must be a nonzero vector".into(),
+                    "give the outward normal, e.g. [0, 1] for a floor",
+                ));
+            }
+        }
+        if !(self.max_phi > 0.0 && self.max_phi <= 1.0) {
+            return Err(bad(
+                "contact.max_phi".into(),
+                "must be in (0, 1]".into(),
+                "use 0.5",
+            ));
+        }
+        Ok(())
+    }
+}

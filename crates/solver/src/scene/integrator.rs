@@ -1,0 +1,223 @@
+//! How a scene is run: the kind of analysis, the time integration (scheme, time step, safety
+//! factor) and the damping.
+
+use std::fmt;
+use std::path::Path;
+
+use serde::de::{self, Deserializer, Visitor};
+use serde::{Deserialize, Serialize};
+
+use crate::error::SceneError;
+
+/// The kind of analysis.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Analysis {
+    /// Explicit dynamics over `duration`.
+    #[default]
+    Dynamic,
+    /// Small-strain linear-elastic solve (sparse Cholesky) with the full loads.
+    Static,
+    /// Dynamic relaxation: explicit dynamics with mass-proportional damping until the
+    /// out-of-balance force falls below `integrator.relaxation_tolerance` times the applied load.
+    Relaxation,
+}
+
+/// Time step: `"auto"`, `"adaptive"` or a number of seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum TimeStep {
+    /// The scheme's stability limit over the highest element frequency bound, times `safety`.
+    #[default]
+    Auto,
+    /// A fixed step [s]; it must not exceed the stability limit.
+    Fixed(f64),
+    /// Central difference only: the step recomputed every `adapt_every` steps (default 1)
+    /// from the
+    /// active frequency bound (the contact engaged now and within a look-ahead, the elements
+    /// and the joints), times `safety` (docs/speed-vs-accuracy.md, "Adaptive step").
+    Adaptive,
+}
+
+impl Serialize for TimeStep {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            TimeStep::Auto => s.serialize_str("auto"),
+            TimeStep::Adaptive => s.serialize_str("adaptive"),
+            TimeStep::Fixed(h) => s.serialize_f64(*h),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for TimeStep {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = TimeStep;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"auto\", \"adaptive\" or a positive number of seconds")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<TimeStep, E> {
+                if v == "auto" {
+                    Ok(TimeStep::Auto)
+                } else if v == "adaptive" {
+                    Ok(TimeStep::Adaptive)
+                } else {
+                    Err(E::invalid_value(de::Unexpected::Str(v), &self))
+                }
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<TimeStep, E> {
+                Ok(TimeStep::Fixed(v))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<TimeStep, E> {
+                Ok(TimeStep::Fixed(v as f64))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<TimeStep, E> {
+                Ok(TimeStep::Fixed(v as f64))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// Time integration settings.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Integrator {
+    /// Scheme name: `central-difference`, `pc3`, `pc4`, `pc5`, `chin`, `omf30`, `omf32`,
+    /// `forest-ruth` (default `central-difference`).
+    #[serde(default = "default_scheme")]
+    pub scheme: String,
+    /// Time step (default `"auto"`).
+    #[serde(default)]
+    pub time_step: TimeStep,
+    /// Safety factor on the stability limit for `"auto"` and `"adaptive"` (default 0.5; in
+    /// (0, 1]).
+    #[serde(default = "default_safety")]
+    pub safety: f64,
+    /// Steps between recomputations of an `"adaptive"` step (default 1: every step; the
+    /// bound costs about one contact pass over the detected couples).
+    #[serde(default = "default_adapt_every")]
+    pub adapt_every: u64,
+    /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8).
+    #[serde(default = "default_tol")]
+    pub relaxation_tolerance: f64,
+}
+
+fn default_scheme() -> String {
+    "central-difference".into()
+}
+fn default_safety() -> f64 {
+    0.5
+}
+fn default_tol() -> f64 {
+    1e-8
+}
+fn default_adapt_every() -> u64 {
+    1
+}
+
+impl Default for Integrator {
+    fn default() -> Self {
+        Self {
+            scheme: default_scheme(),
+            time_step: TimeStep::Auto,
+            safety: default_safety(),
+            adapt_every: default_adapt_every(),
+            relaxation_tolerance: default_tol(),
+        }
+    }
+}
+
+/// Damping.
+#[derive(Debug, Clone, Copy, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Damping {
+    /// Element viscosity as a damping ratio xi: eta = 2 xi h sqrt(E rho) (default 0).
+    #[serde(default)]
+    pub viscosity_ratio: f64,
+    /// Mass-proportional damping coefficient alpha [1/s]: f = -alpha m v (default 0).
+    #[serde(default)]
+    pub mass_proportional: f64,
+}
+
+impl Integrator {
+    /// Checks the settings that the JSON types cannot (safety factor, a positive fixed step,
+    /// `"adaptive"` only for central difference in a dynamic `analysis`, a known scheme);
+    /// `file` names the scene in errors.
+    pub(crate) fn validate(&self, analysis: Analysis, file: &Path) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path,
+            message,
+            fix: fix.to_string(),
+        };
+
+        if !(self.safety > 0.0 && self.safety <= 1.0) {
+            return Err(bad(
+                "integrator.safety".into(),
+                format!("safety factor {} is outside (0, 1]", self.safety),
+                "use a safety factor between 0.5 and 0.9",
+            ));
+        }
+        if let TimeStep::Fixed(h) = self.time_step
+            && !(h > 0.0 && h.is_finite())
+        {
+            return Err(bad(
+                "integrator.time_step".into(),
+                format!("time step {h} is not positive"),
+                "use \"auto\" or a positive number of seconds",
+            ));
+        }
+        if self.time_step == TimeStep::Adaptive {
+            if analysis != Analysis::Dynamic
+                || crate::schemes::scheme_by_name(&self.scheme)
+                    .is_some_and(|k| k != fdem_time::SchemeKind::CentralDifference)
+            {
+                return Err(bad(
+                    "integrator.time_step".into(),
+                    format!(
+                        "\"adaptive\" is for central-difference in a dynamic analysis, not {} in a {:?} one",
+                        self.scheme, analysis
+                    ),
+                    "use \"auto\", or the central-difference scheme",
+                ));
+            }
+            if self.adapt_every == 0 {
+                return Err(bad(
+                    "integrator.adapt_every".into(),
+                    "must be at least 1".into(),
+                    "use e.g. 10",
+                ));
+            }
+        }
+        if crate::schemes::scheme_by_name(&self.scheme).is_none() {
+            return Err(bad(
+                "integrator.scheme".into(),
+                format!("unknown scheme '{}'", self.scheme),
+                &format!("use one of {}", crate::schemes::scheme_names()),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Damping {
+    /// Checks that the coefficients are >= 0; `file` names the scene in errors.
+    pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path,
+            message,
+            fix: fix.to_string(),
+        };
+
+        if self.viscosity_ratio < 0.0 || self.mass_proportional < 0.0 {
+            return Err(bad(
+                "damping".into(),
+                "damping coefficients must be >= 0".into(),
+                "set viscosity_ratio and mass_proportional to values >= 0",
+            ));
+        }
+        Ok(())
+    }
+}

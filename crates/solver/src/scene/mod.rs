@@ -1,0 +1,226 @@
+//! The JSON scene format: what a user writes to describe a specimen, its loading and the run.
+//!
+//! Every struct denies unknown fields, and [`Scene::from_file`] / [`Scene::from_str`] report
+//! each error with the JSON path of the offending field (e.g. `bodies[0].materials.disc.young`),
+//! the file, and what to change. Units are SI throughout (m, kg, s, N, Pa). The complete format,
+//! with an example per specimen, is documented in `docs/scene-format.md`.
+//!
+//! One file per part of the format: [`bodies`] (meshes and materials), [`conditions`]
+//! (boundary conditions and loads), [`integrator`] (analysis, time integration, damping),
+//! [`output`] (frames and history probes), [`contact`] and [`fracture`] (the optional
+//! sections). The scene depends on nothing of the stages that read it.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::SceneError;
+
+pub mod bodies;
+pub mod conditions;
+pub mod contact;
+pub mod fracture;
+pub mod integrator;
+pub mod output;
+
+pub use bodies::{Body, Law, MaterialSpec, Plane};
+pub use conditions::{
+    BoundaryCondition, Fixed, PointLoad, PrescribedVelocity, PressureLoad, TractionLoad,
+};
+pub use contact::ContactSection;
+pub use fracture::FractureSection;
+pub use integrator::{Analysis, Damping, Integrator, TimeStep};
+pub use output::{GroupProbe, Histories, Output, Probe};
+
+/// A whole scene: bodies, boundary conditions, loads, integrator, run length and output.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text shown in summaries.
+    #[serde(default)]
+    pub title: String,
+    /// Kind of analysis (default `dynamic`).
+    #[serde(default)]
+    pub analysis: Analysis,
+    /// The deformable bodies (at least one).
+    pub bodies: Vec<Body>,
+    /// Boundary conditions and loads on named groups of the bodies' meshes.
+    #[serde(default)]
+    pub boundary_conditions: Vec<BoundaryCondition>,
+    /// Gravity acceleration [m/s^2] applied to every node (default none).
+    #[serde(default)]
+    pub gravity: Option<[f64; 2]>,
+    /// Time integration (ignored by the static analysis).
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// Simulated time [s] (dynamic and relaxation analyses; must be > 0 there).
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// Damping (default none).
+    #[serde(default)]
+    pub damping: Damping,
+    /// Field output (`.pvd` + `.vtu` frames).
+    #[serde(default)]
+    pub output: Output,
+    /// History probes written to `histories.csv`.
+    #[serde(default)]
+    pub histories: Histories,
+    /// Contact between bodies and with rigid walls (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSection>,
+    /// Fracturing regions and the joint material (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture: Option<FractureSection>,
+}
+
+impl Scene {
+    /// Parses a scene from JSON text; `file` names the source in errors.
+    pub fn from_json(text: &str, file: &Path) -> Result<Scene, SceneError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            SceneError::Parse {
+                file: file.to_path_buf(),
+                path: if path == "." {
+                    "(top level)".into()
+                } else {
+                    path
+                },
+                line: inner.line(),
+                column: inner.column(),
+                fix: fix_hint(&inner.to_string()),
+                message: inner.to_string(),
+            }
+        })?;
+        scene.validate(file)?;
+        Ok(scene)
+    }
+
+    /// Reads and parses a scene file.
+    pub fn from_file(file: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
+            file: file.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Self::from_json(&text, file)
+    }
+
+    /// Checks the values that the JSON types cannot: positive constants, known schemes, ...
+    fn validate(&self, file: &Path) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path,
+            message,
+            fix: fix.to_string(),
+        };
+        bodies::validate(&self.bodies, file)?;
+        conditions::validate(&self.boundary_conditions, file)?;
+        self.integrator.validate(self.analysis, file)?;
+        if self.analysis != Analysis::Static {
+            match self.duration {
+                Some(d) if d > 0.0 && d.is_finite() => {}
+                Some(d) => {
+                    return Err(bad(
+                        "duration".into(),
+                        format!("duration {d} is not positive"),
+                        "set duration to the simulated time in seconds",
+                    ));
+                }
+                None => {
+                    return Err(bad(
+                        "duration".into(),
+                        "a dynamic or relaxation analysis needs a duration".into(),
+                        "add \"duration\": <seconds>",
+                    ));
+                }
+            }
+        }
+        self.damping.validate(file)?;
+        self.output.validate(file)?;
+        self.histories.validate(file)?;
+        Ok(())
+    }
+}
+
+/// A short fix for the common serde messages.
+fn fix_hint(msg: &str) -> String {
+    if msg.starts_with("unknown field") {
+        "remove or correct the misspelled field (the allowed names are listed above)".into()
+    } else if msg.starts_with("missing field") {
+        "add the missing field".into()
+    } else if msg.starts_with("invalid type") {
+        "give a value of the expected type".into()
+    } else if msg.starts_with("unknown variant") {
+        "use one of the listed names".into()
+    } else if msg.contains("EOF") || msg.starts_with("expected") || msg.contains("trailing") {
+        "fix the JSON syntax at the line and column shown".into()
+    } else {
+        "correct the value as described".into()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"{
+        "bodies": [{"mesh": "m.msh", "materials": {"*": {"young": 1e9, "poisson": 0.25, "density": 2000}}}],
+        "boundary_conditions": [{"fixed": {"group": "left", "x": true}}],
+        "integrator": {"scheme": "pc4", "time_step": "auto"},
+        "duration": 1e-3
+    }"#;
+
+    fn err(text: &str) -> String {
+        Scene::from_json(text, Path::new("s.json"))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn good_scene_parses_with_defaults() {
+        let s = Scene::from_json(GOOD, Path::new("s.json")).unwrap();
+        assert_eq!(s.integrator.safety, 0.5);
+        assert_eq!(s.integrator.time_step, TimeStep::Auto);
+        assert_eq!(s.output.frames, 20);
+        assert_eq!(s.bodies[0].thickness, 1.0);
+    }
+
+    #[test]
+    fn unknown_nested_field_is_named_by_its_path() {
+        let e = err(&GOOD.replace("\"x\": true", "\"xx\": true"));
+        assert!(e.contains("boundary_conditions[0].fixed.xx"), "{e}");
+        assert!(
+            e.contains("unknown field `xx`") && e.contains("s.json"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn wrong_type_names_path_and_fix() {
+        let e = err(&GOOD.replace("\"young\": 1e9", "\"young\": \"stiff\""));
+        assert!(e.contains("bodies[0].materials.*.young"), "{e}");
+        assert!(e.contains("fix:"), "{e}");
+    }
+
+    #[test]
+    fn negative_constant_and_bad_scheme_are_rejected() {
+        let e = err(&GOOD.replace("\"poisson\": 0.25", "\"poisson\": -0.1"));
+        assert!(e.contains("poisson"), "{e}");
+        let e = err(&GOOD.replace("1e9", "0"));
+        assert!(e.contains("young") && e.contains("not positive"), "{e}");
+        let e = err(&GOOD.replace("pc4", "leapfrog"));
+        assert!(
+            e.contains("integrator.scheme") && e.contains("omf32"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("\"auto\"", "\"fast\""));
+        assert!(e.contains("integrator.time_step"), "{e}");
+    }
+
+    #[test]
+    fn bad_json_reports_line_and_column() {
+        let e = err("{\n \"bodies\": [,]\n}");
+        assert!(e.contains("s.json:2:"), "{e}");
+    }
+}
