@@ -1,22 +1,46 @@
 """Crack patterns of the fracturing specimens, drawn by ParaView itself (pvbatch), for
 docs/fracturing-specimens.md: the triangles (results.pvd) coloured by a stress component, and
 the joints (joints.pvd, line cells) on top: damaged joints coloured by damage, broken joints
-(threshold broken = 1) as thick black lines.
+(threshold broken = 1) as thick black lines. Makes notched-beam-fracture-crack.png,
+block-compression-fracture-crack.png and brazilian-disc-fracture-crack.png.
 
 Run from the repository root after the example runs:
     cargo run --release -- run examples/notched-beam-fracture.json
     cargo run --release -- run examples/block-compression-fracture.json
     cargo run --release -- run examples/brazilian-disc-fracture.json
-    xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/paraview_fracture.py
-"""
-import sys
+    xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch scripts/paraview_fracture.py [--out DIR] [beam] [block] [disc]
 
-from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction,
-                             GetScalarBar, Hide, PVDReader, ResetCamera, SaveScreenshot, Show,
-                             Threshold)
+The pictures go to DIR (default ${TMPDIR:-/tmp}/fdem-figures, created if missing). The docs'
+copies are regenerated with `--out docs/img`.
+"""
+import argparse
+import os
+
+SPECIMENS = ["beam", "block", "disc"]
+
+
+def parse_args():
+    tmp = os.environ.get("TMPDIR") or "/tmp"
+    p = argparse.ArgumentParser(
+        description="Crack patterns of the fracturing specimens (notched-beam-fracture-crack.png, "
+        "block-compression-fracture-crack.png, brazilian-disc-fracture-crack.png), drawn with "
+        "pvbatch. Regenerate the docs' copies with --out docs/img.")
+    p.add_argument("which", nargs="*", metavar="SPECIMEN",
+                   help="beam, block and/or disc (default: all three)")
+    p.add_argument("--out", default=os.path.join(tmp, "fdem-figures"),
+                   help="folder for the pictures (default: %(default)s; created if missing)")
+    p.add_argument("--results", default="results",
+                   help="folder of the runs' results (default: %(default)s)")
+    args = p.parse_args()
+    for w in args.which:
+        if w not in SPECIMENS:
+            p.error(f"unknown specimen {w!r}: use beam, block or disc")
+    return args
 
 
 def threshold(src, array, lo, hi):
+    from paraview.simple import Threshold
+
     t = Threshold(Input=src)
     t.Scalars = ["CELLS", array]
     try:  # ParaView >= 5.10
@@ -27,9 +51,12 @@ def threshold(src, array, lo, hi):
     return t
 
 
-def shot(run, time, png, stress_title, component, rng, focus, scale):
-    tri = PVDReader(FileName=f"results/{run}/results.pvd")
-    joints = PVDReader(FileName=f"results/{run}/joints.pvd")
+def shot(results, run, time, png, stress_title, component, rng, focus, scale):
+    from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetColorTransferFunction,
+                                 GetScalarBar, Hide, PVDReader, SaveScreenshot, Show)
+
+    tri = PVDReader(FileName=os.path.join(results, run, "results.pvd"))
+    joints = PVDReader(FileName=os.path.join(results, run, "joints.pvd"))
     view = GetActiveViewOrCreate("RenderView")
     view.ViewSize = [1000, 800]
     view.OrientationAxesVisibility = 0
@@ -90,13 +117,26 @@ def shot(run, time, png, stress_title, component, rng, focus, scale):
         Hide(s, view)
 
 
-which = sys.argv[1:] or ["beam", "block", "disc"]
-if "beam" in which:
-    shot("notched-beam-fracture", 4e-3, "docs/img/notched-beam-fracture-crack.png",
-         "sigma_xx [Pa]", 0, (-6e6, 6e6), (0.006, 0.025), 0.03)
-if "block" in which:
-    shot("block-compression-fracture", 4.5e-4, "docs/img/block-compression-fracture-crack.png",
-         "sigma_yy [Pa]", 4, (-60e6, 5e6), (0.031, 0.025), 0.032)
-if "disc" in which:
-    shot("brazilian-disc-fracture", 1.65e-3, "docs/img/brazilian-disc-fracture-crack.png",
-         "sigma_xx [Pa]", 0, (-6e6, 3e6), (0.006, 0.0), 0.03)
+def main():
+    args = parse_args()
+    which = args.which or SPECIMENS
+    os.makedirs(args.out, exist_ok=True)
+    shots = {
+        "beam": ("notched-beam-fracture", 4e-3, "sigma_xx [Pa]", 0, (-6e6, 6e6),
+                 (0.006, 0.025), 0.03),
+        "block": ("block-compression-fracture", 4.5e-4, "sigma_yy [Pa]", 4, (-60e6, 5e6),
+                  (0.031, 0.025), 0.032),
+        "disc": ("brazilian-disc-fracture", 1.65e-3, "sigma_xx [Pa]", 0, (-6e6, 3e6),
+                 (0.006, 0.0), 0.03),
+    }
+    for key in SPECIMENS:
+        if key not in which:
+            continue
+        run, time, title, component, rng, focus, scale = shots[key]
+        png = os.path.join(args.out, f"{run}-crack.png")
+        shot(args.results, run, time, png, title, component, rng, focus, scale)
+        print(png)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,15 +1,18 @@
 #!/usr/bin/env python3
-"""Plots the contact pressure of the Hertz disc study against Hertz's p0 sqrt(1 - x^2/a^2).
+"""Plots the contact pressure of the Hertz disc study against Hertz's p0 sqrt(1 - x^2/a^2):
+hertz-disc.png, for docs/contact.md.
 
     mkdir -p /tmp/hz && FDEM_HERTZ_CSV=/tmp/hz FDEM_HERTZ_MESHES="..." \\
         cargo test -p fdem-contact --test hertz -- --ignored --nocapture
-    .venv/bin/python crates/contact/scripts/hertz_disc_plot.py /tmp/hz docs/img/hertz-disc.png
+    .venv/bin/python crates/contact/scripts/hertz_disc_plot.py /tmp/hz [--out DIR]
 
-Needs matplotlib and numpy.
+Reads the profiles (*.csv) from SRC. The picture goes to DIR (default
+${TMPDIR:-/tmp}/fdem-figures, created if missing). The docs' copy is regenerated with
+`--out docs/img`. Needs matplotlib and numpy.
 """
+import argparse
 import glob
 import os
-import sys
 
 import matplotlib
 
@@ -18,7 +21,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 
-def main(src, out):
+def main(src, out_dir):
+    os.makedirs(out_dir, exist_ok=True)
+    out = os.path.join(out_dir, "hertz-disc.png")
     fig, ax = plt.subplots(figsize=(6, 3.6))
     x = np.linspace(-1, 1, 401)
     ax.plot(x, np.sqrt(1 - x * x), "k-", lw=1.2, label="Hertz")
@@ -39,4 +44,12 @@ def main(src, out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    tmp = os.environ.get("TMPDIR") or "/tmp"
+    parser = argparse.ArgumentParser(
+        description="Nodal pressures of the Hertz disc study against Hertz (hertz-disc.png). "
+        "Regenerate the docs' copy with --out docs/img.")
+    parser.add_argument("src", help="folder of the profiles written with FDEM_HERTZ_CSV=SRC")
+    parser.add_argument("--out", default=os.path.join(tmp, "fdem-figures"),
+                        help="folder for the picture (default: %(default)s; created if missing)")
+    args = parser.parse_args()
+    main(args.src, args.out)

@@ -1,7 +1,9 @@
 //! Writes the validation figures of docs/fracture.md (SVG, no plotting dependency): traction
-//! against opening or slip of one joint driven through the public API.
+//! against opening or slip of one joint driven through the public API (fracture_mode_i.svg,
+//! fracture_mode_ii.svg, fracture_z.svg).
 //!
-//! `cargo run -p fdem-fracture --example joint_curves -- docs/img`
+//! `cargo run -p fdem-fracture --example joint_curves -- [--out DIR]`: into DIR (default
+//! `${TMPDIR:-/tmp}/fdem-figures`, created if missing); the docs' copies with `--out docs/img`.
 
 use std::fmt::Write as _;
 
@@ -142,9 +144,26 @@ impl Plot {
     }
 }
 
+/// The output folder: `--out DIR` (or a bare `DIR`); default `${TMPDIR:-/tmp}/fdem-figures`.
+fn out_dir() -> std::path::PathBuf {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match args.as_slice() {
+        [] => std::env::temp_dir().join("fdem-figures"),
+        [flag, dir] if flag == "--out" => dir.into(),
+        [dir] if !dir.starts_with('-') => dir.into(),
+        _ => {
+            eprintln!(
+                "usage: joint_curves [--out DIR]: writes fracture_mode_i.svg, fracture_mode_ii.svg \
+                 and fracture_z.svg into DIR (default $TMPDIR/fdem-figures; the docs' copies: \
+                 --out docs/img)"
+            );
+            std::process::exit(2);
+        }
+    }
+}
+
 fn main() {
-    let dir =
-        std::path::PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "docs/img".into()));
+    let dir = out_dir();
     std::fs::create_dir_all(&dir).expect("create output folder");
     let m = material().validate(0).expect("valid material");
     let (o_p, o_c) = (m.peak_opening(H), m.critical_opening(H));

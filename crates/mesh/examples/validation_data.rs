@@ -1,5 +1,5 @@
 //! Writes CSV data of the static validations for docs/mesh.md figures (plotted by
-//! docs/img/plot_mesh_validation.py): hoop stress of every triangle of thick-cylinder.msh
+//! scripts/plot_mesh_validation.py): hoop stress of every triangle of thick-cylinder.msh
 //! against Lame, and sigma_xx of the triangles along x = 0 of plate-with-hole.msh against
 //! Kirsch. `cargo run --release -p fdem-mesh --example validation_data -- OUTDIR`.
 
