@@ -1,5 +1,5 @@
 """Crack patterns of the fracturing specimens, drawn by ParaView itself (pvbatch), for
-docs/fracturing-specimens.md: the triangles (results.pvd) coloured by a stress component, and
+docs/howto-fracturing-specimen.md: the triangles (results.pvd) coloured by a stress component, and
 the joints (joints.pvd, line cells) on top: damaged joints coloured by damage, broken joints
 (threshold broken = 1) as thick black lines. Makes notched-beam-fracture-crack.png,
 block-compression-fracture-crack.png and brazilian-disc-fracture-crack.png.
