@@ -145,7 +145,7 @@ fn relax(
             mass[*k as usize] += m_e / 3.0;
         }
         // Stable step of the triangle with density m_e / A: omega h_min = max(3.5 sqrt(p/rho),
-        // 3 c_p) (fdem-theory.md 6.3), h_min its smallest altitude; safety 0.5.
+        // 3 c_p) (docs/contact.md, section 12), h_min its smallest altitude; safety 0.5.
         let a_t = area(t);
         let rho = m_e / a_t;
         let l_max = (0..3)
@@ -291,7 +291,7 @@ fn disc_on_rigid_plane_matches_hertz_half_width_and_peak_pressure() {
     // 12000: the plane carries P to 1e-6). Measured: a +0.08 %, p0 +0.19 % (pole node) and
     // -0.20 % (fit); asserted within 2 % (the issue asks 5 % on a fine mesh). The error is
     // the penalty layer's compliance, about +0.11 (h/a)(E/p) on a (+0.94 % at p = E,
-    // +0.45 % at p = E and h = a/24): docs/contact.md section 9.
+    // +0.45 % at p = E and h = a/24): docs/validation.md (Hertz).
     let h = relax(&mesh_path("hertz-disc.msh"), 0.05, 10.0, 14000, false);
     eprintln!(
         "hertz disc: a {:+.3} %, p0 (pole node) {:+.3} %, p0 (fit) {:+.3} %, sum F/P - 1 = {:+.1e}, v/v_peak = {:.1e}",
@@ -311,7 +311,7 @@ fn disc_on_rigid_plane_matches_hertz_half_width_and_peak_pressure() {
     );
 }
 
-/// The study behind docs/contact.md (not a check): the committed mesh at several loads and
+/// The study behind the Hertz row of docs/validation.md (not a check): the committed mesh at several loads and
 /// penalties, plus any meshes listed (space-separated paths) in `FDEM_HERTZ_MESHES`
 /// (`meshes/hertz-disc.geo` with another `lcl`). Run with
 /// `cargo test --release -p fdem-contact --test hertz -- --ignored --nocapture`.

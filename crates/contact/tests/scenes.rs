@@ -161,7 +161,7 @@ impl SecondOrderSystem for Scene {
     }
 }
 
-/// Stable step estimate: contact `omega h_min = 3.5 sqrt(p/rho)` (fdem-theory.md 6.3) and
+/// Stable step estimate: contact `omega h_min = 3.5 sqrt(p/rho)` (docs/contact.md, section 12) and
 /// the element bound `3 c_p / h_min`; safety 0.5.
 fn stable_dt(h_min: f64, p: f64, mat: &Material) -> f64 {
     let w = (3.5 * (p / mat.density).sqrt()).max(3.0 * mat.p_wave_speed()) / h_min;

@@ -11,7 +11,7 @@
 //! ```
 //!
 //! For a node of an exploded triangle (two joint edges meet at each corner) and
-//! `m = rho A t/3` this is about `3 (p/h) l (1/A1 + 1/A2)/rho` (fdem-theory 6.3). Because
+//! `m = rho A t/3` this is about `3 (p/h) l (1/A1 + 1/A2)/rho` (docs/fracture.md, section 8). Because
 //! `lambda_max(K_e + K_j) <= lambda_max(K_e) + lambda_max(K_j)` for the same mass matrix, the
 //! solver takes `omega_max^2 <= max_e omega_e^2 + omega_j^2` and `dt <= 2/omega_max`.
 

@@ -94,7 +94,7 @@ fn pull(speed: f64, duration: f64, safety: f64, penalty: f64) -> Outcome {
             }
         }
         // central difference; "product" kinetic energy K_n = 1/2 m v(n-1/2) v(n+1/2) on free
-        // dofs, which with the trapezoidal works closes the balance exactly (fdem-theory 5)
+        // dofs, which with the trapezoidal works closes the balance exactly (docs/fracture.md, section 7)
         kinetic = 0.0;
         for i in 0..n {
             for d in 0..2 {

@@ -52,7 +52,7 @@ fn bar_of_joints_breaks_at_ft_times_its_cross_section() {
     left.iter().chain(&right).for_each(|&i| free[i][0] = false);
     free[pin_y][1] = false;
 
-    // time step from the element and joint bounds (fdem-theory 1 and 6.3), safety 0.5
+    // time step from the element and joint bounds (docs/mesh.md and docs/fracture.md, section 8), safety 0.5
     let c2 = E / (RHO * (1.0 - NU * NU));
     let h_min = 2.0 * 0.5 * h * h / (h * 2f64.sqrt());
     let omega2 = 9.0 * c2 / (h_min * h_min) + joint_omega_sq_bound(&set, &state, &mass);

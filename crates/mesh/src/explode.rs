@@ -2,7 +2,7 @@
 //! internal edge that is no longer shared is listed with its two triangles, for the joint
 //! elements of fracture.
 //!
-//! Joint convention (fdem-theory.md sec. 4): edge `P -> Q` of `T1` (CCW in `T1`) and edge
+//! Joint convention (docs/mesh.md, "Exploding a mesh for fracture"): edge `P -> Q` of `T1` (CCW in `T1`) and edge
 //! `R -> S` of `T2` (CCW in `T2`), with `P = S` and `Q = R` in the reference state. The normal
 //! `nn = (tt_y, -tt_x)`, `tt` along `P -> Q`, points from `T1` to `T2`.
 

@@ -1,5 +1,5 @@
 //! The explode operation: own nodes per triangle, internal edges in the joint convention of
-//! fdem-theory sec. 4, the map back to original nodes, and partial explosion of a group.
+//! docs/mesh.md, "Exploding a mesh for fracture", the map back to original nodes, and partial explosion of a group.
 
 mod common;
 use common::*;

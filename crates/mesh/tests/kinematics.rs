@@ -72,7 +72,7 @@ fn patch_test_uniform_stress_and_zero_interior_force() {
 }
 
 /// Rigid rotations of 30, 90 and 180 degrees give zero stress: |f| < 1e-15 E l t about the
-/// origin (fdem-theory sec. 1 test; l = 0.25 m cell), and < 1e-14 E l t with a translation of
+/// origin (docs/validation.md, element checks; l = 0.25 m cell), and < 1e-14 E l t with a translation of
 /// 20 cells (round-off of the differences x1 - x0 grows with |x|/l), for both laws.
 #[test]
 fn rigid_rotation_gives_no_stress() {

@@ -13,7 +13,7 @@
 //! per unit thickness, so every penalty is multiplied by the bodies' thickness (the larger of
 //! the two; walls use the largest thickness of the scene).
 //!
-//! Stable time step (fdem-theory.md section 6.3): contact adds to the element bound
+//! Stable time step (docs/time-integration.md, "The stable step of a scene"): contact adds to the element bound
 //! `omega_c^2 = max_e 3 p (2 / H_e) l_e (2 / A_e) / rho_e` (a triangle pair of two equal
 //! triangles: `3 p (1/H_1 + 1/H_2)` in place of the joint's `p/h`, `H_e` the smallest altitude,
 //! `l_e` the longest edge), and `omega_max^2 = omega_el^2 + omega_c^2`. That term covers every

@@ -18,7 +18,7 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
 }
 
 /// The highest frequency bound with the optional stages:
-/// `omega^2 = omega_el^2 + omega_contact^2 + omega_joints^2` (fdem-theory.md section 6.3).
+/// `omega^2 = omega_el^2 + omega_contact^2 + omega_joints^2` (docs/time-integration.md, "The stable step of a scene").
 /// Also validates the joints (fracture energies against the pre-peak work on every edge).
 pub fn omega_max(
     scene: &Scene,
