@@ -20,7 +20,8 @@ pub struct Body {
     /// Material of each physical surface group, by group name. The key `"*"` applies to every
     /// triangle whose group has no entry of its own.
     pub materials: BTreeMap<String, MaterialSpec>,
-    /// Out-of-plane thickness [m] (default 1; plane strain always uses a unit thickness per metre).
+    /// Out-of-plane thickness [m] (default 1), in plane stress and plane strain alike: forces,
+    /// masses and energies are those of a slab this thick.
     #[serde(default = "one")]
     pub thickness: f64,
     /// Initial velocity of every node [m/s] (default zero).
