@@ -15,7 +15,7 @@ pub mod pvd;
 pub mod vtu;
 
 pub use atomic::write_atomic;
-pub use frame::FrameData;
+pub use frame::{FrameData, frame_from_parts, make_frame};
 pub use history::HistoryWriter;
 pub use joints::{JointFrame, JointSeries};
 pub use pvd::Collection;
