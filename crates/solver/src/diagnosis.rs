@@ -2,8 +2,8 @@
 //! instability and its fix, and the fix for a relaxation that did not converge.
 //!
 //! An instability is found by the run's stability checks (every 100 steps: non-finite values,
-//! energy growth, a stage's error such as too deep a contact). What was found does not say why, and
-//! the fixes differ. The cause is taken, in this order, as:
+//! energy growth, a stage's error such as too deep a contact). What was found does not say
+//! why, and the fixes differ. The cause is taken, in this order, as:
 //!
 //! 1. **An input far too large for the material.** The estimate of the strain each input
 //!    imposes on the body it acts on: a load of total nodal magnitude `F` (N) on a body of

@@ -8,10 +8,10 @@
 //! - [`system`]: the composition as the time crate's `SecondOrderSystem`:
 //!   `M a = f_int(x, v) + s(t) f_ext + M g - alpha M v + sum f_contrib`, constrained DOFs
 //!   prescribed. Terms a scene lacks are skipped (cost nothing).
-//! - [`load`]: a scene loaded: meshes, model, elements, time step
+//! - [`load`](mod@load): a scene loaded: meshes, model, elements, time step
 //!   `h = safety (h omega)_scheme / omega_max (sqrt(1+z^2) - z)`.
-//! - [`run`]: the static solve, and the dynamic and dynamic-relaxation runs: the stepping
-//!   loop and its observers (stability checks, frames, histories, progress).
+//! - [`run`](mod@run): the static solve, and the dynamic and dynamic-relaxation runs: the
+//!   stepping loop and its observers (stability checks, frames, histories, progress).
 //! - [`summary`]: the run summary (`summary.json`) and outcome.
 //! - [`estimate`]: `fdem check`'s report: stable steps and the estimated run time.
 //! - [`driver`]: the entry points under their earlier paths (`driver::load`, `driver::run`).
@@ -48,8 +48,9 @@ pub mod system;
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 
 /// The entry points of a run under the paths callers have used: loading a scene, running it,
-/// `fdem check`'s report. Each item lives in [`load`], [`run`], [`summary`], [`estimate`] or
-/// [`limits`].
+/// `fdem check`'s report. Each item lives in [`load`](mod@crate::load),
+/// [`run`](mod@crate::run), [`summary`](crate::summary), [`estimate`](crate::estimate) or
+/// [`limits`](crate::limits).
 pub mod driver {
     pub use crate::estimate::{
         RELEASED_FLOOR, RELEASED_FRACTION, ReleasedContact, RunTimeEstimate, StepSample,

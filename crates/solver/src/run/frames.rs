@@ -163,13 +163,18 @@ pub struct FrameClock {
 impl FrameClock {
     /// The clock of `l`, the initial frame written.
     pub fn new(l: &Loaded) -> Self {
-        let frames = l.scene.output.frames;
         let adaptive = l.scene.integrator.time_step == crate::scene::TimeStep::Adaptive;
+        let t_end = adaptive.then(|| l.scene.duration.unwrap_or(0.0));
+        Self::with(l.scene.output.frames, t_end, l.n_steps)
+    }
+
+    /// `frames` frames over `n_steps` steps, or up to `t_end` (an adaptive step).
+    fn with(frames: usize, t_end: Option<f64>, n_steps: u64) -> Self {
         Self {
             frames,
             next: usize::from(frames > 0),
-            t_end: adaptive.then(|| l.scene.duration.unwrap_or(0.0)),
-            n_steps: l.n_steps,
+            t_end,
+            n_steps,
         }
     }
 
@@ -191,5 +196,48 @@ impl FrameClock {
     /// The due frame was written.
     pub fn advance(&mut self) {
         self.next += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The steps (or the times) at which a clock writes its frames, the run ending after
+    /// `end_at` steps.
+    fn frame_steps(mut clock: FrameClock, dt: f64, end_at: u64) -> Vec<u64> {
+        let mut out = Vec::new();
+        for step in 1..=end_at {
+            if clock.due(step, step as f64 * dt, step == end_at) {
+                out.push(step);
+                clock.advance();
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn frames_are_spread_evenly_over_the_steps_and_the_last_falls_on_the_last_step() {
+        assert_eq!(
+            frame_steps(FrameClock::with(4, None, 10), 1.0, 10),
+            [3, 5, 8, 10]
+        );
+        assert_eq!(frame_steps(FrameClock::with(3, None, 3), 1.0, 3), [1, 2, 3]);
+        assert!(frame_steps(FrameClock::with(0, None, 10), 1.0, 10).is_empty());
+    }
+
+    #[test]
+    fn a_run_that_ends_early_writes_one_frame_at_its_end() {
+        // a relaxation converged after 7 of 100 steps: one frame at step 7
+        assert_eq!(frame_steps(FrameClock::with(4, None, 100), 1.0, 7), [7]);
+    }
+
+    #[test]
+    fn an_adaptive_step_spreads_the_frames_in_time() {
+        // steps of 0.3 s up to t = 3 s, two frames: at t >= 1.5 s and at the end
+        assert_eq!(
+            frame_steps(FrameClock::with(2, Some(3.0), 0), 0.3, 10),
+            [5, 10]
+        );
     }
 }
