@@ -1,9 +1,9 @@
 //! Why a run did not reach its goal, said in the terms of the scene: the cause of an
 //! instability and its fix, and the fix for a relaxation that did not converge.
 //!
-//! An instability is found by the driver's checks (every 100 steps: non-finite values, energy
-//! growth, a stage's error such as too deep a contact). What was found does not say why, and
-//! the fixes differ. The cause is taken, in this order, as:
+//! An instability is found by the run's stability checks (every 100 steps: non-finite values,
+//! energy growth, a stage's error such as too deep a contact). What was found does not say
+//! why, and the fixes differ. The cause is taken, in this order, as:
 //!
 //! 1. **An input far too large for the material.** The estimate of the strain each input
 //!    imposes on the body it acts on: a load of total nodal magnitude `F` (N) on a body of
@@ -25,10 +25,10 @@
 
 use std::fmt::Write as _;
 
-use crate::driver::Summary;
 use crate::error::RunError;
 use crate::model::Model;
 use crate::scene::{BoundaryCondition, Scene, TimeStep};
+use crate::summary::Summary;
 
 /// A strain estimate above this (50 %) marks an input as far too large for the material.
 pub const LARGE_STRAIN: f64 = 0.5;
@@ -88,12 +88,12 @@ impl InversionWatch {
     }
 }
 
-/// What the driver's check found.
+/// What the run's checks found.
 #[derive(Debug, Clone)]
 pub enum Found {
     /// Non-finite positions or velocities.
     NonFinite,
-    /// Energy growth (the driver's message, with the step and its predicted limit).
+    /// Energy growth (the guard's message, with the step and its predicted limit).
     EnergyGrowth(String),
     /// A stage's error (e.g. too deep a contact).
     Stage(String),
@@ -274,7 +274,7 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
     out
 }
 
-/// The `Unstable` error for what the driver found at `step` (time `t`): what was found, the
+/// The `Unstable` error for what the run's checks found at `step` (time `t`): what was found, the
 /// cause in the scene's terms and the fix for that cause (module docs).
 pub fn unstable(
     scene: &Scene,

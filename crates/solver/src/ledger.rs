@@ -236,7 +236,7 @@ impl Energies {
 
 /// The running books of a dynamic or relaxation run: the time integrals of the ledger
 /// (works and dissipations), updated after each accepted step, and the state at t = 0.
-pub(crate) struct Books {
+pub struct Books {
     /// Initial terms and the time integrals so far (`external_work`, the reaction part of
     /// `support_work`, `mass_damping`, `viscosity`).
     sums: Energies,
@@ -460,7 +460,7 @@ impl Books {
         e
     }
 
-    /// The energy supplied so far for the driver's energy-growth check: the initial energy,
+    /// The energy supplied so far for the run's energy-growth check: the initial energy,
     /// `|W_loads + W_gravity| + |W_supports| + |wall_work|` and the kinetic energy of the
     /// prescribed DOFs now.
     pub fn supplied_bound(&self, model: &Model, state: &State, wall_work: f64) -> f64 {
@@ -504,7 +504,7 @@ impl Books {
 }
 
 /// `1/2 sum m v^2` over the DOFs.
-pub(crate) fn kinetic_energy(m: &[f64], v: &[f64]) -> f64 {
+pub fn kinetic_energy(m: &[f64], v: &[f64]) -> f64 {
     0.5 * m.iter().zip(v).map(|(m, v)| m * v * v).sum::<f64>()
 }
 

@@ -10,35 +10,64 @@
 //! - [`system`]: the composition as the time crate's `SecondOrderSystem`:
 //!   `M a = f_int(x, v) + s(t) f_ext + M g - alpha M v + sum f_contrib`, constrained DOFs
 //!   prescribed. Terms a scene lacks are skipped (cost nothing).
-//! - [`driver`]: time step `h = safety (h omega)_scheme / omega_max (sqrt(1+z^2) - z)`, the
-//!   dynamic and dynamic-relaxation loops, frames, histories, summary.
+//! - [`load`](mod@load): a scene loaded: meshes, model, elements, time step
+//!   `h = safety (h omega)_scheme / omega_max (sqrt(1+z^2) - z)`.
+//! - [`run`](mod@run): the static solve, and the dynamic and dynamic-relaxation runs: the
+//!   stepping loop and its observers (stability checks, frames, histories, progress).
+//! - [`summary`]: the run summary (`summary.json`) and outcome.
+//! - [`estimate`]: `fdem check`'s report: stable steps and the estimated run time.
+//! - [`driver`]: the entry points under their earlier paths (`driver::load`, `driver::run`).
 //! - [`ledger`]: the energy ledger (initial, supplied, present, dissipated, error) that the
 //!   console, `summary.json` and `histories.csv` report.
-//! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain).
+//! - [`static_solve`]: `K u = f` with faer's sparse Cholesky (small strain);
+//!   [`static_checks`]: what a static analysis needs of the scene (sections, supports).
 //! - [`diagnosis`]: why a run stopped (instability, relaxation not converged), in the
 //!   scene's terms, with the fix.
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
 pub mod contact_stage;
 pub mod diagnosis;
-pub mod driver;
 pub mod error;
+pub mod estimate;
 pub mod fracture_stage;
 pub mod ledger;
 pub mod limits;
+pub mod load;
 pub mod mesh_adapter;
 pub mod mesh_input;
 pub mod model;
 pub mod output;
 pub mod resolve;
+pub mod run;
 pub mod scene;
 pub mod schemes;
 pub mod stages;
 pub mod star_bonds;
+pub mod static_checks;
 pub mod static_solve;
+pub mod summary;
 pub mod system;
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
+
+/// The entry points of a run under the paths callers have used: loading a scene, running it,
+/// `fdem check`'s report. Each item lives in [`load`](mod@crate::load),
+/// [`run`](mod@crate::run), [`summary`](crate::summary), [`estimate`](crate::estimate) or
+/// [`limits`](crate::limits).
+pub mod driver {
+    pub use crate::estimate::{
+        RELEASED_FLOOR, RELEASED_FRACTION, ReleasedContact, RunTimeEstimate, StepSample,
+        check_report, expected_steps, run_time_estimate,
+    };
+    pub use crate::ledger::Energies;
+    pub use crate::limits::stable_step;
+    pub use crate::load::{Loaded, load, step_count};
+    pub use crate::output::{frame_from_parts, make_frame};
+    pub use crate::run::{
+        ENERGY_GROWTH_BOUND, Progress, RunOptions, energy_growth, run, run_outcome,
+    };
+    pub use crate::summary::{Outcome, Summary};
+}
 pub use error::{RunError, SceneError};
 pub use fdem_mesh::{excerpt, shorten, shorten_to};
 pub use scene::Scene;

@@ -66,6 +66,12 @@ pub fn step_count(duration: f64, h: f64) -> f64 {
     n.max(1.0)
 }
 
+/// The stable step of `scheme` for highest frequency `omega` and its damping ratio `z`:
+/// `(h omega)_scheme / omega * (sqrt(1 + z^2) - z)`.
+pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
+    scheme.stability_limit() / omega * ((1.0 + z * z).sqrt() - z)
+}
+
 /// What [`time_steps`] needs.
 pub struct StepInputs<'a> {
     /// The scene.
@@ -107,7 +113,7 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
         message,
         fix,
     };
-    let dt_limit = crate::driver::stable_step(inp.scheme, inp.omega_max, inp.z_high);
+    let dt_limit = stable_step(inp.scheme, inp.omega_max, inp.z_high);
     if scene.analysis == Analysis::Static {
         return Ok(Steps {
             dt_limit,
@@ -182,34 +188,7 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
     }
     let n = step_count(duration, h);
     if n.is_nan() || n > MAX_STEPS {
-        // The duration, unless the step comes from an input far outside the usual range
-        // (then that input).
-        let (path, origin, fix) = if fixed.is_some() {
-            (
-                "duration".to_string(),
-                "integrator.time_step".to_string(),
-                "or a larger integrator.time_step".to_string(),
-            )
-        } else {
-            let d = step_driver(inp);
-            let origin = format!("{}: {}", d.path, d.what);
-            if d.unusual {
-                (d.path, origin, format!("or {}", d.fix))
-            } else {
-                ("duration".to_string(), origin, format!("or {}", d.fix))
-            }
-        };
-        return Err(bad(
-            &path,
-            format!(
-                "a duration of {duration:.4e} s at a time step of {h:.4e} s (set by {origin}) is \
-                 {n:.3e} steps, more than the {MAX_STEPS:e} a run may take"
-            ),
-            format!(
-                "shorten the duration to at most {:.3e} s, {fix}",
-                MAX_STEPS * h
-            ),
-        ));
+        return Err(too_many_steps(inp, fixed.is_some(), h, n));
     }
     let n_steps = n as u64;
     let dt = duration / n;
@@ -225,6 +204,53 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
             format!("ask for at most {n_steps} frame(s), or use a smaller time step"),
         ));
     }
+    check_history_rows(inp, n_steps)?;
+    Ok(Steps {
+        dt_limit,
+        dt,
+        n_steps,
+    })
+}
+
+/// The error of a run of `n` steps of `h` (more than [`MAX_STEPS`]): names the duration, or the
+/// input far outside the usual range that sets the step.
+fn too_many_steps(inp: &StepInputs, fixed: bool, h: f64, n: f64) -> SceneError {
+    let duration = inp.scene.duration.unwrap_or(0.0);
+    // The duration, unless the step comes from an input far outside the usual range
+    // (then that input).
+    let (path, origin, fix) = if fixed {
+        (
+            "duration".to_string(),
+            "integrator.time_step".to_string(),
+            "or a larger integrator.time_step".to_string(),
+        )
+    } else {
+        let d = step_driver(inp);
+        let origin = format!("{}: {}", d.path, d.what);
+        if d.unusual {
+            (d.path, origin, format!("or {}", d.fix))
+        } else {
+            ("duration".to_string(), origin, format!("or {}", d.fix))
+        }
+    };
+    invalid(
+        inp,
+        &path,
+        format!(
+            "a duration of {duration:.4e} s at a time step of {h:.4e} s (set by {origin}) is \
+             {n:.3e} steps, more than the {MAX_STEPS:e} a run may take"
+        ),
+        format!(
+            "shorten the duration to at most {:.3e} s, {fix}",
+            MAX_STEPS * h
+        ),
+    )
+}
+
+/// The history rows of a run of `n_steps` steps (`histories.csv`, `walls.csv`) must stay below
+/// [`MAX_HISTORY_BYTES`].
+fn check_history_rows(inp: &StepInputs, n_steps: u64) -> Result<(), SceneError> {
+    let scene = inp.scene;
     let every = scene
         .histories
         .every
@@ -249,7 +275,8 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
     let bytes = rows * (columns + 1) as f64 * 25.0;
     if columns > 0 && bytes > MAX_HISTORY_BYTES {
         let need = (rows * (columns + 1) as f64 * 25.0 * every as f64 / MAX_HISTORY_BYTES).ceil();
-        return Err(bad(
+        return Err(invalid(
+            inp,
             "histories.every",
             format!(
                 "a history row every {every} steps over {n_steps} steps is {rows:.3e} rows of \
@@ -261,11 +288,17 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
             format!("record every {need:.0} steps or more"),
         ));
     }
-    Ok(Steps {
-        dt_limit,
-        dt,
-        n_steps,
-    })
+    Ok(())
+}
+
+/// A [`SceneError::Invalid`] at `path` of the scene file of `inp`.
+fn invalid(inp: &StepInputs, path: &str, message: String, fix: String) -> SceneError {
+    SceneError::Invalid {
+        file: inp.file.to_path_buf(),
+        path: path.to_string(),
+        message,
+        fix,
+    }
 }
 
 /// The input that sets the time step: its JSON path, what it does, and the fix.

@@ -181,3 +181,8 @@ pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::V
     }
     (total, serde_json::Value::Object(details))
 }
+
+/// The stages' summed report at positions `x` (`None` without stages).
+pub fn summed_report(sys: &SceneSystem, x: &[[f64; 2]]) -> Option<StageReport> {
+    (!sys.contributions.is_empty()).then(|| reports(sys, x).0)
+}

@@ -1,6 +1,10 @@
 //! The plain data of one output frame, as the solver computed it.
 
+use fdem_mesh::{Elements, TriId};
+use rayon::prelude::*;
 use serde::Serialize;
+
+use crate::model::Model;
 
 /// One frame: node and triangle arrays in SI units. Points are the current positions.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -56,6 +60,66 @@ pub fn principal(sxx: f64, syy: f64, sxy: f64) -> [f64; 2] {
 pub fn von_mises(s: [f64; 4]) -> f64 {
     let [xx, yy, xy, zz] = s;
     (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt()
+}
+
+/// Builds a frame from positions, velocities, forces and reactions.
+pub fn make_frame(
+    model: &Model,
+    elements: &Elements,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    force: &[[f64; 2]],
+    reaction: &[[f64; 2]],
+) -> FrameData {
+    let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
+    elements.stresses(x, v, &mut stresses);
+    let stress: Vec<[f64; 4]> = stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect();
+    let energy_density = (0..elements.len())
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|e| {
+            let td = &elements.tris[e];
+            let th = 2.0 * elements.materials[td.material as usize].half_t;
+            elements.element_energy(TriId(e as u32), x) / (td.area0 * th)
+        })
+        .collect();
+    frame_from_parts(model, t, x, v, force, reaction, stress, energy_density)
+}
+
+/// Assembles a frame from node arrays and per-triangle stresses and energy densities.
+pub fn frame_from_parts(
+    model: &Model,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    force: &[[f64; 2]],
+    reaction: &[[f64; 2]],
+    stress: Vec<[f64; 4]>,
+    energy_density: Vec<f64>,
+) -> FrameData {
+    FrameData {
+        time: t,
+        points: x.to_vec(),
+        triangles: model.triangles.clone(),
+        displacement: x
+            .iter()
+            .zip(&model.x0)
+            .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+            .collect(),
+        velocity: v.to_vec(),
+        force: force.to_vec(),
+        reaction: reaction.to_vec(),
+        principal: stress.iter().map(|s| principal(s[0], s[1], s[2])).collect(),
+        von_mises: stress.iter().map(|s| von_mises(*s)).collect(),
+        stress,
+        energy_density,
+        material: model.tri_material.iter().map(|&m| m as i32).collect(),
+        body: model.tri_body.iter().map(|&b| b as i32).collect(),
+        extra_point_vectors: Vec::new(),
+        extra_cell_scalars: Vec::new(),
+        joints: None,
+    }
 }
 
 #[cfg(test)]

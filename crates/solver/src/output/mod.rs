@@ -16,7 +16,7 @@ pub mod pvd;
 pub mod vtu;
 
 pub use atomic::write_atomic;
-pub use frame::FrameData;
+pub use frame::{FrameData, frame_from_parts, make_frame};
 pub use history::HistoryWriter;
 pub use joint_frame::JointFrame;
 pub use joints::JointSeries;

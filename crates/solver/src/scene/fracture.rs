@@ -20,7 +20,7 @@ pub struct FractureSection {
     pub joints: Vec<(usize, Vec<Joint>)>,
     /// A saved fracture state to start from (not part of the scene file): the joints'
     /// histories (damage, shear secant, mode indicator, energy books), which are broken and
-    /// when, e.g. a run's `Outcome::joint_state` (`crate::driver`). The stage adopts it when
+    /// when, e.g. a run's `Outcome::joint_state` (`crate::summary`). The stage adopts it when
     /// attached: the broken joints stay broken and the pairs their breaks and softenings
     /// released are contact couples from the first force evaluation. `None`: the fresh
     /// state at the model's reference positions.

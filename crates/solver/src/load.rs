@@ -1,0 +1,232 @@
+//! Loading a scene: the scene file, the bodies' meshes, every name the scene refers to, the
+//! model, the elements and the time step, checked before anything is written ([`load`]).
+//!
+//! Time step: `h_limit = (h omega)_scheme / omega_max * (sqrt(1 + z^2) - z)`
+//! ([`crate::limits::stable_step`]), where `omega_max` is the largest element frequency bound
+//! of the mesh crate, `(h omega)_scheme` the scheme's stability limit on the undamped
+//! oscillator, and `z` the damping ratio of the highest mode (element viscosity and
+//! mass-proportional damping). `"auto"` takes `safety * h_limit`; a fixed step above
+//! `h_limit` is an error. The step is then shortened so that a whole number of steps spans
+//! the duration ([`step_count`]: `duration / h` within a relative 1e-12 of a whole number is
+//! that number). The frequency bound, the steps, the frames and the history rows are checked
+//! in [`crate::limits`] before anything is written.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use fdem_mesh::{Elements, Mesh, TriId};
+use fdem_time::SchemeKind;
+
+use crate::error::SceneError;
+use crate::limits::{self, StepInputs};
+use crate::mesh_adapter;
+use crate::model::{self, Model};
+use crate::resolve::MeshNames;
+use crate::scene::{Analysis, Scene};
+use crate::static_checks;
+use crate::system::ForceContribution;
+
+/// A scene with its meshes and model, ready to run.
+pub struct Loaded {
+    /// The scene file.
+    pub file: PathBuf,
+    /// The parsed scene.
+    pub scene: Scene,
+    /// The bodies' meshes.
+    pub meshes: Vec<Mesh>,
+    /// The assembled model.
+    pub model: Model,
+    /// The elements for the force kernels.
+    pub elements: Elements,
+    /// The scheme.
+    pub scheme: SchemeKind,
+    /// Largest element frequency bound [rad/s].
+    pub omega_max: f64,
+    /// Damping ratio of the highest mode.
+    pub z_high: f64,
+    /// The stable limit of the chosen scheme [s].
+    pub dt_limit: f64,
+    /// The time step used [s] (0 for static).
+    pub dt: f64,
+    /// Number of steps (0 for static).
+    pub n_steps: u64,
+    /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
+    /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
+    /// time step for their frequency bound.
+    pub contributions: Vec<Box<dyn ForceContribution>>,
+}
+
+/// Reads a scene file, its meshes, and builds the model; every error names the file and field.
+///
+/// Order: the scene, the meshes, then every name the scene refers to ([`crate::resolve`]),
+/// then the fracturing bodies are exploded and the model built, and last the derived
+/// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
+pub fn load(file: &Path) -> Result<Loaded, SceneError> {
+    let mut scene = Scene::from_file(file)?;
+    static_checks::check_sections(&scene, file)?;
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let mut read = Vec::new();
+    for i in 0..scene.bodies.len() {
+        let path = dir.join(&scene.bodies[i].mesh);
+        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
+            file: file.to_path_buf(),
+            path: format!("bodies[{i}].mesh"),
+            mesh: path.clone(),
+            message,
+        })?;
+        read.push(mesh);
+    }
+    // (messages name each mesh as the scene does)
+    let names: Vec<MeshNames> = read
+        .iter()
+        .zip(&scene.bodies)
+        .map(|(m, b)| MeshNames {
+            source: b.mesh.display().to_string(),
+            ..MeshNames::of(m)
+        })
+        .collect();
+    let refs = crate::resolve::resolve(&scene, file, &names)?;
+    let mut meshes = Vec::new();
+    let mut inputs = Vec::new();
+    for (i, mesh) in read.into_iter().enumerate() {
+        let region = refs.fracture_region[i];
+        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, region, mesh)?;
+        inputs.push(mesh_adapter::to_input(&mesh));
+        meshes.push(mesh);
+    }
+    let model = model::build(&scene, file, &inputs, &refs)?;
+    if scene.analysis == Analysis::Static {
+        static_checks::check_supports(&scene, file, &model)?;
+    }
+    crate::stages::validate(&scene, file)?;
+    let xi = scene.damping.viscosity_ratio;
+    let elements = mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
+        file: file.to_path_buf(),
+        path: "bodies".into(),
+        message,
+        fix: "check the materials and the mesh".into(),
+    })?;
+    let scheme: SchemeKind = scene
+        .integrator
+        .scheme
+        .parse()
+        .map_err(|_| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: "integrator.scheme".into(),
+            message: format!("unknown scheme '{}'", scene.integrator.scheme),
+            fix: format!("use one of {}", SchemeKind::valid_names()),
+        })?;
+    let omega_max = crate::stages::omega_max(
+        &scene,
+        &model,
+        file,
+        elements.max_frequency_bound(&model.x0),
+    )?;
+    let z_visc = (0..elements.len())
+        .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
+        .fold(0.0, f64::max);
+    let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
+    let steps = limits::time_steps(&StepInputs {
+        scene: &scene,
+        file,
+        model: &model,
+        elements: &elements,
+        scheme,
+        omega_max,
+        z_high,
+        lower_fixed_step: false,
+    })?;
+    Ok(Loaded {
+        file: file.to_path_buf(),
+        scene,
+        meshes,
+        model,
+        elements,
+        scheme,
+        omega_max,
+        z_high,
+        dt_limit: steps.dt_limit,
+        dt: steps.dt,
+        n_steps: steps.n_steps,
+        contributions: Vec::new(),
+    })
+}
+
+/// The number of steps of about `h` that span `duration` ([`limits::step_count`]: a whole
+/// `duration / h` within a relative 1e-12 is that number, else rounded up), as an integer
+/// (saturating), and the step that spans the duration exactly.
+pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
+    let n = limits::step_count(duration, h);
+    (n as u64, duration / n)
+}
+
+impl Loaded {
+    /// Adds a force contribution (contact, joints). The highest frequency becomes
+    /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
+    /// and checked with it ([`crate::limits::time_steps`]; an explicit `time_step` above the
+    /// new limit is lowered to it).
+    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) -> Result<(), SceneError> {
+        let wc = c.frequency_bound();
+        self.contributions.push(c);
+        if wc > 0.0 && self.scene.analysis != Analysis::Static {
+            let omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
+            let steps = limits::time_steps(&StepInputs {
+                scene: &self.scene,
+                file: &self.file,
+                model: &self.model,
+                elements: &self.elements,
+                scheme: self.scheme,
+                omega_max,
+                z_high: self.z_high,
+                lower_fixed_step: true,
+            })?;
+            self.omega_max = omega_max;
+            self.dt_limit = steps.dt_limit;
+            self.dt = steps.dt;
+            self.n_steps = steps.n_steps;
+        }
+        Ok(())
+    }
+
+    /// A short description: meshes, model size, analysis, time step.
+    pub fn describe(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "scene {}{}",
+            self.file.display(),
+            if self.scene.title.is_empty() {
+                String::new()
+            } else {
+                format!(": {}", self.scene.title)
+            }
+        );
+        for (b, m) in self.scene.bodies.iter().zip(&self.meshes) {
+            let _ = writeln!(
+                s,
+                "  body {}: {} ({} nodes, {} triangles)",
+                b.name.as_deref().unwrap_or("-"),
+                b.mesh.display(),
+                m.nodes.len(),
+                m.triangles.len()
+            );
+        }
+        let free = self.model.constrained.iter().filter(|c| !**c).count();
+        let _ = write!(
+            s,
+            "  {} nodes, {} triangles, {} free DOFs; analysis {:?}",
+            self.model.n_nodes(),
+            self.model.triangles.len(),
+            free,
+            self.scene.analysis
+        );
+        if self.scene.analysis != Analysis::Static {
+            let _ = write!(
+                s,
+                "; {} with h = {:.4e} s (limit {:.4e} s), {} steps",
+                self.scheme, self.dt, self.dt_limit, self.n_steps
+            );
+        }
+        s
+    }
+}

@@ -1,0 +1,184 @@
+//! Running a loaded scene: the static solve, or the dynamic and relaxation runs.
+//!
+//! A dynamic run is a [`Run`] (the system, its state, the scheme and the [`StepControl`],
+//! the energy books) whose loop ([`Run::execute`]) takes one step at a time and calls a
+//! list of [`Observer`]s at defined points: `start` (t = 0), `after_step`, `at_frame`, and
+//! `finish` (or `stopped` when an observer halts the run on an instability). The
+//! observers of a run, in the order they are called:
+//!
+//! - [`StabilityGuard`]: every [`CHECK_EVERY`] steps, a stage's error, non-finite values,
+//!   energy growth ([`energy_growth`]); scans for inverted triangles;
+//! - [`Relaxation`] (relaxation only): the residual; ends the run when it converged;
+//! - [`FrameWriter`]: the frames (`results.pvd`) when the [`FrameClock`] says one is due;
+//! - [`Histories`]: the probes' rows of `histories.csv`;
+//! - [`ProgressReport`]: the caller's progress callback.
+//!
+//! The run's own parts are the step control ([`StepControl`], with the [`AdaptiveStep`]),
+//! the energy ledger's books (`crate::ledger::Books`, booked after every step, read by the
+//! observers), and the summary (`summary.json`, written by the run after the observers have
+//! added their parts).
+//!
+//! Entry points for what builds on the loop: a checkpoint is an observer that saves at
+//! `at_frame` what the view shows (state, step, books, system); a restart would build the
+//! `Run` from it in place of [`Run::start`] and call the same loop; a distributed run reduces
+//! its checks' sums inside its observers' `after_step`. Every hook gets the same
+//! [`RunView`].
+
+mod frames;
+mod histories;
+mod observer;
+mod options;
+mod progress;
+mod relaxation;
+mod stability;
+mod step_control;
+mod stepping;
+
+use std::time::Instant;
+
+pub use frames::{FrameClock, FrameWriter, state_frame};
+pub use histories::Histories;
+pub use observer::{Flow, Halt, Observer, RunView};
+pub use options::RunOptions;
+pub use progress::{Progress, ProgressReport};
+pub use relaxation::Relaxation;
+pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth};
+pub use step_control::{AdaptiveStep, StepControl};
+pub use stepping::Run;
+
+use crate::error::RunError;
+use crate::ledger::Energies;
+use crate::load::Loaded;
+use crate::scene::Analysis;
+use crate::summary::{Outcome, Summary, write_summary};
+use crate::system::SceneSystem;
+
+/// Runs a loaded scene, writing output under `options.out_dir`.
+pub fn run(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Summary, RunError> {
+    run_outcome(l, options, progress).map(|o| o.summary)
+}
+
+/// Runs a loaded scene and returns the summary with the last frame.
+pub fn run_outcome(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Outcome, RunError> {
+    let wall = Instant::now();
+    if l.scene.analysis == Analysis::Static {
+        return static_run(l, options, progress, wall);
+    }
+    // the stages' own input, checked before the folder is claimed
+    crate::fracture_stage::check_initial_state(&l.scene, &l.file)?;
+    let writer = FrameWriter::new(options, l.scene.output.compression)?;
+    dynamic(l, options, progress, writer, wall)
+}
+
+/// The static solve, written as a run of one frame.
+fn static_run(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+    wall: Instant,
+) -> Result<Outcome, RunError> {
+    // Solved (and checked: a singular stiffness is bad input) before the folder is touched.
+    let (frame, mut summary) = crate::static_solve::solve(l)?;
+    // the static terms as a ledger (gravity's work `1/2 sum m g . u` taken apart)
+    let gravity = l.model.gravity.map_or(0.0, |g| {
+        0.5 * l
+            .model
+            .mass
+            .iter()
+            .zip(&frame.displacement)
+            .map(|(m, u)| m * (g[0] * u[0] + g[1] * u[1]))
+            .sum::<f64>()
+    });
+    summary.energy = Energies::from_static(&summary.energy, gravity);
+    let mut writer = FrameWriter::new(options, l.scene.output.compression)?;
+    let s = Instant::now();
+    if l.scene.output.frames > 0 {
+        writer.write(&frame)?;
+    }
+    summary.timers.output = s.elapsed().as_secs_f64();
+    summary.frames = writer.frames();
+    summary.wall_time = wall.elapsed().as_secs_f64();
+    if let Some(h) = &mut Histories::new(l, &l.model, &options.out_dir) {
+        let x: Vec<[f64; 2]> = frame.points.clone();
+        h.record(
+            l,
+            &l.model.x0,
+            0.0,
+            &x,
+            &frame.velocity,
+            &frame.reaction,
+            &summary.energy,
+        );
+        h.flush()?;
+    }
+    write_summary(&options.out_dir, &summary)?;
+    progress(&Progress {
+        step: 1,
+        steps: 1,
+        time: 0.0,
+    });
+    Ok(Outcome {
+        summary,
+        last_frame: frame,
+        joint_state: None,
+    })
+}
+
+/// A dynamic run. The model and elements are moved out of `l` into the run's system (no
+/// copy: the run only reads them) and put back when it ends, on the error paths too, with
+/// the scene's own contributions; the contact and fracture stages attached for the run are
+/// dropped (a second run attaches fresh stages). Only a panic inside the run leaves `l`
+/// without its model.
+fn dynamic(
+    l: &mut Loaded,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+    writer: FrameWriter,
+    wall: Instant,
+) -> Result<Outcome, RunError> {
+    let alpha = l.scene.damping.mass_proportional;
+    let model = std::mem::take(&mut l.model);
+    let elements = std::mem::take(&mut l.elements);
+    let mut sys = SceneSystem::new(model, elements, alpha);
+    sys.contributions = std::mem::take(&mut l.contributions);
+    let n_own = sys.contributions.len();
+    let outcome = dynamic_run(l, &mut sys, options, progress, writer, wall);
+    sys.contributions.truncate(n_own);
+    l.contributions = std::mem::take(&mut sys.contributions);
+    l.model = std::mem::take(&mut sys.model);
+    l.elements = std::mem::take(&mut sys.elements);
+    outcome
+}
+
+/// The body of [`dynamic`], on the system `sys` that holds the model and elements of `l`:
+/// the run and its observers.
+fn dynamic_run(
+    l: &Loaded,
+    sys: &mut SceneSystem,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(&Progress),
+    mut writer: FrameWriter,
+    wall: Instant,
+) -> Result<Outcome, RunError> {
+    let mut histories = Histories::new(l, &sys.model, &options.out_dir);
+    let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
+        .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance));
+    let mut guard = StabilityGuard::new();
+    let mut progress = ProgressReport::new(progress);
+    let run = Run::start(l, sys, &options.out_dir, wall)?;
+    run.execute(&mut [
+        &mut guard,
+        &mut relaxation,
+        &mut writer,
+        &mut histories,
+        &mut progress,
+    ])
+}

@@ -1,0 +1,110 @@
+//! The points at which a run calls its observers ([`Observer`]), and what they see of the
+//! run there ([`RunView`]).
+
+use fdem_time::State;
+
+use super::step_control::StepControl;
+use crate::diagnosis::{Found, InversionWatch};
+use crate::error::RunError;
+use crate::ledger::Books;
+use crate::load::Loaded;
+use crate::summary::Summary;
+use crate::system::SceneSystem;
+
+/// What an observer sees of the run at a hook.
+pub struct RunView<'r> {
+    /// The loaded scene. During a dynamic run its model and elements are in `sys`.
+    pub loaded: &'r Loaded,
+    /// The system: model, elements, stages, the forces of its last evaluation, timers.
+    pub sys: &'r mut SceneSystem,
+    /// The state (at the end of the step, after a step).
+    pub state: &'r State,
+    /// The energy ledger's running books, booked up to this step.
+    pub ledger: &'r Books,
+    /// The first triangle seen turned inside out (the stability checks scan for it).
+    pub inversions: &'r mut InversionWatch,
+    /// The time step: the step just taken, its stable limit, the steps planned.
+    pub control: &'r StepControl,
+    /// Steps done.
+    pub step: u64,
+    /// This is the last step: the step count is done, or (adaptive step) the end time reached.
+    pub last: bool,
+    /// The run ends after this step: `last`, or an observer before this one said
+    /// [`Flow::Stop`] (a relaxation that converged).
+    pub end: bool,
+}
+
+/// What an observer asks of the run after a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    /// Go on.
+    Continue,
+    /// The run reached its goal (a relaxation converged): this step is its last.
+    Stop,
+}
+
+/// Why an observer stopped the run.
+#[derive(Debug)]
+pub enum Halt {
+    /// An instability: the run writes its partial summary and diagnoses the cause
+    /// ([`crate::diagnosis::unstable`]).
+    Unstable(Found),
+    /// Any other error, returned as it is.
+    Failed(RunError),
+}
+
+/// Something that follows a run: called at the start, after every step, at every frame and at
+/// the end, in the order of the run's observer list. The hooks are where a run can be
+/// entered from outside the loop: a checkpoint writer would save the state at `at_frame`,
+/// a distributed run would reduce its checks' sums at `after_step`.
+pub trait Observer {
+    /// Once, at the initial state: stages attached, the force at t = 0 evaluated, books open.
+    fn start(&mut self, _run: &mut RunView) -> Result<(), Halt> {
+        Ok(())
+    }
+
+    /// After each step, once its energy is booked.
+    fn after_step(&mut self, _run: &mut RunView) -> Result<Flow, Halt> {
+        Ok(Flow::Continue)
+    }
+
+    /// At each output frame after the initial one, after every observer's `after_step`.
+    fn at_frame(&mut self, _run: &mut RunView) -> Result<(), Halt> {
+        Ok(())
+    }
+
+    /// At the end of a run that reached its last step: adds its part to the summary and
+    /// closes its files (the run writes `summary.json` after every observer's `finish`).
+    fn finish(&mut self, _run: &mut RunView, _summary: &mut Summary) -> Result<(), RunError> {
+        Ok(())
+    }
+
+    /// The run stopped on an instability: adds its part to the partial summary the run writes.
+    fn stopped(&mut self, _summary: &mut Summary) {}
+}
+
+/// An observer a scene may lack (no histories, not a relaxation) is an `Option`.
+impl<O: Observer> Observer for Option<O> {
+    fn start(&mut self, run: &mut RunView) -> Result<(), Halt> {
+        self.as_mut().map_or(Ok(()), |o| o.start(run))
+    }
+
+    fn after_step(&mut self, run: &mut RunView) -> Result<Flow, Halt> {
+        self.as_mut()
+            .map_or(Ok(Flow::Continue), |o| o.after_step(run))
+    }
+
+    fn at_frame(&mut self, run: &mut RunView) -> Result<(), Halt> {
+        self.as_mut().map_or(Ok(()), |o| o.at_frame(run))
+    }
+
+    fn finish(&mut self, run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        self.as_mut().map_or(Ok(()), |o| o.finish(run, summary))
+    }
+
+    fn stopped(&mut self, summary: &mut Summary) {
+        if let Some(o) = self {
+            o.stopped(summary);
+        }
+    }
+}

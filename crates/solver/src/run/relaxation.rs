@@ -1,0 +1,74 @@
+//! The convergence of a dynamic relaxation ([`Relaxation`]): at the stability checks, the
+//! relative residual `|f|_free / max(|f_ext|, |reaction|)`; the run ends when it reaches
+//! `integrator.relaxation_tolerance`.
+
+use super::observer::{Flow, Halt, Observer, RunView};
+use super::stability::CHECK_EVERY;
+use crate::error::RunError;
+use crate::summary::Summary;
+
+/// The residual of a relaxation, checked with the stability checks.
+pub struct Relaxation {
+    tolerance: f64,
+    /// `|f_ext|` at full load.
+    load_norm: f64,
+    /// The relative residual at the last check.
+    residual: Option<f64>,
+    converged: bool,
+}
+
+impl Relaxation {
+    /// A relaxation to `tolerance`.
+    pub fn new(tolerance: f64) -> Self {
+        Self {
+            tolerance,
+            load_norm: 0.0,
+            residual: None,
+            converged: false,
+        }
+    }
+}
+
+impl Observer for Relaxation {
+    fn start(&mut self, run: &mut RunView) -> Result<(), Halt> {
+        let mut f = vec![0.0; 2 * run.sys.model.n_nodes()];
+        run.sys.model.add_external(f64::INFINITY, &mut f);
+        self.load_norm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+        Ok(())
+    }
+
+    fn after_step(&mut self, run: &mut RunView) -> Result<Flow, Halt> {
+        if !(run.step.is_multiple_of(CHECK_EVERY) || run.last) {
+            return Ok(Flow::Continue);
+        }
+        let sys = &*run.sys;
+        let f = sys.force.as_flattened();
+        let mut r2 = 0.0;
+        for d in 0..f.len() {
+            if !sys.model.constrained[d] {
+                r2 += f[d] * f[d];
+            }
+        }
+        // Scale: applied loads, or the reactions when the loading is by supports.
+        let reac: f64 = sys
+            .constrained()
+            .iter()
+            .map(|&d| f[d] * f[d])
+            .sum::<f64>()
+            .sqrt();
+        let scale = self.load_norm.max(reac).max(f64::MIN_POSITIVE);
+        let r = r2.sqrt() / scale;
+        self.residual = Some(r);
+        if r <= self.tolerance {
+            self.converged = true;
+            return Ok(Flow::Stop);
+        }
+        Ok(Flow::Continue)
+    }
+
+    fn finish(&mut self, _run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        summary.converged = Some(self.converged);
+        summary.relative_residual = self.residual;
+        Ok(())
+    }
+}

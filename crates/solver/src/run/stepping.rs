@@ -1,0 +1,280 @@
+//! The stepping loop ([`Run::execute`]): the run's state, scheme and step control, the energy
+//! books, and the observers called at the start, after each step, at each frame and at the
+//! end.
+
+use std::path::Path;
+use std::time::Instant;
+
+use fdem_time::{Integrator, SecondOrderSystem, State};
+
+use super::frames::{FrameClock, state_frame};
+use super::observer::{Flow, Halt, Observer, RunView};
+use super::step_control::StepControl;
+use crate::diagnosis::{self, InversionWatch};
+use crate::error::RunError;
+use crate::ledger::{Books, Energies};
+use crate::load::Loaded;
+use crate::scene::Probe;
+use crate::stages::summed_report;
+use crate::summary::{Outcome, Summary, write_summary};
+use crate::system::SceneSystem;
+
+/// A dynamic or relaxation run of a loaded scene on its system.
+pub struct Run<'a> {
+    loaded: &'a Loaded,
+    sys: &'a mut SceneSystem,
+    state: State,
+    integrator: Box<dyn Integrator>,
+    control: StepControl,
+    /// The energy ledger's running books (`crate::ledger`).
+    ledger: Books,
+    inversions: InversionWatch,
+    frames: FrameClock,
+    out_dir: &'a Path,
+    /// Steps done.
+    steps: u64,
+    /// Wall time in the scheme's steps [s].
+    step_time: f64,
+    /// When the run began (the summary's wall time).
+    wall: Instant,
+}
+
+impl<'a> Run<'a> {
+    /// The run of `l` at t = 0 on `sys` (which holds `l`'s model and elements): the stages
+    /// attached, the initial state with the prescribed DOFs set, the force at t = 0 evaluated
+    /// and the energy books opened on it.
+    pub fn start(
+        l: &'a Loaded,
+        sys: &'a mut SceneSystem,
+        out_dir: &'a Path,
+        wall: Instant,
+    ) -> Result<Self, RunError> {
+        let every = l
+            .scene
+            .histories
+            .every
+            .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64;
+        crate::stages::attach(&l.scene, &l.file, &mut *sys, l.dt, out_dir, every)?;
+        let n = sys.model.n_nodes();
+        let mut x0 = sys.model.x0.as_flattened().to_vec();
+        let mut v0 = sys.model.v0.as_flattened().to_vec();
+        for &d in sys.constrained() {
+            v0[d] = 0.0;
+        }
+        sys.prescribe(0.0, &mut x0, &mut v0);
+        let state = State::new(0.0, x0, v0);
+        let integrator = l.scheme.build(2 * n);
+        let control = StepControl::new(l, sys);
+        // The residuals of the element law and the contact potential are booked when the run
+        // records the ledger in histories.csv (they cost about a tenth of the step).
+        let book_residuals = l
+            .scene
+            .histories
+            .probes
+            .iter()
+            .any(|p| matches!(p, Probe::Energy));
+        Books::prepare(&mut *sys, book_residuals);
+        let mut acc = vec![0.0; 2 * n];
+        sys.acceleration(0.0, &state.x, &state.v, &mut acc);
+        let alpha = l.scene.damping.mass_proportional;
+        let ledger = Books::new(&mut *sys, &state, alpha, book_residuals);
+        Ok(Self {
+            loaded: l,
+            sys,
+            state,
+            integrator,
+            control,
+            ledger,
+            inversions: InversionWatch::default(),
+            frames: FrameClock::new(l),
+            out_dir,
+            steps: 0,
+            step_time: 0.0,
+            wall,
+        })
+    }
+
+    /// The stepping loop: each step takes the step control's step with the scheme, books its
+    /// energy, calls the observers (checks, histories, progress), writes a frame when one is
+    /// due, and ends at the last step or when an observer says the goal is reached. An
+    /// observer's `Halt` ends the run with its error.
+    pub fn execute(mut self, observers: &mut [&mut dyn Observer]) -> Result<Outcome, RunError> {
+        let started = self.notify(observers, false, |o, run| {
+            o.start(run).map(|()| Flow::Continue)
+        });
+        if let Err(halt) = started {
+            return Err(self.halt(halt, observers));
+        }
+        while !self.control.done(self.steps) {
+            let h = self.control.next(self.sys, &self.state, self.steps);
+            self.take_step(h);
+            self.ledger.step(self.sys, &self.state);
+            let last = self.control.is_last(self.steps, &self.state);
+            let end = match self.notify(observers, last, |o, run| o.after_step(run)) {
+                Ok(end) => end,
+                Err(halt) => return Err(self.halt(halt, observers)),
+            };
+            if self.frames.due(self.steps, self.state.t, end) {
+                let written = self.notify(observers, end, |o, run| {
+                    o.at_frame(run).map(|()| Flow::Continue)
+                });
+                if let Err(halt) = written {
+                    return Err(self.halt(halt, observers));
+                }
+                self.frames.advance();
+            }
+            if end {
+                break;
+            }
+        }
+        self.finish(observers)
+    }
+
+    /// One step of the scheme, timed.
+    fn take_step(&mut self, h: f64) {
+        let s = Instant::now();
+        self.integrator.step(&mut *self.sys, &mut self.state, h);
+        self.step_time += s.elapsed().as_secs_f64();
+        self.steps += 1;
+    }
+
+    /// Calls `hook` on every observer in order with a view of the run (`end`: the run ends
+    /// after this step; an observer's [`Flow::Stop`] sets it for those after it); returns
+    /// whether the run ends.
+    fn notify(
+        &mut self,
+        observers: &mut [&mut dyn Observer],
+        end: bool,
+        mut hook: impl FnMut(&mut dyn Observer, &mut RunView) -> Result<Flow, Halt>,
+    ) -> Result<bool, Halt> {
+        let last = self.steps > 0 && self.control.is_last(self.steps, &self.state);
+        let mut run = self.view(last, end);
+        for o in observers.iter_mut() {
+            if hook(&mut **o, &mut run)? == Flow::Stop {
+                run.end = true;
+            }
+        }
+        Ok(run.end)
+    }
+
+    fn view(&mut self, last: bool, end: bool) -> RunView<'_> {
+        RunView {
+            loaded: self.loaded,
+            sys: &mut *self.sys,
+            state: &self.state,
+            ledger: &self.ledger,
+            inversions: &mut self.inversions,
+            control: &self.control,
+            step: self.steps,
+            last,
+            end,
+        }
+    }
+
+    /// The end of a run stopped by an observer: an instability writes the partial summary
+    /// and is diagnosed in the scene's terms.
+    fn halt(self, halt: Halt, observers: &mut [&mut dyn Observer]) -> RunError {
+        let found = match halt {
+            Halt::Failed(e) => return e,
+            Halt::Unstable(found) => found,
+        };
+        let energy = self.energies(summed_report(self.sys, self.state.x_nodes()).as_ref());
+        let mut summary = self.summary(energy);
+        for o in observers.iter_mut() {
+            o.stopped(&mut summary);
+        }
+        let _ = write_summary(self.out_dir, &summary);
+        let (scene, model) = (&self.loaded.scene, &self.sys.model);
+        diagnosis::unstable(
+            scene,
+            model,
+            &self.inversions,
+            self.steps,
+            self.state.t,
+            found,
+        )
+    }
+
+    /// The end of a run that reached its last step: the stages' reports, the observers'
+    /// parts of the summary, `summary.json`, and the last frame.
+    fn finish(mut self, observers: &mut [&mut dyn Observer]) -> Result<Outcome, RunError> {
+        let (report, details) = crate::stages::reports(self.sys, self.state.x_nodes());
+        for c in &mut self.sys.contributions {
+            c.finish();
+        }
+        let mut summary = self.summary(self.energies(Some(&report)));
+        summary.force_evaluations = self.integrator.counters().forces;
+        summary.stages = details;
+        summary.time_step_range = self.control.range();
+        let last = self.control.is_last(self.steps, &self.state);
+        let mut run = self.view(last, true);
+        for o in observers.iter_mut() {
+            o.finish(&mut run, &mut summary)?;
+        }
+        write_summary(self.out_dir, &summary)?;
+        let mut last_frame = state_frame(self.sys, &self.state);
+        for c in &self.sys.contributions {
+            c.frame_fields(self.state.x_nodes(), &mut last_frame);
+        }
+        let joint_state = self
+            .sys
+            .contributions
+            .iter()
+            .find_map(|c| c.joint_state().cloned());
+        Ok(Outcome {
+            summary,
+            last_frame,
+            joint_state,
+        })
+    }
+
+    /// The energy ledger now, with the stages' report `stages`.
+    fn energies(&self, stages: Option<&crate::system::StageReport>) -> Energies {
+        self.ledger.ledger(self.sys, &self.state, stages)
+    }
+
+    /// The summary of the run so far, with the ledger `energy` (the observers add their parts).
+    fn summary(&self, energy: Energies) -> Summary {
+        let (l, sys, state) = (self.loaded, &*self.sys, &self.state);
+        let mut timers = sys.timers;
+        timers.integration = (self.step_time
+            - timers.internal_forces
+            - timers.external_loads
+            - timers.mass_damping
+            - timers.contributions)
+            .max(0.0);
+        let max_u = state
+            .x_nodes()
+            .iter()
+            .zip(&sys.model.x0)
+            .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
+            .fold(0.0, f64::max);
+        Summary {
+            scene: l.file.display().to_string(),
+            analysis: format!("{:?}", l.scene.analysis).to_lowercase(),
+            scheme: l.scheme.name().into(),
+            nodes: sys.model.n_nodes(),
+            triangles: sys.elements.len(),
+            time_step: l.dt,
+            time_step_limit: l.dt_limit,
+            steps: self.steps,
+            force_evaluations: sys.evaluations,
+            simulated_time: state.t,
+            wall_time: self.wall.elapsed().as_secs_f64(),
+            element_steps_per_second: if self.step_time > 0.0 {
+                sys.elements.len() as f64 * self.steps as f64 / self.step_time
+            } else {
+                0.0
+            },
+            timers,
+            energy,
+            frames: 0,
+            converged: None,
+            relative_residual: None,
+            max_displacement: max_u,
+            threads: rayon::current_num_threads(),
+            stages: serde_json::Value::Null,
+            time_step_range: None,
+        }
+    }
+}

@@ -1,0 +1,129 @@
+//! The run summary (`summary.json`, and a few lines for the terminal) and the outcome of a
+//! finished run.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::RunError;
+use crate::ledger::Energies;
+use crate::output::{FrameData, write_atomic};
+use crate::system::StageTimers;
+
+/// The run summary (also written as `summary.json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// The scene file.
+    pub scene: String,
+    /// Analysis kind.
+    pub analysis: String,
+    /// Scheme name.
+    pub scheme: String,
+    /// Nodes.
+    pub nodes: usize,
+    /// Triangles.
+    pub triangles: usize,
+    /// Time step [s].
+    pub time_step: f64,
+    /// Stable limit [s].
+    pub time_step_limit: f64,
+    /// Steps done.
+    pub steps: u64,
+    /// Force evaluations.
+    pub force_evaluations: u64,
+    /// Simulated time [s].
+    pub simulated_time: f64,
+    /// Wall time of the whole run [s].
+    pub wall_time: f64,
+    /// Triangles times steps per second of stepping wall time.
+    pub element_steps_per_second: f64,
+    /// Per-stage wall times [s].
+    pub timers: StageTimers,
+    /// The energy ledger at the end (`crate::ledger`).
+    pub energy: Energies,
+    /// Frames written.
+    pub frames: usize,
+    /// Relaxation: whether the residual tolerance was reached.
+    pub converged: Option<bool>,
+    /// Relaxation: final |residual| / |load|.
+    pub relative_residual: Option<f64>,
+    /// Largest displacement magnitude at the end [m].
+    pub max_displacement: f64,
+    /// Threads used.
+    pub threads: usize,
+    /// Details of the optional stages (contact, joints), by name.
+    pub stages: serde_json::Value,
+    /// An `"adaptive"` step: the smallest and the largest step taken [s].
+    pub time_step_range: Option<[f64; 2]>,
+}
+
+impl Summary {
+    /// A few lines for the terminal.
+    pub fn describe(&self) -> String {
+        let mut s = if self.analysis == "static" {
+            format!(
+                "static solve (sparse Cholesky, {} DOFs) in {:.3} s, {:.2} s wall\n",
+                2 * self.nodes,
+                self.timers.internal_forces,
+                self.wall_time
+            )
+        } else {
+            format!(
+                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
+                self.steps,
+                self.time_step,
+                self.scheme,
+                self.force_evaluations,
+                self.wall_time,
+                self.element_steps_per_second
+            )
+        };
+        let t = &self.timers;
+        let _ = writeln!(
+            s,
+            "time: internal forces {:.3} s, loads {:.3} s, damping {:.3} s, contributions {:.3} s, integration {:.3} s, histories {:.3} s, output {:.3} s",
+            t.internal_forces,
+            t.external_loads,
+            t.mass_damping,
+            t.contributions,
+            t.integration,
+            t.histories,
+            t.output
+        );
+        let _ = write!(
+            s,
+            "{}\nmax |u| {:.4e} m",
+            self.energy.describe(),
+            self.max_displacement
+        );
+        if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
+            let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
+        }
+        s
+    }
+}
+
+/// The state of a finished run, for tests and callers that want the numbers.
+pub struct Outcome {
+    /// The summary.
+    pub summary: Summary,
+    /// The last frame's data.
+    pub last_frame: FrameData,
+    /// The joints' committed history at the end (scenes with joints): a later run starts
+    /// from it through `scene.fracture.initial_state`.
+    pub joint_state: Option<fdem_fracture::JointState>,
+}
+
+/// Writes `summary` as `summary.json` in the output folder `dir`.
+pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), RunError> {
+    let p = dir.join("summary.json");
+    let text = serde_json::to_vec_pretty(summary).map_err(|e| RunError::Output {
+        file: p.clone(),
+        message: e.to_string(),
+    })?;
+    write_atomic(&p, &text).map_err(|e| RunError::Output {
+        file: p,
+        message: e.to_string(),
+    })
+}
