@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Runs every test of fdem: the Rust unit, integration and validation tests of the whole
 # workspace, then the checks that read fdem's output with independent Python readers
-# (they make their own virtual environment in .venv on first use).
+# (they make their own virtual environment in .venv on first use). Everything is built in
+# the release profile, the one `cargo run --release` (the main job) uses: after the main
+# job only the test binaries are left to compile. docs/testing.md says what runs where.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --workspace --locked
+cargo test --workspace --locked --release
 if compgen -G "tests/python/*.sh" >/dev/null; then
   for t in tests/python/*.sh; do
     echo "== $t"

@@ -4,7 +4,7 @@
 //! (`fdem_solver::stages::omega_active_ahead`). It must stay stable where contact engages,
 //! and take fewer steps than the a-priori step.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

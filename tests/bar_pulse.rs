@@ -6,7 +6,7 @@
 //! arrival time as its intercept (insensitive to the ringing of the discrete front). Asserted
 //! for every scheme of the time crate: arrival within 1 % of L/c, slope within 2 % of 2 v_p.
 
-mod common;
+use crate::common;
 
 use fdem_time::SchemeKind;
 

@@ -3,7 +3,7 @@
 //! of a whole specimen). Top displaced by u = v T = -1e-4 m over H = 0.1 m, lateral sides
 //! free: reaction E eps W t = 75 kN and lateral expansion nu eps W = 1.25e-5 m, to 1e-9.
 
-mod common;
+use crate::common;
 
 #[test]
 fn block_reaction_and_lateral_expansion_are_exact() {

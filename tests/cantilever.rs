@@ -6,7 +6,7 @@
 //!   theory, `P L^3/(3 E I) + P L/(kappa G A)`, kappa = 5/6: 2.0156e-2 m.
 //! - Dynamic relaxation converges to the static answer within 0.5 %.
 
-mod common;
+use crate::common;
 
 use fdem_mesh::JsonMesh;
 

@@ -3,7 +3,7 @@
 //! the left at 2 m/s, the right at rest, frictionless, default penalty p = 10 E,
 //! central difference at 0.9 of the stable step including the contact term.
 
-mod common;
+use crate::common;
 
 use fdem_solver::driver;
 

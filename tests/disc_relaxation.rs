@@ -4,7 +4,7 @@
 //! 0.5 % (the relaxation uses the finite-strain law, the static solve small strain: they differ
 //! at O(strain) = 3e-3 near the loaded arcs).
 
-mod common;
+use crate::common;
 
 use common::{centroids, recovered_stress};
 

@@ -8,7 +8,7 @@
 //! `omega_max` the mesh crate's element frequency bound (an upper bound of the highest mode,
 //! so the prediction is conservative).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! stable step (elements + joints + contact). Each run stays finite and keeps its energy
 //! balance, or stops with a message naming the step and the fix.
 
-mod common;
+use crate::common;
 
 use fdem_solver::driver::{self, Outcome, RunOptions};
 

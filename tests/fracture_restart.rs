@@ -9,7 +9,7 @@
 //! the saved state, then 27 steps: measured (2026-11-22) displacements equal to 8e-21 of the
 //! largest, damage and times of failure identical.
 
-mod common;
+use crate::common;
 
 use fdem_solver::driver::{self, Loaded, Outcome, RunOptions};
 

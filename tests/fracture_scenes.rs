@@ -7,20 +7,9 @@
 //! residual -0.031 %. A diagonal pair failing in shear under compression: peak within 2.4 % of
 //! 2c/(1 - tan(phi)), residual -1.1e-4, no energy jump at the hand-over to contact.
 
-mod common;
+use crate::common;
 
-#[path = "../src/plot.rs"]
-#[allow(dead_code, missing_docs)]
-mod plot;
-
-/// The binary's atomic write, which `plot.rs` calls (temporary file, then rename).
-fn write_atomically(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".part");
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)?;
-    Ok(())
-}
+use crate::plot;
 
 fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();

@@ -9,7 +9,7 @@
 //!   meshes/block-coarse.msh), frictionless and with friction 0.5 at the platens: elastic slope
 //!   against `E A / H`; the friction case is stronger; shear fractures appear.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -15,7 +15,8 @@
 //!
 //! `FDEM_FUZZ_SECONDS` (default 20) is the wall time of the whole run, split evenly between
 //! the three targets; `FDEM_FUZZ_SEED` (default 1) seeds the generator. Run it long with
-//! `FDEM_FUZZ_SECONDS=600 cargo test --release --test fuzz -- --nocapture` (docs/testing.md).
+//! `FDEM_FUZZ_SECONDS=600 cargo test --release --test all -- fuzz:: --nocapture`
+//! (docs/testing.md).
 //!
 //! The inputs kept in `tests/fuzz/regressions/<target>/` (inputs found so far and small
 //! hostile inputs) are replayed by a test of their own every time. Scene regressions refer to
@@ -312,14 +313,23 @@ thread_local! {
     static PANIC_MESSAGE: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
 }
 
-/// A panic hook that keeps the message (on the panicking thread) instead of printing it:
-/// the fuzzer reports panics itself.
+/// A panic hook that keeps the message of a panic in a fuzz worker (on the panicking thread)
+/// instead of printing it: the fuzzer reports panics itself. Panics on any other thread (the
+/// other tests of this binary) go to the previous hook as before.
 fn quiet_panics() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
-        panic::set_hook(Box::new(|info| {
-            let msg = format!("{info}");
-            PANIC_MESSAGE.with(|m| *m.borrow_mut() = msg);
+        let previous = panic::take_hook();
+        panic::set_hook(Box::new(move |info| {
+            let worker = std::thread::current()
+                .name()
+                .is_some_and(|n| n.starts_with("fuzz-"));
+            if worker {
+                let msg = format!("{info}");
+                PANIC_MESSAGE.with(|m| *m.borrow_mut() = msg);
+            } else {
+                previous(info);
+            }
         }));
     });
 }
@@ -538,6 +548,7 @@ fn fuzz_regressions_are_answered_without_panics_or_hangs() {
 fn run_scene_in_place(path: PathBuf, limit: Duration) -> Verdict {
     let (tx, rx) = mpsc::channel();
     std::thread::Builder::new()
+        .name("fuzz-regression".into())
         .stack_size(64 << 20)
         .spawn(move || {
             let r = panic::catch_unwind(AssertUnwindSafe(|| {

@@ -1,7 +1,7 @@
 //! Malformed scenes: each gives a clear error naming the file, the field and the fix, exit
 //! code 2, and writes no output at all (the output folder is never created).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -3,7 +3,7 @@
 //! mesh crate's kernel gathers element forces in a fixed order; the solver adds nothing that
 //! depends on the thread count).
 
-mod common;
+use crate::common;
 
 #[test]
 fn one_and_two_threads_give_bit_identical_results() {

@@ -4,7 +4,7 @@
 //! below it (the step would be unstable) and should not be far above it (the factor-2 rule on
 //! the step). Derivations: docs/contact.md section 12, docs/fracture.md section 8.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -7,7 +7,7 @@
 //! compared at sample points after a least-squares quadratic recovery over the 30 nearest
 //! triangle centroids ([`common::recovered_stress`]), as one reads a FE stress field.
 
-mod common;
+use crate::common;
 
 use common::{centroids, recovered_stress};
 

@@ -6,7 +6,7 @@
 //! and the stability probe is (a free run from the highest modes over `omega_max t` = 5000
 //! gains at most 1 % of energy: the time crate's growth tolerance 1e-6 per unit `omega t`).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

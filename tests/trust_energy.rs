@@ -4,7 +4,7 @@
 //! relaxation) run at decreasing fixed steps: the error converges at second order and closes
 //! the books within 1e-6 of the energy in play at the finest step.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -5,7 +5,7 @@
 //! subcommand (0 success, 2 bad input with nothing written, 3 a run that did not reach its
 //! goal, 1 anything else).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

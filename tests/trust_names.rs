@@ -4,7 +4,7 @@
 //! unique. Bad input: `fdem check` and `fdem run` exit 2, name the JSON path and the valid
 //! names, and write nothing.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

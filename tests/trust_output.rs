@@ -2,7 +2,7 @@
 //! cell connectivity is VTK's Int64 (so meshio gives integer cells that index the points),
 //! and the run-time estimate counts contact and joints.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

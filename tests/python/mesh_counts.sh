@@ -3,6 +3,5 @@
 # recorded in crates/mesh/tests/meshes.rs (which the Rust reader is tested against).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-if [ ! -x .venv/bin/python ]; then python3 -m venv .venv; fi
-.venv/bin/pip install -q -r tests/python/requirements.txt
+source tests/python/lib/venv.sh
 .venv/bin/python tests/python/mesh_counts.py

@@ -5,12 +5,11 @@
 # the joint series (joints.pvd, line cells) and its agreement with fractures.csv.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-if [ ! -x .venv/bin/python ]; then python3 -m venv .venv; fi
-.venv/bin/pip install -q -r tests/python/requirements.txt
+source tests/python/lib/venv.sh
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-cargo run --quiet -- run examples/bar-pulse.json --out "$out/bar" --raw >/dev/null 2>&1
-cargo run --quiet -- run examples/brazilian-disc-elastic.json --out "$out/disc" --raw >/dev/null 2>&1
-cargo run --quiet -- run examples/disc-collision.json --out "$out/contact" --raw >/dev/null 2>&1
-cargo run --quiet -- run examples/notched-beam-fracture.json --out "$out/fracture" --raw >/dev/null 2>&1
+cargo run --release --quiet -- run examples/bar-pulse.json --out "$out/bar" --raw >/dev/null 2>&1
+cargo run --release --quiet -- run examples/brazilian-disc-elastic.json --out "$out/disc" --raw >/dev/null 2>&1
+cargo run --release --quiet -- run examples/disc-collision.json --out "$out/contact" --raw >/dev/null 2>&1
+cargo run --release --quiet -- run examples/notched-beam-fracture.json --out "$out/fracture" --raw >/dev/null 2>&1
 .venv/bin/python tests/python/vtu_readback.py "$out/bar" "$out/disc" "$out/contact" "$out/fracture"
