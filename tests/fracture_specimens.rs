@@ -1,4 +1,4 @@
-//! Fracturing specimens end to end (docs/fracturing-specimens.md), each run from its example
+//! Fracturing specimens end to end (docs/howto-fracturing-specimen.md), each run from its example
 //! scene, and the joint output series (`joints.pvd`, `joints_NNNN.vtu`) of both.
 //!
 //! - Notched beam in three-point bending (examples/notched-beam-fracture.json, mesh
