@@ -207,7 +207,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
 #[test]
 fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
     use fdem_solver::system::ForceContribution;
-    let dir = std::env::temp_dir().join(format!("fdem-stage-setup-{}", std::process::id()));
+    let dir = common::temp_dir("stage-setup");
     std::fs::create_dir_all(&dir).unwrap();
     let l = driver::load(&scene(&dir)).unwrap();
     let set = || {

@@ -172,7 +172,7 @@ fn active_bound_covers_the_brazilian_disc_under_the_platens() {
 }
 
 fn temp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("fdem-bounds-{name}-{}", std::process::id()));
+    let d = common::temp_dir(&format!("bounds-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -1,6 +1,8 @@
 //! `fdem study oscillator` end to end: a small grid writes every file without NaN, and bad
 //! input gets a clear error and a non-zero exit, never a panic.
 
+use crate::common;
+
 use std::process::Command;
 
 fn fdem(args: &[&str]) -> std::process::Output {
@@ -12,7 +14,7 @@ fn fdem(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn small_study_writes_csv_json_and_plots() {
-    let dir = std::env::temp_dir().join(format!("fdem-study-test-{}", std::process::id()));
+    let dir = common::temp_dir("study-oscillator");
     let out = dir.to_str().unwrap();
     let o = fdem(&[
         "study",

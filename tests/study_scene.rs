@@ -13,7 +13,7 @@ use std::process::Command;
 
 #[test]
 fn tiny_scene_study_writes_outputs_and_brackets_the_stable_step() {
-    let dir = std::env::temp_dir().join(format!("fdem-study-scene-{}", std::process::id()));
+    let dir = common::temp_dir("study-scene");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let (nx, ny, lx, ly) = (40usize, 2usize, 1.0, 0.05);

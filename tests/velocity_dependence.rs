@@ -4,6 +4,8 @@
 //! velocities, frictionless undamped contact neither), so central difference skips that pass;
 //! the compressed block has friction 0.5 at its platens, so it keeps it.
 
+use crate::common;
+
 use std::path::Path;
 
 use fdem_solver::load;
@@ -14,7 +16,7 @@ use fdem_time::SecondOrderSystem;
 fn system(example: &str) -> SceneSystem {
     let l = load(Path::new(example)).expect("example loads");
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
-    let out = std::env::temp_dir().join(format!("fdem-velocity-dependence-{}", std::process::id()));
+    let out = common::temp_dir("velocity-dependence");
     std::fs::create_dir_all(&out).unwrap();
     fdem_solver::stages::attach(&l.scene, &l.file, &mut sys, l.dt, &out, 1).expect("stages");
     let _ = std::fs::remove_dir_all(&out);

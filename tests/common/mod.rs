@@ -14,14 +14,41 @@ pub fn root() -> PathBuf {
 }
 
 /// A fresh, empty temporary folder named after `tag`, of its own even if another test of the
-/// binary (running in parallel) asks for the same tag.
+/// binary (running in parallel) asks for the same tag. Every folder of a test run lies under
+/// `$TMPDIR/fdem-tests/PID`; the first call of a run removes the folders of earlier runs whose
+/// process has ended, so repeated test runs do not fill the disk.
 pub fn temp_dir(tag: &str) -> PathBuf {
     static NEXT: AtomicUsize = AtomicUsize::new(0);
+    static SWEPT: std::sync::Once = std::sync::Once::new();
+    let runs = std::env::temp_dir().join("fdem-tests");
+    SWEPT.call_once(|| remove_ended_runs(&runs));
     let n = NEXT.fetch_add(1, Ordering::Relaxed);
-    let d = std::env::temp_dir().join(format!("fdem-test-{tag}-{}-{n}", std::process::id()));
+    let d = runs
+        .join(std::process::id().to_string())
+        .join(format!("{tag}-{n}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// Removes `runs/PID` for every PID that is not a running process (where `/proc` tells).
+fn remove_ended_runs(runs: &Path) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(runs) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let ended = name
+            .to_str()
+            .and_then(|s| s.parse::<u32>().ok())
+            .is_some_and(|pid| !Path::new("/proc").join(pid.to_string()).exists());
+        if ended {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
 }
 
 /// Loads an example scene as JSON, applies `edit`, makes mesh paths absolute, and writes it
