@@ -19,6 +19,16 @@ pub enum FractureError {
         /// The range the field must lie in.
         requirement: &'static str,
     },
+    /// A parameter of a strength distribution is out of its range.
+    #[error(
+        "distribution parameter `{field}` = {value} is invalid: it must be finite and positive"
+    )]
+    InvalidDistribution {
+        /// The parameter's name as written in the input (`modulus`, `scale`, `mean`, `cov`).
+        field: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// The fracture energy does not exceed the elastic work stored up to the peak, so no
     /// softening branch can dissipate it.
     #[error(

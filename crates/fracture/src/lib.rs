@@ -50,6 +50,7 @@
 
 pub mod error;
 pub mod events;
+pub mod heterogeneity;
 pub mod joint;
 pub mod material;
 pub mod pass;
@@ -60,6 +61,7 @@ pub mod timestep;
 
 pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
+pub use heterogeneity::Distribution;
 pub use joint::{
     JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, kinematics,
     point_traction,
