@@ -1,6 +1,6 @@
 //! Errors of the solver: each names the file, the place in it, and what to change.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use fdem_mesh::shorten;
 
@@ -55,6 +55,23 @@ pub enum SceneError {
         /// The mesh reader's message.
         message: String,
     },
+}
+
+impl SceneError {
+    /// A value of `file` out of range or inconsistent at the JSON `path`, with the fix.
+    pub fn invalid(
+        file: &Path,
+        path: impl Into<String>,
+        message: impl Into<String>,
+        fix: impl Into<String>,
+    ) -> Self {
+        SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: path.into(),
+            message: message.into(),
+            fix: fix.into(),
+        }
+    }
 }
 
 /// An error while running a scene.

@@ -79,12 +79,8 @@ pub struct MaterialSpec {
 /// Checks the values of the bodies that the JSON types cannot (at least one body, positive
 /// constants); `file` names the scene in errors.
 pub(crate) fn validate(bodies: &[Body], file: &Path) -> Result<(), SceneError> {
-    let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-        file: file.to_path_buf(),
-        path,
-        message,
-        fix: fix.to_string(),
-    };
+    let bad =
+        |path: String, message: String, fix: &str| SceneError::invalid(file, path, message, fix);
     if bodies.is_empty() {
         return Err(bad(
             "bodies".into(),

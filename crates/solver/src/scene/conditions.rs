@@ -134,12 +134,8 @@ impl BoundaryCondition {
 /// Checks the conditions' values that the JSON types cannot (something fixed or prescribed,
 /// ramps >= 0); `file` names the scene in errors.
 pub(crate) fn validate(conditions: &[BoundaryCondition], file: &Path) -> Result<(), SceneError> {
-    let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-        file: file.to_path_buf(),
-        path,
-        message,
-        fix: fix.to_string(),
-    };
+    let bad =
+        |path: String, message: String, fix: &str| SceneError::invalid(file, path, message, fix);
     for (i, bc) in conditions.iter().enumerate() {
         let p = format!("boundary_conditions[{i}]");
         let ramp = match bc {

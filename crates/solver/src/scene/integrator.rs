@@ -145,11 +145,8 @@ impl Integrator {
     /// `"adaptive"` only for central difference in a dynamic `analysis`, a known scheme);
     /// `file` names the scene in errors.
     pub(crate) fn validate(&self, analysis: Analysis, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.to_string(),
+        let bad = |path: String, message: String, fix: &str| {
+            SceneError::invalid(file, path, message, fix)
         };
 
         if !(self.safety > 0.0 && self.safety <= 1.0) {
@@ -204,11 +201,8 @@ impl Integrator {
 impl Damping {
     /// Checks that the coefficients are >= 0; `file` names the scene in errors.
     pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.to_string(),
+        let bad = |path: String, message: String, fix: &str| {
+            SceneError::invalid(file, path, message, fix)
         };
 
         if self.viscosity_ratio < 0.0 || self.mass_proportional < 0.0 {

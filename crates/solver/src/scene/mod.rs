@@ -108,11 +108,8 @@ impl Scene {
 
     /// Checks the values that the JSON types cannot: positive constants, known schemes, ...
     fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.to_string(),
+        let bad = |path: String, message: String, fix: &str| {
+            SceneError::invalid(file, path, message, fix)
         };
         bodies::validate(&self.bodies, file)?;
         conditions::validate(&self.boundary_conditions, file)?;

@@ -76,11 +76,8 @@ pub struct GroupProbe {
 impl Output {
     /// Checks the compression level; `file` names the scene in errors.
     pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.to_string(),
+        let bad = |path: String, message: String, fix: &str| {
+            SceneError::invalid(file, path, message, fix)
         };
 
         if self.compression > 9 {
@@ -97,11 +94,8 @@ impl Output {
 impl Histories {
     /// Checks the interval; `file` names the scene in errors.
     pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.to_string(),
+        let bad = |path: String, message: String, fix: &str| {
+            SceneError::invalid(file, path, message, fix)
         };
 
         if self.every == Some(0) {
