@@ -55,6 +55,11 @@ pub fn explode_body(
     mesh: Mesh,
 ) -> Result<Mesh, SceneError> {
     let regions = &refs.fracture_regions[bi];
+    let b = &scene.bodies[bi];
+    let label = match &b.name {
+        Some(n) => format!("body '{n}' ({})", b.mesh.display()),
+        None => format!("bodies[{bi}] ({})", b.mesh.display()),
+    };
     let (Some(section), Some(&ri)) = (scene.fracture.as_mut(), regions.first()) else {
         return Ok(mesh);
     };
@@ -76,7 +81,13 @@ pub fn explode_body(
         .iter()
         .map(|e| e.tris.map(|t| t.0))
         .collect();
-    let materials = crate::joint_assign::assign(section, file, bi, refs, &mesh, &ex.mesh, &tris)?;
+    let body = crate::joint_assign::BodyMeshes {
+        index: bi,
+        label,
+        original: &mesh,
+        exploded: &ex.mesh,
+    };
+    let materials = crate::joint_assign::assign(section, file, refs, &body, &tris)?;
     let joints = ex
         .internal_edges
         .iter()

@@ -69,8 +69,9 @@ fn triangle_regions(
     section: &FractureSection,
     file: &Path,
     regions: &[usize],
-    mesh: &Mesh,
+    body: &BodyMeshes<'_>,
 ) -> Result<Vec<Option<usize>>, SceneError> {
+    let mesh = body.exploded;
     let list = section.material_list();
     let mut of_tri: Vec<Option<usize>> = vec![None; mesh.triangles.len()];
     for &ri in regions {
@@ -97,7 +98,7 @@ fn triangle_regions(
                         format!(
                             "the region overlaps fracture.regions[{prev}] (triangle {t} of {} \
                              lies in both) and their materials differ ({} and {})",
-                            mesh.source,
+                            body.label,
                             material_name(&list, mine),
                             material_name(&list, region_material(section, prev))
                         ),
@@ -112,20 +113,38 @@ fn triangle_regions(
     Ok(of_tri)
 }
 
-/// The material (list index) of each joint of body `bi`, whose joints bond the triangle
-/// pairs `tris` of the exploded `mesh` (`original`: the mesh before the explode, for the
-/// messages about interfaces).
+/// A body of the scene as messages name it, and its meshes before and after the explode.
+pub struct BodyMeshes<'a> {
+    /// Index of the body.
+    pub index: usize,
+    /// `body 'NAME' (MESH)` or `bodies[i] (MESH)`.
+    pub label: String,
+    /// The mesh before the explode (which edges the groups share).
+    pub original: &'a Mesh,
+    /// The exploded mesh (the same triangles and groups).
+    pub exploded: &'a Mesh,
+}
+
+/// A group of a region for messages: its first group, or a placeholder.
+fn a_group_of(section: &FractureSection, ri: usize) -> String {
+    match section.regions[ri].groups.as_deref() {
+        Some([g, ..]) => format!("\"{g}\""),
+        _ => format!("<a group of fracture.regions[{ri}]>"),
+    }
+}
+
+/// The material (list index) of each joint of the body `body`, whose joints bond the triangle
+/// pairs `tris` of its exploded mesh.
 pub fn assign(
     section: &FractureSection,
     file: &Path,
-    bi: usize,
     refs: &Resolved,
-    original: &Mesh,
-    mesh: &Mesh,
+    body: &BodyMeshes<'_>,
     tris: &[[u32; 2]],
 ) -> Result<Vec<u32>, SceneError> {
+    let (bi, mesh) = (body.index, body.exploded);
     let list = section.material_list();
-    let of_tri = triangle_regions(section, file, &refs.fracture_regions[bi], mesh)?;
+    let of_tri = triangle_regions(section, file, &refs.fracture_regions[bi], body)?;
     // the interfaces of this body: (index, members of group A, of group B, material)
     let mut faces = Vec::new();
     for (i, it) in section.interfaces.iter().enumerate() {
@@ -157,7 +176,7 @@ pub fn assign(
                         format!(
                             "the interface claims the joint between triangles {t1} and {t2} of \
                              {}, which fracture.interfaces[{prev}] claims too",
-                            original.source
+                            body.label
                         ),
                         "make the groups of the two interfaces disjoint (a joint takes one \
                          interface's material)",
@@ -181,14 +200,15 @@ pub fn assign(
                             "the joint between triangles {t1} and {t2} of {} bonds \
                              fracture.regions[{r1}] (material {}) to fracture.regions[{r2}] \
                              (material {}), and no interface gives it a material",
-                            original.source,
+                            body.label,
                             material_name(&list, m1),
                             material_name(&list, m2)
                         ),
                         format!(
-                            "add to fracture.interfaces {{\"groups\": [<a group of \
-                             fracture.regions[{lo}]>, <a group of fracture.regions[{hi}]>], \
-                             \"material\": <name>}} for the joints between the two regions"
+                            "add to fracture.interfaces {{\"groups\": [{}, {}], \"material\": \
+                             <name>}} for the joints between the two regions",
+                            a_group_of(section, lo),
+                            a_group_of(section, hi)
                         ),
                     ));
                 }
@@ -201,7 +221,7 @@ pub fn assign(
     }
     for (i, _, _, _, n) in &faces {
         if *n == 0 {
-            return Err(no_joint(section, file, *i, original));
+            return Err(no_joint(section, file, *i, body));
         }
     }
     Ok(out)
@@ -209,7 +229,8 @@ pub fn assign(
 
 /// The error of an interface that claims no joint: its groups share no edge, or they do but
 /// neither side of it fractures.
-fn no_joint(section: &FractureSection, file: &Path, i: usize, mesh: &Mesh) -> SceneError {
+fn no_joint(section: &FractureSection, file: &Path, i: usize, body: &BodyMeshes<'_>) -> SceneError {
+    let mesh = body.original;
     let it = &section.interfaces[i];
     let (a, b) = (members(mesh, &it.groups[0]), members(mesh, &it.groups[1]));
     let touch = mesh.edges.iter().any(|e| {
@@ -226,7 +247,7 @@ fn no_joint(section: &FractureSection, file: &Path, i: usize, mesh: &Mesh) -> Sc
             format!(
                 "no joint lies between '{g0}' and '{g1}' of {}: they share edges, but no \
                  fracture region covers either side",
-                mesh.source
+                body.label
             ),
             format!("add a fracture region with the group '{g0}' or '{g1}'"),
         )
@@ -237,7 +258,7 @@ fn no_joint(section: &FractureSection, file: &Path, i: usize, mesh: &Mesh) -> Sc
             format!(
                 "the groups '{g0}' and '{g1}' of {} do not touch (they share no edge), so \
                  no joint lies between them",
-                mesh.source
+                body.label
             ),
             "name two surface groups that share edges",
         )

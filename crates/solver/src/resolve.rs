@@ -636,7 +636,7 @@ impl<'a> Resolver<'a> {
         ))
     }
 
-    /// The two groups of an interface lie in one body.
+    /// The two groups of an interface lie in one body, which fractures.
     fn interfaces_in_one_body(&self, out: &Resolved) -> Result<(), SceneError> {
         for (i, b) in out.interfaces.iter().enumerate() {
             if b[0] != b[1] {
@@ -648,6 +648,18 @@ impl<'a> Resolver<'a> {
                         self.label(b[1])
                     ),
                     "an interface joins two groups of one body: add \"body\" to it".into(),
+                ));
+            }
+            if out.fracture_regions[b[0]].is_empty() {
+                return Err(self.bad(
+                    &format!("fracture.interfaces[{i}]"),
+                    format!(
+                        "{} has no fracture region, so no joint lies between the groups",
+                        self.label(b[0])
+                    ),
+                    "add a fracture region for the body (its joints are made by the explode \
+                     of the regions)"
+                        .into(),
                 ));
             }
         }
@@ -795,11 +807,11 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
         RefKind::Group | RefKind::EdgeGroup | RefKind::SurfaceGroup => cx.group(&r, &mut out),
         RefKind::JointMaterial => cx.joint_material(&r),
     })?;
-    cx.interfaces_in_one_body(&out)?;
     cx.regions_without_body(&mut out)?;
     for r in &mut out.fracture_regions {
         r.sort_unstable();
     }
+    cx.interfaces_in_one_body(&out)?;
     cx.materials_cover_regions()?;
     cx.contact_names(&out)?;
     cx.probes_unique(&out)?;
