@@ -315,12 +315,18 @@ fn drawn_error(
              its check: {e}",
             row.tensile_strength, row.cohesion, row.fracture_energy_i, row.fracture_energy_ii
         ),
-        format!(
-            "every drawn joint must store less work before its peak than its fracture energy: \
-             raise {path}.penalty_normal/penalty_tangential, refine the mesh, raise the \
-             fracture energy (or the scale of its distribution), or narrow the strength's \
-             distribution (a larger Weibull modulus, a smaller cov)",
-            path = m.path()
-        ),
+        match e {
+            FractureError::FractureEnergyTooSmall { .. } => format!(
+                "every drawn joint must store less work before its peak than its fracture \
+                 energy: raise {path}.penalty_normal/penalty_tangential, refine the mesh, raise \
+                 the fracture energy (or the scale of its distribution), or narrow the \
+                 strength's distribution (a larger Weibull modulus, a smaller cov)",
+                path = m.path()
+            ),
+            _ => "the distribution draws values that are not finite and positive: bring its \
+                  parameters into the usual range (a Weibull modulus of about 1 to 50, a cov \
+                  below about 1)"
+                .into(),
+        },
     )
 }
