@@ -21,6 +21,7 @@ pub mod conditions;
 pub mod contact;
 pub mod fracture;
 pub mod integrator;
+pub mod joint_materials;
 pub mod output;
 
 pub use bodies::{Body, Law, MaterialSpec, Plane};
@@ -136,6 +137,9 @@ impl Scene {
         self.damping.validate(file)?;
         self.output.validate(file)?;
         self.histories.validate(file)?;
+        if let Some(f) = &self.fracture {
+            f.validate(file)?;
+        }
         Ok(())
     }
 }
