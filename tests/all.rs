@@ -46,6 +46,8 @@ mod fracture_scenes;
 mod fracture_specimens;
 #[path = "fuzz.rs"]
 mod fuzz;
+#[path = "initial_stress.rs"]
+mod initial_stress;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
 #[path = "parity.rs"]
