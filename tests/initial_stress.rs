@@ -479,3 +479,40 @@ fn bad_initial_stress_is_refused_with_its_path() {
         assert!(paths.iter().any(|q| q == p), "{p} not in {paths:?}");
     }
 }
+
+/// examples/tunnel-in-situ.json (an opening of radius a = 10 mm in the in-situ stress
+/// (-12, -8) MPa, static): the recovered hoop stress is within 5 % of Kirsch's
+/// 3 sxx - syy = -28 MPa at the crown and of 3 syy - sxx = -12 MPa at the sidewall (the
+/// tolerance of the Kirsch test), and the opening converges (the crown moves down, the
+/// sidewall to the left).
+#[test]
+fn tunnel_example_matches_kirsch() {
+    let (o, _) = common::run(&common::edited_example(
+        "tunnel-in-situ.json",
+        "insitu-tunnel",
+        |_| {},
+    ));
+    let f = &o.last_frame;
+    let a = 0.01;
+    let cen = common::centroids(f);
+    let crown = common::recovered_stress(f, &cen, [0.0, a], 30)[0];
+    let side = common::recovered_stress(f, &cen, [a, 0.0], 30)[1];
+    eprintln!(
+        "tunnel: hoop stress {:.3} MPa at the crown (Kirsch -28), {:.3} MPa at the sidewall (Kirsch -12)",
+        crown / 1e6,
+        side / 1e6
+    );
+    assert!((crown / -28e6 - 1.0).abs() < 0.05, "{crown}");
+    assert!((side / -12e6 - 1.0).abs() < 0.05, "{side}");
+    let x0 = common::reference_points(f);
+    let at = |p: [f64; 2]| {
+        let i = (0..x0.len())
+            .min_by(|&i, &j| {
+                let d = |k: usize| (x0[k][0] - p[0]).powi(2) + (x0[k][1] - p[1]).powi(2);
+                d(i).total_cmp(&d(j))
+            })
+            .unwrap();
+        f.displacement[i]
+    };
+    assert!(at([0.0, a])[1] < 0.0 && at([a, 0.0])[0] < 0.0);
+}
