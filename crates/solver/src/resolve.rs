@@ -276,28 +276,7 @@ fn walk<'a>(
             }
         }
     }
-    for (i, e) in scene.initial_stress.iter().enumerate() {
-        if let Some(b) = &e.body {
-            f(Ref {
-                path: format!("initial_stress[{i}].body"),
-                pointer: format!("/initial_stress/{i}/body"),
-                kind: RefKind::Body,
-                name: b,
-                body: Scope::None,
-                slot: Slot::InitialStress(i),
-            })?;
-        }
-        for (j, g) in e.groups.iter().flatten().enumerate() {
-            f(Ref {
-                path: format!("initial_stress[{i}].groups[{j}]"),
-                pointer: format!("/initial_stress/{i}/groups/{j}"),
-                kind: RefKind::SurfaceGroup,
-                name: g,
-                body: Scope::Named(e.body.as_deref()),
-                slot: Slot::InitialStress(i),
-            })?;
-        }
-    }
+    walk_initial_stress(scene, f)?;
     if let Some(c) = &scene.contact {
         for (i, p) in c.pairs.iter().enumerate() {
             for (k, b) in p.bodies.iter().enumerate() {
@@ -322,6 +301,36 @@ fn walk<'a>(
                     slot: Slot::None,
                 })?;
             }
+        }
+    }
+    Ok(())
+}
+
+/// The names of `scene.initial_stress` for [`walk`]: each entry's `body`, then its `groups`.
+fn walk_initial_stress<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, e) in scene.initial_stress.iter().enumerate() {
+        if let Some(b) = &e.body {
+            f(Ref {
+                path: format!("initial_stress[{i}].body"),
+                pointer: format!("/initial_stress/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::InitialStress(i),
+            })?;
+        }
+        for (j, g) in e.groups.iter().flatten().enumerate() {
+            f(Ref {
+                path: format!("initial_stress[{i}].groups[{j}]"),
+                pointer: format!("/initial_stress/{i}/groups/{j}"),
+                kind: RefKind::SurfaceGroup,
+                name: g,
+                body: Scope::Named(e.body.as_deref()),
+                slot: Slot::InitialStress(i),
+            })?;
         }
     }
     Ok(())
