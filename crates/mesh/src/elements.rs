@@ -6,7 +6,7 @@ use crate::error::MeshError;
 use crate::ids::TriId;
 use crate::material::{ElasticLaw, Material};
 use crate::mesh::Mesh;
-use crate::triangle::{Mat2, det, edge_matrix, inv};
+use crate::triangle::{Mat2, Sym2, det, edge_matrix, inv};
 
 /// Precomputed data of one triangle (64 bytes: one cache line).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -70,6 +70,10 @@ pub struct Elements {
     /// wholly exploded mesh: each node belongs to one triangle): the force kernels then add
     /// each triangle's forces to its own nodes directly (no buffer, no gather).
     pub owned_nodes: bool,
+    /// Initial stress of each triangle, `[xx, yy, xy]` [Pa], tension positive: a constant
+    /// second Piola-Kirchhoff stress `S0` of the reference state (see [`crate::forces`]).
+    /// Empty (the default): no triangle has one, and the kernels take the path without it.
+    pub initial_stress: Vec<Sym2>,
 }
 
 impl Elements {
@@ -222,7 +226,28 @@ impl Elements {
             block_offsets,
             block_tris,
             owned_nodes,
+            initial_stress: Vec::new(),
         })
+    }
+
+    /// Sets the initial stress of every triangle (`[xx, yy, xy]` [Pa] each, in triangle
+    /// order); an empty vector or one of zeros only removes it (the kernels then cost what
+    /// they cost without). Panics if the length is not the number of triangles.
+    pub fn set_initial_stress(&mut self, s0: Vec<Sym2>) {
+        assert!(
+            s0.is_empty() || s0.len() == self.tris.len(),
+            "one initial stress per triangle"
+        );
+        self.initial_stress = if s0.iter().all(|s| *s == [0.0; 3]) {
+            Vec::new()
+        } else {
+            s0
+        };
+    }
+
+    /// True if some triangle has an initial stress.
+    pub fn prestressed(&self) -> bool {
+        !self.initial_stress.is_empty()
     }
 
     /// Number of triangles.

@@ -23,7 +23,8 @@
 use crate::elements::{Elements, MaterialConsts, TriData};
 use crate::material::ElasticLaw;
 use crate::triangle::{
-    Mat2, Sym2, det, edge_matrix, elastic_stress, inv, mul, nodal_forces, rate_of_deformation,
+    Mat2, Sym2, det, edge_matrix, elastic_stress, initial_stress_cauchy,
+    initial_stress_cauchy_derivative, inv, mul, nodal_forces, rate_of_deformation,
 };
 use rayon::prelude::*;
 
@@ -57,17 +58,24 @@ fn corners(td: &TriData, x: &[[f64; 2]]) -> [[f64; 2]; 3] {
     ]
 }
 
-/// Cauchy stress (elastic + viscous) of one triangle.
+/// Cauchy stress (elastic + viscous, + the initial stress `s0` when given) of one triangle.
 #[inline(always)]
 pub(crate) fn tri_stress<const VISCOUS: bool>(
     td: &TriData,
     c: &MaterialConsts,
     xs: [[f64; 2]; 3],
     v: &[[f64; 2]],
+    s0: Option<&Sym2>,
 ) -> (Sym2, Mat2) {
     let g = edge_matrix(xs[0], xs[1], xs[2]);
     let f = mul(g, td.ginv);
     let mut s = elastic_stress(c.law, c.mu, c.lam, f);
+    if let Some(s0) = s0 {
+        let sp = initial_stress_cauchy(*s0, f);
+        s[0] += sp[0];
+        s[1] += sp[1];
+        s[2] += sp[2];
+    }
     if VISCOUS && td.eta != 0.0 {
         let vs = corners(td, v);
         let d = rate_of_deformation(g, edge_matrix(vs[0], vs[1], vs[2]));
@@ -84,10 +92,11 @@ fn tri_force<const VISCOUS: bool>(
     mats: &[MaterialConsts],
     x: &[[f64; 2]],
     v: &[[f64; 2]],
+    s0: Option<&Sym2>,
 ) -> [[f64; 2]; 3] {
     let c = &mats[td.material as usize];
     let xs = corners(td, x);
-    let (s, _) = tri_stress::<VISCOUS>(td, c, xs, v);
+    let (s, _) = tri_stress::<VISCOUS>(td, c, xs, v, s0);
     nodal_forces(s, c.half_t, xs)
 }
 
@@ -107,7 +116,11 @@ impl Elements {
         scratch: &mut ForceScratch,
     ) {
         if self.owned_nodes {
-            self.owned::<false>(x, v, f);
+            if self.prestressed() {
+                self.owned::<false, true>(x, v, f);
+            } else {
+                self.owned::<false, false>(x, v, f);
+            }
         } else {
             self.internal_forces_buffered(x, v, f, scratch);
         }
@@ -123,7 +136,11 @@ impl Elements {
         scratch: &mut ForceScratch,
     ) {
         if self.owned_nodes {
-            self.owned::<true>(x, v, f);
+            if self.prestressed() {
+                self.owned::<true, true>(x, v, f);
+            } else {
+                self.owned::<true, false>(x, v, f);
+            }
         } else {
             f.fill([0.0; 2]);
             self.internal_forces_buffered(x, v, f, scratch);
@@ -131,29 +148,44 @@ impl Elements {
     }
 
     /// The kernel of a wholly exploded mesh: each triangle adds (`SET`: writes, as if onto
-    /// zero) its forces to its own three nodes, in parallel over fixed chunks.
-    fn owned<const SET: bool>(&self, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+    /// zero) its forces to its own three nodes, in parallel over fixed chunks; `PRE`: with
+    /// the triangles' initial stresses.
+    fn owned<const SET: bool, const PRE: bool>(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+    ) {
         assert!(x.len() >= self.n_nodes && f.len() >= self.n_nodes);
         let mats = &self.materials[..];
         let viscous = self.viscous;
         if viscous {
             assert!(v.len() >= self.n_nodes);
         }
+        let pre = &self.initial_stress[..];
         f[..self.n_nodes]
             .par_chunks_mut(3 * TRI_CHUNK)
             .zip(x[..self.n_nodes].par_chunks(3 * TRI_CHUNK))
             .zip(self.tris.par_chunks(TRI_CHUNK))
-            .for_each(|((fc, xc), tc)| {
-                for ((fa, xa), td) in fc.chunks_exact_mut(3).zip(xc.chunks_exact(3)).zip(tc) {
+            .enumerate()
+            .for_each(|(ci, ((fc, xc), tc))| {
+                let pc = if PRE { &pre[ci * TRI_CHUNK..] } else { pre };
+                for (k, ((fa, xa), td)) in fc
+                    .chunks_exact_mut(3)
+                    .zip(xc.chunks_exact(3))
+                    .zip(tc)
+                    .enumerate()
+                {
                     // the triangle's own nodes 3t..3t+3 (`owned_nodes`): read in order, no
                     // node ids
                     let xs = [xa[0], xa[1], xa[2]];
                     let c = &mats[td.material as usize];
+                    let s0 = if PRE { Some(&pc[k]) } else { None };
                     let ft = if viscous {
-                        let (s, _) = tri_stress::<true>(td, c, xs, v);
+                        let (s, _) = tri_stress::<true>(td, c, xs, v, s0);
                         nodal_forces(s, c.half_t, xs)
                     } else {
-                        let (s, _) = tri_stress::<false>(td, c, xs, v);
+                        let (s, _) = tri_stress::<false>(td, c, xs, v, s0);
                         nodal_forces(s, c.half_t, xs)
                     };
                     for (fi, p) in fa.iter_mut().zip(ft) {
@@ -175,11 +207,16 @@ impl Elements {
     /// also independent of the thread count. Kept for comparison: it moves fewer bytes but
     /// measured slower per core on the development machine (docs/mesh.md).
     pub fn internal_forces_owner(&self, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        let s0 = |t: usize| self.initial_stress.get(t);
         if self.viscous {
             assert!(v.len() >= self.n_nodes);
-            self.owner_computes(f, |td| tri_force::<true>(td, &self.materials, x, v));
+            self.owner_computes(f, |t, td| {
+                tri_force::<true>(td, &self.materials, x, v, s0(t))
+            });
         } else {
-            self.owner_computes(f, |td| tri_force::<false>(td, &self.materials, x, v));
+            self.owner_computes(f, |t, td| {
+                tri_force::<false>(td, &self.materials, x, v, s0(t))
+            });
         }
     }
 
@@ -187,7 +224,7 @@ impl Elements {
     #[inline(always)]
     fn owner_computes<K>(&self, f: &mut [[f64; 2]], force: K)
     where
-        K: Fn(&TriData) -> [[f64; 2]; 3] + Sync,
+        K: Fn(usize, &TriData) -> [[f64; 2]; 3] + Sync,
     {
         assert!(f.len() >= self.n_nodes);
         let bn = self.block_nodes;
@@ -202,7 +239,7 @@ impl Elements {
                 let len = fb.len() as u32;
                 for &t in &list[off[b] as usize..off[b + 1] as usize] {
                     let td = &tris[t as usize];
-                    let ft = force(td);
+                    let ft = force(t as usize, td);
                     for a in 0..3 {
                         let i = td.nodes[a].wrapping_sub(base);
                         if i < len {
@@ -229,17 +266,33 @@ impl Elements {
         assert_eq!(scratch.per_tri.len(), self.tris.len());
         let mats = &self.materials[..];
         let buf = &mut scratch.per_tri;
-        if self.viscous {
+        if self.prestressed() {
+            let viscous = self.viscous;
+            if viscous {
+                assert!(v.len() >= self.n_nodes);
+            }
+            buf.par_iter_mut()
+                .zip(self.tris.par_iter())
+                .zip(self.initial_stress.par_iter())
+                .with_min_len(TRI_CHUNK)
+                .for_each(|((o, td), s0)| {
+                    *o = if viscous {
+                        tri_force::<true>(td, mats, x, v, Some(s0))
+                    } else {
+                        tri_force::<false>(td, mats, x, v, Some(s0))
+                    }
+                });
+        } else if self.viscous {
             assert!(v.len() >= self.n_nodes);
             buf.par_iter_mut()
                 .zip(self.tris.par_iter())
                 .with_min_len(TRI_CHUNK)
-                .for_each(|(o, td)| *o = tri_force::<true>(td, mats, x, v));
+                .for_each(|(o, td)| *o = tri_force::<true>(td, mats, x, v, None));
         } else {
             buf.par_iter_mut()
                 .zip(self.tris.par_iter())
                 .with_min_len(TRI_CHUNK)
-                .for_each(|(o, td)| *o = tri_force::<false>(td, mats, x, v));
+                .for_each(|(o, td)| *o = tri_force::<false>(td, mats, x, v, None));
         }
         self.gather(&scratch.per_tri, f);
     }
@@ -267,6 +320,22 @@ impl Elements {
                     fi[1] += sy;
                 }
             });
+    }
+
+    /// Adds the nodal forces of the initial stresses alone, taken as Cauchy stresses at the
+    /// positions `x`, `f_a += -(t/2) S0 rot(x_c - x_b)`, to `f` (serially, in triangle order).
+    /// At the reference positions this is `-int B^T S0`, the right-hand side the initial
+    /// stress adds to the small-strain static solve. Nothing happens without initial stress.
+    pub fn add_initial_stress_forces(&self, x: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        for (td, s0) in self.tris.iter().zip(&self.initial_stress) {
+            let c = &self.materials[td.material as usize];
+            let ft = nodal_forces(*s0, c.half_t, corners(td, x));
+            for (a, p) in ft.iter().enumerate() {
+                let n = td.nodes[a] as usize;
+                f[n][0] += p[0];
+                f[n][1] += p[1];
+            }
+        }
     }
 
     /// Power dissipated by the element viscosity at positions `x` and velocities `v` [W]:
@@ -316,6 +385,7 @@ impl Elements {
     /// `dB = dF F^T + F dF^T`, `c = tr(F^-1 dF)`:
     /// Munjiza `d sigma = mu dB + lam*/2 tr(dB) I`; neo-Hookean
     /// `d sigma = (mu dB + lam* c I)/J - c sigma_e`; viscous `d sigma_v = eta sym(-L dG G^-1)`;
+    /// initial stress `d sigma_0 = (dF S0 F^T + F S0 dF^T)/J - c sigma_0`;
     /// then `df_a = -(t/2)(d sigma rot(x_c-x_b) + sigma rot(dx_c-dx_b))`.
     pub fn force_derivative(
         &self,
@@ -329,12 +399,16 @@ impl Elements {
         assert_eq!(scratch.per_tri.len(), self.tris.len());
         let mats = &self.materials[..];
         let viscous = self.viscous;
+        let pre = &self.initial_stress;
         scratch
             .per_tri
             .par_iter_mut()
             .zip(self.tris.par_iter())
+            .enumerate()
             .with_min_len(TRI_CHUNK)
-            .for_each(|(o, td)| *o = tri_force_derivative(td, mats, x, v, dx, viscous));
+            .for_each(|(t, (o, td))| {
+                *o = tri_force_derivative(td, mats, x, v, dx, viscous, pre.get(t));
+            });
         self.gather(&scratch.per_tri, df);
     }
 }
@@ -347,6 +421,7 @@ fn tri_force_derivative(
     v: &[[f64; 2]],
     dx: &[[f64; 2]],
     viscous: bool,
+    s0: Option<&Sym2>,
 ) -> [[f64; 2]; 3] {
     let c = &mats[td.material as usize];
     let xs = corners(td, x);
@@ -379,6 +454,14 @@ fn tri_force_derivative(
             ]
         }
     };
+    if let Some(s0) = s0 {
+        let sp = initial_stress_cauchy(*s0, f);
+        let dsp = initial_stress_cauchy_derivative(*s0, f, dfm, sp);
+        for k in 0..3 {
+            s[k] += sp[k];
+            ds[k] += dsp[k];
+        }
+    }
     if viscous && td.eta != 0.0 {
         let vs = corners(td, v);
         let gv = edge_matrix(vs[0], vs[1], vs[2]);

@@ -10,7 +10,9 @@ use crate::elements::Elements;
 use crate::forces::tri_stress;
 use crate::ids::TriId;
 use crate::material::PlaneKind;
-use crate::triangle::{det, edge_matrix, elastic_stress_zz, energy_density, mul};
+use crate::triangle::{
+    det, edge_matrix, elastic_stress_zz, energy_density, initial_stress_energy, mul,
+};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -55,10 +57,11 @@ impl Elements {
         let td = &self.tris[t.idx()];
         let c = &self.materials[td.material as usize];
         let xs = td.nodes.map(|n| x[n as usize]);
+        let s0 = self.initial_stress.get(t.idx());
         let (s, f) = if self.viscous {
-            tri_stress::<true>(td, c, xs, v)
+            tri_stress::<true>(td, c, xs, v, s0)
         } else {
-            tri_stress::<false>(td, c, xs, v)
+            tri_stress::<false>(td, c, xs, v, s0)
         };
         let zz = match c.material.plane {
             PlaneKind::Stress => 0.0,
@@ -87,12 +90,37 @@ impl Elements {
     }
 
     /// Strain energy of triangle `t` (J): `A0 t W(F)` (see
-    /// [`crate::triangle::energy_density`]).
+    /// [`crate::triangle::energy_density`]), plus `A0 t S0 : E` for a triangle with an initial
+    /// stress `S0` ([`crate::triangle::initial_stress_energy`]).
     pub fn element_energy(&self, t: TriId, x: &[[f64; 2]]) -> f64 {
         let td = &self.tris[t.idx()];
         let c = &self.materials[td.material as usize];
         let f = self.deformation_gradient(t, x);
-        td.area0 * 2.0 * c.half_t * energy_density(c.law, c.mu, c.lam, f)
+        match self.initial_stress.get(t.idx()) {
+            None => td.area0 * 2.0 * c.half_t * energy_density(c.law, c.mu, c.lam, f),
+            Some(s0) => {
+                td.area0
+                    * 2.0
+                    * c.half_t
+                    * (energy_density(c.law, c.mu, c.lam, f) + initial_stress_energy(*s0, f))
+            }
+        }
+    }
+
+    /// The part of [`Elements::strain_energy`] that is the initial stresses' energy,
+    /// `sum A0 t S0 : E` (J), summed in triangle order; 0 at once when no triangle has one.
+    /// It is linear in the displacement at small strain and may be negative.
+    pub fn initial_stress_energy(&self, x: &[[f64; 2]]) -> f64 {
+        self.initial_stress
+            .iter()
+            .enumerate()
+            .map(|(t, s0)| {
+                let td = &self.tris[t];
+                let c = &self.materials[td.material as usize];
+                let f = self.deformation_gradient(TriId(t as u32), x);
+                td.area0 * 2.0 * c.half_t * initial_stress_energy(*s0, f)
+            })
+            .sum()
     }
 
     /// Total strain energy (J), summed in triangle order (deterministic: the element
@@ -112,6 +140,21 @@ impl Elements {
         energies.iter().sum()
     }
 
+    /// The elastic energy the initial stresses would store as strains (J),
+    /// `sum A0 t (sxx^2 + syy^2 + 2 sxy^2) / (2 (lam* + 2 mu))`: a scale of the energies a
+    /// prestressed body exchanges (0 without initial stress).
+    pub fn initial_stress_energy_scale(&self) -> f64 {
+        self.initial_stress
+            .iter()
+            .zip(&self.tris)
+            .map(|(s, td)| {
+                let c = &self.materials[td.material as usize];
+                td.area0 * 2.0 * c.half_t * (s[0] * s[0] + s[1] * s[1] + 2.0 * s[2] * s[2])
+                    / (2.0 * (c.lam + 2.0 * c.mu))
+            })
+            .sum()
+    }
+
     /// Upper bound (rad/s) on the highest natural frequency of triangle `t` with lumped mass,
     /// at positions `x`: `sqrt(3 c_p^2 (l0^2 + l1^2 + l2^2)) / (2 A)`.
     pub fn frequency_bound(&self, t: TriId, x: &[[f64; 2]]) -> f64 {
@@ -123,7 +166,16 @@ impl Elements {
             .iter()
             .map(|(a, b)| (b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2))
             .sum();
-        let cp2 = (c.lam + 2.0 * c.mu) / c.rho;
+        let cp2 = match self.initial_stress.get(t.idx()) {
+            None => (c.lam + 2.0 * c.mu) / c.rho,
+            // the initial stress's geometric stiffness `A0 t (grad N_a . S0 grad N_b) I`
+            // adds at most its largest principal magnitude to lam* + 2 mu
+            Some(s0) => {
+                let r = (0.25 * (s0[0] - s0[1]).powi(2) + s0[2] * s0[2]).sqrt();
+                let smax = (0.5 * (s0[0] + s0[1])).abs() + r;
+                (c.lam + 2.0 * c.mu + smax) / c.rho
+            }
+        };
         (3.0 * cp2 * l2).sqrt() / a2
     }
 

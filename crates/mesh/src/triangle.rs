@@ -131,3 +131,63 @@ pub fn nodal_forces(s: Sym2, half_t: f64, x: [[f64; 2]; 3]) -> [[f64; 2]; 3] {
     }
     out
 }
+
+/// Cauchy stress `F S0 F^T / J` of a constant second Piola-Kirchhoff initial stress `s0`
+/// (`[xx, yy, xy]`) at deformation gradient `f`: `s0` itself at `F = I`, `Q s0 Q^T` after a
+/// rigid rotation `Q` (objective), and the stress of the potential `S0 : E` per reference
+/// volume, `E = (F^T F - I)/2` ([`initial_stress_energy`]).
+#[inline(always)]
+pub fn initial_stress_cauchy(s0: Sym2, f: Mat2) -> Sym2 {
+    // P = F S0
+    let p = [
+        f[0] * s0[0] + f[1] * s0[2],
+        f[0] * s0[2] + f[1] * s0[1],
+        f[2] * s0[0] + f[3] * s0[2],
+        f[2] * s0[2] + f[3] * s0[1],
+    ];
+    let rj = 1.0 / det(f);
+    [
+        (p[0] * f[0] + p[1] * f[1]) * rj,
+        (p[2] * f[2] + p[3] * f[3]) * rj,
+        (p[0] * f[2] + p[1] * f[3]) * rj,
+    ]
+}
+
+/// Energy of the initial stress per unit reference area and thickness, `S0 : E` with the
+/// Green-Lagrange strain `E = (F^T F - I)/2` (its derivative is [`initial_stress_cauchy`]).
+#[inline]
+pub fn initial_stress_energy(s0: Sym2, f: Mat2) -> f64 {
+    // C = F^T F
+    let cxx = f[0] * f[0] + f[2] * f[2];
+    let cyy = f[1] * f[1] + f[3] * f[3];
+    let cxy = f[0] * f[1] + f[2] * f[3];
+    0.5 * (s0[0] * (cxx - 1.0) + s0[1] * (cyy - 1.0)) + s0[2] * cxy
+}
+
+/// Directional derivative of [`initial_stress_cauchy`] along `df` (with `sp` its value at
+/// `f`): `(dF S0 F^T + F S0 dF^T)/J - tr(F^-1 dF) sp`.
+#[inline(always)]
+pub fn initial_stress_cauchy_derivative(s0: Sym2, f: Mat2, df: Mat2, sp: Sym2) -> Sym2 {
+    // A = dF S0 F^T; dsigma J = A + A^T
+    let ds0 = [
+        df[0] * s0[0] + df[1] * s0[2],
+        df[0] * s0[2] + df[1] * s0[1],
+        df[2] * s0[0] + df[3] * s0[2],
+        df[2] * s0[2] + df[3] * s0[1],
+    ];
+    let a = [
+        ds0[0] * f[0] + ds0[1] * f[1],
+        ds0[0] * f[2] + ds0[1] * f[3],
+        ds0[2] * f[0] + ds0[3] * f[1],
+        ds0[2] * f[2] + ds0[3] * f[3],
+    ];
+    let j = det(f);
+    let fi = inv(f);
+    let c = fi[0] * df[0] + fi[1] * df[2] + fi[2] * df[1] + fi[3] * df[3];
+    let rj = 1.0 / j;
+    [
+        2.0 * a[0] * rj - c * sp[0],
+        2.0 * a[3] * rj - c * sp[1],
+        (a[1] + a[2]) * rj - c * sp[2],
+    ]
+}

@@ -131,7 +131,8 @@ fn partial_explode_of_fracture_zone() {
 
 /// On a wholly exploded mesh the kernel adds each triangle's forces to its own nodes
 /// directly (`Elements::owned_nodes`): the result is the two-pass kernel's bit for bit (elastic
-/// and viscous, 1 and 2 threads, onto zero and onto a non-zero array), and
+/// and viscous, with and without initial stresses, 1 and 2 threads, onto zero and onto a
+/// non-zero array), and
 /// `set_internal_forces` equals zeroing then `internal_forces`. 2 x 70 x 60 = 8 400 triangles:
 /// two chunks of the kernel.
 #[test]
@@ -150,10 +151,16 @@ fn exploded_kernel_matches_the_two_pass_kernel_bit_for_bit() {
             .flat_map(|p| p.map(f64::to_bits))
             .collect::<Vec<_>>()
     };
-    for damping in [0.0, 0.1] {
+    for (damping, pre) in [(0.0, false), (0.1, false), (0.0, true), (0.1, true)] {
         let mut mat = Material::new(1e10, 0.25, 2500.0);
         mat.damping_ratio = damping;
-        let el = elements(&ex.mesh, mat);
+        let mut el = elements(&ex.mesh, mat);
+        if pre {
+            let s0 = (0..el.len())
+                .map(|t| [-1e7 * (1.0 + (t % 5) as f64), -4e6, 1e6 * (t % 3) as f64])
+                .collect();
+            el.set_initial_stress(s0);
+        }
         assert!(el.owned_nodes);
         let mut s = fdem_mesh::ForceScratch::new(&el);
         for threads in [1, 2] {

@@ -38,6 +38,7 @@ pub mod mesh_adapter;
 pub mod mesh_input;
 pub mod model;
 pub mod output;
+pub mod prestress;
 pub mod resolve;
 pub mod run;
 pub mod scene;

@@ -99,12 +99,16 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     }
     crate::stages::validate(&scene, file)?;
     let xi = scene.damping.viscosity_ratio;
-    let elements = mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
-        file: file.to_path_buf(),
-        path: "bodies".into(),
-        message,
-        fix: "check the materials and the mesh".into(),
-    })?;
+    let mut elements =
+        mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
+            file: file.to_path_buf(),
+            path: "bodies".into(),
+            message,
+            fix: "check the materials and the mesh".into(),
+        })?;
+    elements.set_initial_stress(crate::prestress::field(
+        &scene, file, &model, &meshes, &refs,
+    )?);
     let scheme: SchemeKind = scene
         .integrator
         .scheme

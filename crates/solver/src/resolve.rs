@@ -135,6 +135,7 @@ enum Slot {
     Region(usize),
     Interface(usize, usize),
     Pair(usize, usize),
+    InitialStress(usize),
 }
 
 /// A name field as [`walk`] visits it, with what its check needs.
@@ -290,6 +291,7 @@ fn walk<'a>(
         }
         walk_interfaces(fr, f)?;
     }
+    walk_initial_stress(scene, f)?;
     if let Some(c) = &scene.contact {
         for (i, p) in c.pairs.iter().enumerate() {
             for (k, b) in p.bodies.iter().enumerate() {
@@ -357,6 +359,36 @@ fn walk_interfaces<'a>(
     Ok(())
 }
 
+/// The names of `scene.initial_stress` for [`walk`]: each entry's `body`, then its `groups`.
+fn walk_initial_stress<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, e) in scene.initial_stress.iter().enumerate() {
+        if let Some(b) = &e.body {
+            f(Ref {
+                path: format!("initial_stress[{i}].body"),
+                pointer: format!("/initial_stress/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::InitialStress(i),
+            })?;
+        }
+        for (j, g) in e.groups.iter().flatten().enumerate() {
+            f(Ref {
+                path: format!("initial_stress[{i}].groups[{j}]"),
+                pointer: format!("/initial_stress/{i}/groups/{j}"),
+                kind: RefKind::SurfaceGroup,
+                name: g,
+                body: Scope::Named(e.body.as_deref()),
+                slot: Slot::InitialStress(i),
+            })?;
+        }
+    }
+    Ok(())
+}
+
 /// Every name field of `scene` that [`resolve`] checks, with its JSON path and pointer.
 pub fn reference_fields(scene: &Scene) -> Vec<RefField> {
     let mut out = Vec::new();
@@ -385,6 +417,8 @@ pub struct Resolved {
     pub interfaces: Vec<[usize; 2]>,
     /// The two bodies of each contact pair.
     pub pairs: Vec<[usize; 2]>,
+    /// The body of each `initial_stress` entry.
+    pub initial_stress: Vec<usize>,
 }
 
 /// A list of names for a message: `a, b, c`, or `(none)`.
@@ -486,6 +520,7 @@ impl<'a> Resolver<'a> {
         match r.slot {
             Slot::Region(i) => out.fracture_regions[bi].push(i),
             Slot::Pair(i, k) => out.pairs[i][k] = bi,
+            Slot::InitialStress(i) => out.initial_stress[i] = bi,
             _ => {}
         }
         Ok(())
@@ -608,6 +643,23 @@ impl<'a> Resolver<'a> {
             Slot::Condition(i) => out.conditions[i] = bi,
             Slot::Probe(i) => out.probes[i] = Some(bi),
             Slot::Interface(i, k) => out.interfaces[i][k] = bi,
+            Slot::InitialStress(i) => {
+                let named = self.scene.initial_stress[i].body.is_some();
+                if !named && r.path.ends_with("groups[0]") {
+                    out.initial_stress[i] = bi;
+                } else if out.initial_stress[i] != bi {
+                    return Err(self.bad(
+                        &r.path,
+                        format!(
+                            "the group '{}' is in {}, the entry's other groups in {}",
+                            r.name,
+                            self.label(bi),
+                            self.label(out.initial_stress[i])
+                        ),
+                        "give each body its own entry, with \"body\"".into(),
+                    ));
+                }
+            }
             _ => {}
         }
         Ok(())
@@ -799,7 +851,20 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
         fracture_regions: vec![Vec::new(); scene.bodies.len()],
         interfaces: vec![[0, 0]; scene.fracture.as_ref().map_or(0, |f| f.interfaces.len())],
         pairs: vec![[0, 0]; scene.contact.as_ref().map_or(0, |c| c.pairs.len())],
+        initial_stress: vec![0; scene.initial_stress.len()],
     };
+    if scene.bodies.len() > 1
+        && let Some(i) = scene
+            .initial_stress
+            .iter()
+            .position(|e| e.body.is_none() && e.groups.is_none())
+    {
+        return Err(cx.bad(
+            &format!("initial_stress[{i}]"),
+            "the scene has several bodies and the entry names neither a body nor groups".into(),
+            format!("add \"body\": {}", cx.body_fix()),
+        ));
+    }
     walk(scene, &mut |r: Ref<'_>| match r.kind {
         RefKind::BodyName | RefKind::WallName => cx.own_name(&r),
         RefKind::Body => cx.body(&r, &mut out),

@@ -9,6 +9,11 @@
 //! `lam*` is the 3D Lame constant), 0 in plane stress. Strain energy density `sigma:eps / 2`.
 //! Nodal force `f_ext - K u` (zero at free DOFs up to round-off); reaction `K u - f_ext` at
 //! constrained DOFs.
+//!
+//! An initial stress `sigma_0` (`"initial_stress"`) adds `-int B^T sigma_0` to the loads:
+//! `K u = f_ext - int B^T sigma_0`; the stress is the total `sigma_0 + D eps(u)` (the
+//! geometric stiffness of `sigma_0` is left out, as all finite-strain terms are), the energy
+//! density `sigma_0 : eps + eps : D eps / 2`.
 
 use std::time::Instant;
 
@@ -28,6 +33,7 @@ pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
     let k = l.elements.stiffness();
     let mut f = vec![0.0; n];
     l.model.add_external(f64::INFINITY, &mut f);
+    add_initial_stress(l, &mut f);
     let mut prescribed: Vec<(usize, f64)> = Vec::new();
     let mut value = vec![0.0; n];
     for p in &l.model.prescribed {
@@ -53,6 +59,17 @@ pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
     })?;
     check_solution(l, &k, &f, &u)?;
     Ok(u)
+}
+
+/// Adds the element forces of the initial stresses at the reference positions,
+/// `-int B^T sigma_0`, to the flat load vector `f` (nothing without initial stress): the
+/// static solve is then `K u = f_ext - int B^T sigma_0`, the total stress
+/// `sigma_0 + D eps(u)`.
+fn add_initial_stress(l: &Loaded, f: &mut [f64]) {
+    if l.elements.prestressed() {
+        l.elements
+            .add_initial_stress_forces(&l.model.x0, f.as_chunks_mut::<2>().0);
+    }
 }
 
 /// Relative residual above which a static solution is rejected as that of a nearly singular
@@ -124,7 +141,17 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
     }
     let mut fext = vec![0.0; n];
     l.model.add_external(f64::INFINITY, &mut fext);
-    let force: Vec<f64> = (0..n).map(|d| fext[d] - ku[d]).collect();
+    // with initial stress, f0 = -int B^T sigma_0 joins the loads in the nodal force
+    let mut f0 = Vec::new();
+    if l.elements.prestressed() {
+        f0 = vec![0.0; n];
+        add_initial_stress(l, &mut f0);
+    }
+    let force: Vec<f64> = if f0.is_empty() {
+        (0..n).map(|d| fext[d] - ku[d]).collect()
+    } else {
+        (0..n).map(|d| fext[d] + f0[d] - ku[d]).collect()
+    };
     let mut reaction = vec![0.0; n];
     for d in 0..n {
         if l.model.constrained[d] {
@@ -150,8 +177,16 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         stress,
         energy_density,
     );
-    let strain = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
-    let ext = 0.5 * u.iter().zip(&fext).map(|(a, b)| a * b).sum::<f64>();
+    let mut strain = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
+    let mut ext = 0.5 * u.iter().zip(&fext).map(|(a, b)| a * b).sum::<f64>();
+    if !f0.is_empty() {
+        // stored: int sigma_0 : eps = -u . f0 more; supplied: the loads at full strength
+        // from the start (u . f_ext) and the out-of-balance force at u = 0, f_ext + f0,
+        // released linearly (-u . (f_ext + f0) / 2)
+        let uf0 = u.iter().zip(&f0).map(|(a, b)| a * b).sum::<f64>();
+        strain -= uf0;
+        ext -= 0.5 * uf0;
+    }
     let sup = 0.5 * u.iter().zip(&reaction).map(|(a, b)| a * b).sum::<f64>();
     let max_u = frame
         .displacement
@@ -220,6 +255,26 @@ pub fn linear_stresses(l: &Loaded, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
         };
         stress.push([sxx, syy, sxy, szz]);
         density.push(0.5 * (sxx * exx + syy * eyy + sxy * gxy));
+    }
+    // the total stress sigma_0 + D eps, the energy density sigma_0 : eps + eps : D eps / 2
+    for (t, s0) in e.initial_stress.iter().enumerate() {
+        let s = &mut stress[t];
+        let d = &mut density[t];
+        // the triangle's strain, as above
+        let td = &e.tris[t];
+        let g = reference_gradients(td.ginv);
+        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
+        for a in 0..3 {
+            let n = td.nodes[a] as usize;
+            let (ux, uy) = (u[2 * n], u[2 * n + 1]);
+            exx += ux * g[a][0];
+            eyy += uy * g[a][1];
+            gxy += ux * g[a][1] + uy * g[a][0];
+        }
+        s[0] += s0[0];
+        s[1] += s0[1];
+        s[2] += s0[2];
+        *d += s0[0] * exx + s0[1] * eyy + s0[2] * gxy;
     }
     (stress, density)
 }

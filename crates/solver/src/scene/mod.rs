@@ -20,6 +20,7 @@ pub mod bodies;
 pub mod conditions;
 pub mod contact;
 pub mod fracture;
+pub mod initial_stress;
 pub mod integrator;
 pub mod joint_materials;
 pub mod output;
@@ -30,6 +31,7 @@ pub use conditions::{
 };
 pub use contact::ContactSection;
 pub use fracture::FractureSection;
+pub use initial_stress::{GravityStress, InitialStress};
 pub use integrator::{Analysis, Damping, Integrator, TimeStep};
 pub use output::{GroupProbe, Histories, Output, Probe};
 
@@ -72,6 +74,9 @@ pub struct Scene {
     /// Fracturing regions and the joint material (default none: costs nothing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fracture: Option<FractureSection>,
+    /// In-situ (initial) stress of bodies or surface groups (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub initial_stress: Vec<InitialStress>,
 }
 
 impl Scene {
@@ -140,6 +145,7 @@ impl Scene {
         if let Some(f) = &self.fracture {
             f.validate(file)?;
         }
+        initial_stress::validate(&self.initial_stress, file)?;
         Ok(())
     }
 }
