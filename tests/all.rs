@@ -46,6 +46,8 @@ mod fracture_scenes;
 mod fracture_specimens;
 #[path = "fuzz.rs"]
 mod fuzz;
+#[path = "histories.rs"]
+mod histories;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
 #[path = "parity.rs"]

@@ -1,6 +1,7 @@
 //! The convergence of a dynamic relaxation ([`Relaxation`]): at the stability checks, the
 //! relative residual `|f|_free / max(|f_ext|, |reaction|)`; the run ends when it reaches
-//! `integrator.relaxation_tolerance`.
+//! `integrator.relaxation_tolerance`. `|f_ext|` is the full load: ramped loads at full
+//! strength, a load with a time history at its value at the check's time.
 
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::stability::CHECK_EVERY;
@@ -12,6 +13,8 @@ pub struct Relaxation {
     tolerance: f64,
     /// `|f_ext|` at full load.
     load_norm: f64,
+    /// The load vector at a check, when some load has a history (else empty).
+    loads: Vec<f64>,
     /// The relative residual at the last check.
     residual: Option<f64>,
     converged: bool,
@@ -23,6 +26,7 @@ impl Relaxation {
         Self {
             tolerance,
             load_norm: 0.0,
+            loads: Vec::new(),
             residual: None,
             converged: false,
         }
@@ -34,6 +38,9 @@ impl Observer for Relaxation {
         let mut f = vec![0.0; 2 * run.sys.model.n_nodes()];
         run.sys.model.add_external(f64::INFINITY, &mut f);
         self.load_norm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if run.sys.model.loads_have_histories() {
+            self.loads = f;
+        }
         Ok(())
     }
 
@@ -42,6 +49,11 @@ impl Observer for Relaxation {
             return Ok(Flow::Continue);
         }
         let sys = &*run.sys;
+        if !self.loads.is_empty() {
+            self.loads.fill(0.0);
+            sys.model.add_external_static(run.state.t, &mut self.loads);
+            self.load_norm = self.loads.iter().map(|v| v * v).sum::<f64>().sqrt();
+        }
         let f = sys.force.as_flattened();
         let mut r2 = 0.0;
         for d in 0..f.len() {
