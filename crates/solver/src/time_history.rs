@@ -100,6 +100,9 @@ impl Table {
 
     fn value(&self, t: f64) -> f64 {
         let n = self.t.len();
+        if n == 0 {
+            return 0.0;
+        }
         match self.segment(t) {
             Some(k) => {
                 let (df, len) = (self.f[k + 1] - self.f[k], self.t[k + 1] - self.t[k]);
@@ -112,6 +115,9 @@ impl Table {
 
     fn integral(&self, t: f64) -> f64 {
         let n = self.t.len();
+        if n == 0 {
+            return 0.0;
+        }
         match self.segment(t) {
             Some(k) => {
                 let (df, len) = (self.f[k + 1] - self.f[k], self.t[k + 1] - self.t[k]);
@@ -131,12 +137,16 @@ impl Table {
     }
 
     fn period(&self) -> f64 {
-        self.t[self.t.len() - 1] - self.t[0]
+        match (self.t.first(), self.t.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        }
     }
 }
 
 impl History {
-    /// The evaluator of a checked history ([`crate::scene::history::check`]).
+    /// The evaluator of a checked history ([`crate::scene::history::check`]); an unchecked empty
+    /// table evaluates to 0, never panics.
     pub fn new(spec: &HistorySpec) -> Self {
         let (kind, end) = match spec {
             HistorySpec::Table(pts) => (
@@ -155,9 +165,9 @@ impl History {
             ),
             HistorySpec::Shape(Shape::Repeat(r)) => {
                 let table = Table::new(&r.table);
-                let end = r
-                    .cycles
-                    .map_or(f64::INFINITY, |n| table.t[0] + n * table.period());
+                let end = r.cycles.map_or(f64::INFINITY, |n| {
+                    table.t.first().copied().unwrap_or(0.0) + n * table.period()
+                });
                 (
                     Kind::Table {
                         table,
@@ -237,11 +247,11 @@ impl History {
     /// A time `t` of a repeated table moved into the first period, and the number of whole
     /// periods removed.
     fn in_period(&self, table: &Table, periodic: bool, t: f64) -> (f64, f64) {
-        let t0 = table.t[0];
-        if !periodic || t <= table.t[table.t.len() - 1] {
+        let p = table.period();
+        if !periodic || p <= 0.0 || t <= table.t[table.t.len() - 1] {
             return (t, 0.0);
         }
-        let p = table.period();
+        let t0 = table.t[0];
         let mut m = ((t - t0) / p).floor();
         let mut tt = t - m * p;
         // t on a period's end belongs to the period that ends there
@@ -271,8 +281,10 @@ impl History {
         match &self.kind {
             Kind::Table { table, periodic } => {
                 let (tt, m) = self.in_period(table, *periodic, t);
-                let n = table.t.len();
-                let one_period = table.c[n - 1] - table.c[0];
+                let one_period = match (table.c.first(), table.c.last()) {
+                    (Some(a), Some(b)) => b - a,
+                    _ => 0.0,
+                };
                 table.integral(tt) + m * one_period
             }
             Kind::Sine {
