@@ -11,6 +11,9 @@
 //! - a cyclic displacement history on a joint pair: loading past the peak, unloading and
 //!   reloading follow the joint law's envelope and its secant to the origin (1.5 % of
 //!   `ft`), and the energy ledger closes on the cyclic path;
+//! - a relaxation under a load history stops only once the history is constant and reaches
+//!   the static answer at its final value (0.5 %), which the static solve gets by taking the
+//!   history at t = duration;
 //! - a sine pressure and a repeated triangle on a bar: the energy ledger's error converges
 //!   at second order in the step (ratio 3.5 to 4.6 for a step halved);
 //! - bad histories are refused with their JSON path.
@@ -625,4 +628,58 @@ fn energy_ledger_closes_under_a_cyclic_pressure_at_second_order() {
     let ratio = errors[0] / errors[1];
     assert!(errors[0].abs() < 3e-3, "{errors:?}");
     assert!((3.5..4.6).contains(&ratio), "ratio {ratio} ({errors:?})");
+}
+
+#[test]
+fn relaxation_follows_a_load_history_to_the_static_answer_at_its_final_value() {
+    // The cantilever of examples/cantilever-relaxation.json with its tip shear at 0 for 1 s,
+    // loaded to 1, unloaded to 0.5 and held from t = 5 s: the relaxation may not stop before
+    // t = 5 s (at rest under no load its residual is 0: it would "converge" at once) and must
+    // reach the static answer of the load 0.5, which the static solve gives by taking the
+    // same history at t = duration (the example's own tolerance, 0.5 %).
+    let history = json!([[0.0, 0.0], [1.0, 0.0], [3.0, 1.0], [5.0, 0.5]]);
+    let h = history.clone();
+    let dr = common::edited_example("cantilever-relaxation.json", "hist-dr", move |v| {
+        v["boundary_conditions"][1]["traction"]["history"] = h;
+    });
+    let (o, out) = common::run(&dr);
+    assert_eq!(o.summary.converged, Some(true));
+    let (head, rows) = common::histories(&out);
+    let t_end = *common::column(&head, &rows, "time").last().unwrap();
+    let tip_dr = *common::column(&head, &rows, "u_y[tip]").last().unwrap();
+    let st = common::edited_example("cantilever-static.json", "hist-dr-static", move |v| {
+        v["bodies"][0]["mesh"] = common::root()
+            .join("examples/meshes/cantilever-coarse.json")
+            .display()
+            .to_string()
+            .into();
+        v["boundary_conditions"][1]["traction"]["history"] = history;
+        v["duration"] = json!(20.0);
+    });
+    let (_, out) = common::run(&st);
+    let (head, rows) = common::histories(&out);
+    let tip_static = common::column(&head, &rows, "u_y[tip]")[0];
+    let full = common::edited_example("cantilever-static.json", "hist-dr-full", |v| {
+        v["bodies"][0]["mesh"] = common::root()
+            .join("examples/meshes/cantilever-coarse.json")
+            .display()
+            .to_string()
+            .into();
+    });
+    let (_, out) = common::run(&full);
+    let (head, rows) = common::histories(&out);
+    let tip_full = common::column(&head, &rows, "u_y[tip]")[0];
+    let err = ((tip_dr - tip_static) / tip_static).abs();
+    eprintln!(
+        "relaxation under a history: stopped at t = {t_end} s, tip {tip_dr:e}; static at f(duration) = 0.5: {tip_static:e} (full load {tip_full:e}); error {err:e}"
+    );
+    assert!(
+        t_end >= 5.0,
+        "stopped at {t_end} s, before the history settled"
+    );
+    assert!(
+        ((tip_static / tip_full) - 0.5).abs() < 1e-12,
+        "{tip_static} vs {tip_full}"
+    );
+    assert!(err < 5e-3, "error {err}");
 }

@@ -1,7 +1,9 @@
 //! The convergence of a dynamic relaxation ([`Relaxation`]): at the stability checks, the
 //! relative residual `|f|_free / max(|f_ext|, |reaction|)`; the run ends when it reaches
 //! `integrator.relaxation_tolerance`. `|f_ext|` is the full load: ramped loads at full
-//! strength, a load with a time history at its value at the check's time.
+//! strength, a load with a time history at its value at the check's time. With histories
+//! (on loads, prescribed motions or walls) the run cannot converge before the last of them
+//! stops changing: a load held at zero for a while would otherwise meet any tolerance.
 
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::stability::CHECK_EVERY;
@@ -15,6 +17,8 @@ pub struct Relaxation {
     load_norm: f64,
     /// The load vector at a check, when some load has a history (else empty).
     loads: Vec<f64>,
+    /// The time after which every history of the scene is constant [s] (0 without).
+    settle: f64,
     /// The relative residual at the last check.
     residual: Option<f64>,
     converged: bool,
@@ -27,6 +31,7 @@ impl Relaxation {
             tolerance,
             load_norm: 0.0,
             loads: Vec::new(),
+            settle: 0.0,
             residual: None,
             converged: false,
         }
@@ -41,6 +46,15 @@ impl Observer for Relaxation {
         if run.sys.model.loads_have_histories() {
             self.loads = f;
         }
+        let scene = &run.loaded.scene;
+        let walls = scene.contact.iter().flat_map(|c| &c.walls);
+        self.settle = scene
+            .boundary_conditions
+            .iter()
+            .filter_map(|bc| bc.history())
+            .chain(walls.filter_map(|w| w.history.as_ref()))
+            .map(|h| h.settle_time())
+            .fold(0.0, f64::max);
         Ok(())
     }
 
@@ -71,7 +85,7 @@ impl Observer for Relaxation {
         let scale = self.load_norm.max(reac).max(f64::MIN_POSITIVE);
         let r = r2.sqrt() / scale;
         self.residual = Some(r);
-        if r <= self.tolerance {
+        if r <= self.tolerance && run.state.t >= self.settle {
             self.converged = true;
             return Ok(Flow::Stop);
         }

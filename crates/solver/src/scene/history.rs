@@ -137,6 +137,23 @@ impl Steps {
     }
 }
 
+impl HistorySpec {
+    /// The time after which the history no longer changes [s] (`f64::INFINITY` for a sine or
+    /// a repeated table without `cycles`).
+    pub fn settle_time(&self) -> f64 {
+        let last = |pts: &[[f64; 2]]| pts.last().map_or(0.0, |p| p[0]);
+        match self {
+            HistorySpec::Table(pts) => last(pts),
+            HistorySpec::Shape(Shape::Steps(s)) => last(&s.table()),
+            HistorySpec::Shape(Shape::Repeat(r)) => r.cycles.map_or(f64::INFINITY, |n| {
+                let t0 = r.table.first().map_or(0.0, |p| p[0]);
+                t0 + n * (last(&r.table) - t0)
+            }),
+            HistorySpec::Shape(Shape::Sine(s)) => s.cycles.map_or(f64::INFINITY, |n| n * s.period),
+        }
+    }
+}
+
 /// Checks a history at JSON path `path` (e.g. `boundary_conditions[2].pressure.history`).
 pub fn check(h: &HistorySpec, path: &str, file: &Path) -> Result<(), SceneError> {
     let bad = |p: String, message: String, fix: &str| SceneError::invalid(file, p, message, fix);
