@@ -48,6 +48,8 @@ mod fracture_specimens;
 mod fuzz;
 #[path = "histories.rs"]
 mod histories;
+#[path = "joint_materials.rs"]
+mod joint_materials;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
 #[path = "parity.rs"]
