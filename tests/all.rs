@@ -46,6 +46,8 @@ mod fracture_scenes;
 mod fracture_specimens;
 #[path = "fuzz.rs"]
 mod fuzz;
+#[path = "histories.rs"]
+mod histories;
 #[path = "initial_stress.rs"]
 mod initial_stress;
 #[path = "joint_materials.rs"]

@@ -2,7 +2,7 @@
 //! up from the scene's `"contact"` section ([`crate::scene::contact`]).
 //!
 //! Each step (every force evaluation) it moves the rigid walls to `x_w(t) = x_w0 + v_w r(t)`
-//! (`r` the ramp integral), refreshes detection when the buffer may be used up
+//! (`r` the integral of the ramp or history, [`crate::time_history`]), refreshes detection when the buffer may be used up
 //! (`Contact::update_detection`), computes the potential contact forces with friction
 //! (`f = p ∫ (grad phi_c - grad phi_t) dA`, Coulomb with tangential penalty, see
 //! docs/contact.md) and adds them. The friction history is committed in the end-of-step hook
@@ -30,11 +30,12 @@ use std::sync::{Arc, Mutex};
 use fdem_contact::{ActiveBound, Contact, ContactLaw, ContactLaws, ContactSettings, RigidPlane};
 use serde::Serialize;
 
-use crate::model::{Model, ramp_factor, ramp_integral};
+use crate::model::Model;
 use crate::output::FrameData;
 use crate::scene::Scene;
 pub use crate::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
 use crate::system::{ForceContribution, StageReport};
+use crate::time_history::{self, History};
 
 /// The law of `spec` per unit thickness times `thickness`, with Young's modulus `e` for the
 /// defaults.
@@ -160,6 +161,7 @@ struct WallMotion {
     point0: [f64; 2],
     velocity: [f64; 2],
     ramp: f64,
+    history: Option<History>,
 }
 
 /// The contact stage (a [`ForceContribution`]).
@@ -260,6 +262,7 @@ impl ContactStage {
                 point0: w.point,
                 velocity: w.velocity,
                 ramp: w.ramp,
+                history: w.history.as_ref().map(History::new),
             });
         }
         let nw = section.walls.len();
@@ -332,8 +335,8 @@ impl ContactStage {
 
     fn place_walls(&mut self, t: f64) {
         for (w, m) in self.contact.walls.iter_mut().zip(&self.motion) {
-            let r = ramp_integral(t, m.ramp);
-            let s = ramp_factor(t, m.ramp);
+            let r = time_history::integral(t, m.ramp, m.history.as_ref());
+            let s = time_history::factor(t, m.ramp, m.history.as_ref());
             w.point = [
                 m.point0[0] + m.velocity[0] * r,
                 m.point0[1] + m.velocity[1] * r,
@@ -509,7 +512,7 @@ impl ForceContribution for ContactStage {
             // Force of the wall on the bodies: minus the reaction on the wall; per unit
             // thickness already scaled by the thickness in the laws.
             let f = [-self.reactions[k][0], -self.reactions[k][1]];
-            let s = ramp_integral(t, m.ramp);
+            let s = time_history::integral(t, m.ramp, m.history.as_ref());
             let u = [m.velocity[0] * s, m.velocity[1] * s];
             for c in 0..2 {
                 r.wall_work += 0.5 * (self.prev_force[k][c] + f[c]) * (u[c] - self.prev_disp[k][c]);

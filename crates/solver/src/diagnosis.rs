@@ -189,7 +189,11 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
             BoundaryCondition::Traction(p) => ("traction", &p.group),
             BoundaryCondition::PointLoad(p) => ("point load", &p.group),
             BoundaryCondition::Velocity(v) => {
-                let speed = v.x.unwrap_or(0.0).hypot(v.y.unwrap_or(0.0));
+                let peak = v
+                    .history
+                    .as_ref()
+                    .map_or(1.0, |h| crate::time_history::History::new(h).max_abs());
+                let speed = peak * v.x.unwrap_or(0.0).hypot(v.y.unwrap_or(0.0));
                 let b = model
                     .groups
                     .iter()
@@ -215,7 +219,7 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
                 }
                 continue;
             }
-            BoundaryCondition::Fixed(_) => continue,
+            BoundaryCondition::Fixed(_) | BoundaryCondition::Displacement(_) => continue,
         };
         let Some(load) = loads.next() else { break };
         let total: f64 = {
@@ -223,7 +227,8 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
             for &(d, f) in &load.forces {
                 per_node.entry(d / 2).or_default()[(d % 2) as usize] += f;
             }
-            per_node.values().map(|f| f[0].hypot(f[1])).sum()
+            let peak = load.history.as_ref().map_or(1.0, |h| h.max_abs());
+            peak * per_node.values().map(|f| f[0].hypot(f[1])).sum::<f64>()
         };
         let b = load
             .forces

@@ -275,8 +275,8 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
 
 /// When the first joint is expected to soften, from its utilisation `u` at time `t_s`
 /// (capped at `t_end`): the utilisation grows in proportion to the loading, the displacement
-/// of the moving walls (`ramp_integral` of the slowest ramp) when the scene has any, else
-/// time.
+/// of the moving walls (`ramp_integral` of the slowest ramp) when the scene has any and none
+/// has a time history, else time.
 fn softening_time(l: &Loaded, t_s: f64, u: f64, t_end: f64) -> f64 {
     if u >= 1.0 {
         return t_s.min(t_end);
@@ -285,6 +285,7 @@ fn softening_time(l: &Loaded, t_s: f64, u: f64, t_end: f64) -> f64 {
         .scene
         .contact
         .as_ref()
+        .filter(|c| c.walls.iter().all(|w| w.history.is_none()))
         .map(|c| {
             c.walls
                 .iter()

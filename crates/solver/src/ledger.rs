@@ -39,7 +39,7 @@ use serde::Serialize;
 
 use fdem_time::State;
 
-use crate::model::{self, Model};
+use crate::model::Model;
 use crate::system::{SceneSystem, StageReport};
 
 /// The energy ledger [J] (see the module docs): the terms at t = 0, supplied since, present
@@ -517,7 +517,7 @@ fn external_loads(m: &Model, loaded_dofs: &[usize], t: f64, buf: &mut [f64]) {
         buf[d] = 0.0;
     }
     for ld in &m.loads {
-        let s = model::ramp_factor(t, ld.ramp);
+        let s = ld.factor(t);
         for &(d, v) in &ld.forces {
             buf[d as usize] += s * v;
         }

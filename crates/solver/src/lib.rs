@@ -7,6 +7,8 @@
 //! - [`resolve`]: every name a scene refers to, resolved once against the bodies' meshes.
 //! - [`limits`]: the derived quantities of a run (step, steps, frames, rows) checked.
 //! - [`model`]: all bodies in one node numbering; constraints; consistent nodal loads.
+//! - [`time_history`]: the factor of a load, prescribed motion or wall in time (its ramp or
+//!   history), its integral and its rate.
 //! - [`system`]: the composition as the time crate's `SecondOrderSystem`:
 //!   `M a = f_int(x, v) + s(t) f_ext + M g - alpha M v + sum f_contrib`, constrained DOFs
 //!   prescribed. Terms a scene lacks are skipped (cost nothing).
@@ -49,6 +51,7 @@ pub mod static_checks;
 pub mod static_solve;
 pub mod summary;
 pub mod system;
+pub mod time_history;
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 

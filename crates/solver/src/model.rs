@@ -9,54 +9,91 @@
 //! - point load `P` on a group of `k` nodes: `P / k` on each;
 //! - gravity `g`: `m_i g` on node `i` (lumped mass `m_i = sum rho A0 t / 3`).
 //!
-//! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0).
+//! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0), or by its time
+//! history ([`crate::time_history`]).
 
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::Arc;
 
 use crate::error::SceneError;
 pub use crate::mesh_input::MeshInput;
 use crate::resolve::Resolved;
-use crate::scene::{BoundaryCondition, MaterialSpec, Scene};
+use crate::scene::{BoundaryCondition, HistorySpec, MaterialSpec, Scene};
+use crate::time_history::{self, History};
+pub use crate::time_history::{ramp_factor, ramp_integral};
 
-/// A load with a ramp: nodal forces (DOF, value) at full strength.
+/// A load with a ramp or a time history: nodal forces (DOF, value) at full strength (factor 1).
 #[derive(Debug, Clone)]
 pub struct RampedLoad {
     /// Ramp time [s] (0: a step).
     pub ramp: f64,
     /// (DOF index, force [N]) pairs.
     pub forces: Vec<(u32, f64)>,
+    /// The time history of the factor, in place of the ramp.
+    pub history: Option<Arc<History>>,
 }
 
-/// A prescribed-velocity DOF.
-#[derive(Debug, Clone, Copy)]
+impl RampedLoad {
+    /// The factor on the forces at time `t`.
+    pub fn factor(&self, t: f64) -> f64 {
+        time_history::factor(t, self.ramp, self.history.as_deref())
+    }
+
+    /// The factor of the static solve and of the relaxation's load scale: 1 with a ramp (the
+    /// full load), the history's at `t` otherwise.
+    pub fn static_factor(&self, t: f64) -> f64 {
+        self.history.as_ref().map_or(1.0, |h| h.value(t))
+    }
+}
+
+/// A DOF with a prescribed velocity or displacement.
+#[derive(Debug, Clone)]
 pub struct PrescribedDof {
     /// DOF index (2 node + component).
     pub dof: u32,
-    /// Full velocity [m/s].
+    /// Full velocity [m/s] (a displacement [m] when `displacement`).
     pub velocity: f64,
     /// Ramp time [s].
     pub ramp: f64,
+    /// The time history of the factor, in place of the ramp.
+    pub history: Option<Arc<History>>,
+    /// A prescribed displacement `velocity f(t)` (its velocity `velocity f'(t)`), not a
+    /// velocity.
+    pub displacement: bool,
 }
 
-/// Ramp factor `min(1, t/ramp)`, 1 for a step.
-pub fn ramp_factor(t: f64, ramp: f64) -> f64 {
-    if ramp <= 0.0 {
-        1.0
-    } else {
-        (t / ramp).min(1.0)
+impl PrescribedDof {
+    /// The displacement from the reference and the velocity at time `t`.
+    pub fn motion(&self, t: f64) -> (f64, f64) {
+        let h = self.history.as_deref();
+        if self.displacement {
+            (
+                self.velocity * time_history::factor(t, self.ramp, h),
+                self.velocity * time_history::rate(t, self.ramp, h),
+            )
+        } else {
+            (
+                self.velocity * time_history::integral(t, self.ramp, h),
+                self.velocity * time_history::factor(t, self.ramp, h),
+            )
+        }
+    }
+
+    /// The displacement of the static solve at time `t` (the duration): a velocity's
+    /// integral to `t`; a displacement's history at `t`, or its full value with a ramp.
+    pub fn static_displacement(&self, t: f64) -> f64 {
+        match (self.displacement, &self.history) {
+            (true, None) => self.velocity,
+            (true, Some(h)) => self.velocity * h.value(t),
+            (false, h) => self.velocity * time_history::integral(t, self.ramp, h.as_deref()),
+        }
     }
 }
 
-/// Integral of the ramp factor from 0 to t (displacement of a ramped unit velocity).
-pub fn ramp_integral(t: f64, ramp: f64) -> f64 {
-    if ramp <= 0.0 {
-        t
-    } else if t <= ramp {
-        0.5 * t * t / ramp
-    } else {
-        t - 0.5 * ramp
-    }
+/// The evaluator of an optional history spec.
+fn evaluator(h: Option<&HistorySpec>) -> Option<Arc<History>> {
+    h.map(|h| Arc::new(History::new(h)))
 }
 
 /// The whole scene in one node numbering.
@@ -113,7 +150,7 @@ impl Model {
     /// External load vector (flat DOFs) at time t, gravity included, added to `f`.
     pub fn add_external(&self, t: f64, f: &mut [f64]) {
         for l in &self.loads {
-            let s = ramp_factor(t, l.ramp);
+            let s = l.factor(t);
             for &(d, v) in &l.forces {
                 f[d as usize] += s * v;
             }
@@ -124,6 +161,28 @@ impl Model {
                 f[2 * i + 1] += m * g[1];
             }
         }
+    }
+
+    /// The static load vector (flat DOFs), gravity included, added to `f`: ramped loads at
+    /// full strength, loads with a history at its value at `t` ([`RampedLoad::static_factor`]).
+    pub fn add_external_static(&self, t: f64, f: &mut [f64]) {
+        for l in &self.loads {
+            let s = l.static_factor(t);
+            for &(d, v) in &l.forces {
+                f[d as usize] += s * v;
+            }
+        }
+        if let Some(g) = self.gravity {
+            for (i, m) in self.mass.iter().enumerate() {
+                f[2 * i] += m * g[0];
+                f[2 * i + 1] += m * g[1];
+            }
+        }
+    }
+
+    /// Whether some load has a time history.
+    pub fn loads_have_histories(&self) -> bool {
+        self.loads.iter().any(|l| l.history.is_some())
     }
 
     /// The nodes of group `name` of body `body` (global node indices), if it has one.
@@ -328,17 +387,25 @@ fn constrain_and_load(
                     }
                 }
             }
-            BoundaryCondition::Velocity(v) => {
-                let nodes = nodes_of(&v.group)?;
+            BoundaryCondition::Velocity(_) | BoundaryCondition::Displacement(_) => {
+                let (group, xy, ramp, displacement) = match bc {
+                    BoundaryCondition::Velocity(v) => (&v.group, [v.x, v.y], v.ramp, false),
+                    BoundaryCondition::Displacement(v) => (&v.group, [v.x, v.y], v.ramp, true),
+                    _ => unreachable!(),
+                };
+                let history = evaluator(bc.history());
+                let nodes = nodes_of(group)?;
                 for n in nodes {
-                    for (c, val) in [v.x, v.y].into_iter().enumerate() {
+                    for (c, val) in xy.into_iter().enumerate() {
                         if let Some(val) = val {
                             let dof = 2 * n + c as u32;
                             m.constrained[dof as usize] = true;
                             m.prescribed.push(PrescribedDof {
                                 dof,
                                 velocity: val,
-                                ramp: v.ramp,
+                                ramp,
+                                history: history.clone(),
+                                displacement,
                             });
                         }
                     }
@@ -350,6 +417,7 @@ fn constrain_and_load(
                     BoundaryCondition::Traction(p) => (&p.group, p.ramp),
                     _ => unreachable!(),
                 };
+                let history = evaluator(bc.history());
                 let edges = edges_of(group)?;
                 let forces = edge_forces(m, bc, group, edges, &opposite, &node_thickness).map_err(
                     |message| SceneError::Invalid {
@@ -359,7 +427,11 @@ fn constrain_and_load(
                         fix: "mesh the edge group conforming with the surface".into(),
                     },
                 )?;
-                m.loads.push(RampedLoad { ramp, forces });
+                m.loads.push(RampedLoad {
+                    ramp,
+                    forces,
+                    history,
+                });
             }
             BoundaryCondition::PointLoad(p) => {
                 let nodes = nodes_of(&p.group)?;
@@ -371,6 +443,7 @@ fn constrain_and_load(
                 m.loads.push(RampedLoad {
                     ramp: p.ramp,
                     forces,
+                    history: evaluator(bc.history()),
                 });
             }
         }
@@ -407,7 +480,12 @@ fn edge_forces(
         let th = node_thickness[a as usize];
         let fvec = match bc {
             BoundaryCondition::Pressure(p) => [-p.value * n[0], -p.value * n[1]],
-            BoundaryCondition::Traction(p) => p.value,
+            BoundaryCondition::Traction(p) => match (p.value, p.local) {
+                (Some(v), _) => v,
+                // [normal, tangential] on (n, s), s = n turned 90 degrees counter-clockwise
+                (None, Some([tn, ts])) => [tn * n[0] - ts * n[1], tn * n[1] + ts * n[0]],
+                (None, None) => [0.0, 0.0],
+            },
             _ => unreachable!(),
         };
         for node in [a, b] {

@@ -169,6 +169,7 @@ fn condition_kind(bc: &BoundaryCondition) -> &'static str {
         BoundaryCondition::Pressure(_) => "pressure",
         BoundaryCondition::Traction(_) => "traction",
         BoundaryCondition::PointLoad(_) => "point-load",
+        BoundaryCondition::Displacement(_) => "displacement",
     }
 }
 

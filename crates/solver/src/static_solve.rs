@@ -1,8 +1,9 @@
 //! The static analysis: the small-strain linear-elastic solve `K u = f` of the same
 //! constant-strain triangles (the mesh crate's sparse stiffness and faer's sparse Cholesky),
 //! with the scene's Dirichlet conditions (fixed DOFs: `u = 0`; prescribed velocity `v` with
-//! ramp `r`: `u = v (T - r/2)` at the end of the duration `T`) and Neumann loads at full
-//! strength (pressure, traction, point loads, gravity).
+//! ramp `r`: `u = v (T - r/2)` at the end of the duration `T`, with a history `v F(T)`;
+//! prescribed displacement `d`: `d`, with a history `d f(T)`) and Neumann loads at full
+//! strength (pressure, traction, point loads, gravity), a load with a history at `f(T)`.
 //!
 //! Stresses are the linear ones, `sigma = D eps(u)`, `eps = sym grad u` with the reference
 //! shape-function gradients; `sigma_zz = lam* (eps_xx + eps_yy)` in plane strain (where
@@ -22,7 +23,6 @@ use fdem_mesh::{PlaneKind, reference_gradients};
 use crate::error::{RunError, SceneError};
 use crate::ledger::Energies;
 use crate::load::Loaded;
-use crate::model::ramp_integral;
 use crate::output::{FrameData, frame_from_parts};
 use crate::summary::Summary;
 use crate::system::StageTimers;
@@ -32,11 +32,16 @@ pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
     let n = 2 * l.model.n_nodes();
     let k = l.elements.stiffness();
     let mut f = vec![0.0; n];
-    l.model.add_external(f64::INFINITY, &mut f);
+    let t_load = l.scene.duration.unwrap_or(f64::INFINITY);
+    l.model.add_external_static(t_load, &mut f);
     add_initial_stress(l, &mut f);
     let mut prescribed: Vec<(usize, f64)> = Vec::new();
     let mut value = vec![0.0; n];
     for p in &l.model.prescribed {
+        if p.displacement {
+            value[p.dof as usize] = p.static_displacement(t_load);
+            continue;
+        }
         let Some(t) = l.scene.duration else {
             return Err(SceneError::Invalid {
                 file: l.file.clone(),
@@ -46,7 +51,7 @@ pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
             }
             .into());
         };
-        value[p.dof as usize] = p.velocity * ramp_integral(t, p.ramp);
+        value[p.dof as usize] = p.static_displacement(t);
     }
     for d in 0..n {
         if l.model.constrained[d] {
@@ -140,7 +145,8 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         }
     }
     let mut fext = vec![0.0; n];
-    l.model.add_external(f64::INFINITY, &mut fext);
+    l.model
+        .add_external_static(l.scene.duration.unwrap_or(f64::INFINITY), &mut fext);
     // with initial stress, f0 = -int B^T sigma_0 joins the loads in the nodal force
     let mut f0 = Vec::new();
     if l.elements.prestressed() {

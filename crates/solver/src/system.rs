@@ -6,7 +6,7 @@
 //! `f_i = f_int,i(x, v) + s(t) f_ext,i + m_i g - alpha m_i v_i + sum_c f_c,i(t, x, v)`
 //!
 //! with `f_int` the mesh crate's internal force (elastic + element viscosity), `s(t)` each
-//! load's ramp, `alpha` the mass-proportional damping, and `f_c` the optional contributions.
+//! load's ramp or history, `alpha` the mass-proportional damping, and `f_c` the optional contributions.
 //! A term the scene does not have costs nothing: no loads, no gravity, `alpha = 0`, no
 //! viscosity (the mesh kernel then never reads `v`) and an empty contribution list are all
 //! skipped. Constrained DOFs get zero acceleration and are moved by [`SceneSystem::prescribe`].
@@ -17,7 +17,7 @@ use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
 use rayon::prelude::*;
 
-use crate::model::{Model, ramp_factor, ramp_integral};
+use crate::model::Model;
 use crate::output::FrameData;
 
 /// Below this many DOFs the element-wise loops of the system run serially.
@@ -338,8 +338,9 @@ impl SecondOrderSystem for SceneSystem {
     fn prescribe(&mut self, t: f64, x: &mut [f64], v: &mut [f64]) {
         for p in &self.model.prescribed {
             let d = p.dof as usize;
-            x[d] = self.x0[d] + p.velocity * ramp_integral(t, p.ramp);
-            v[d] = p.velocity * ramp_factor(t, p.ramp);
+            let (u, vel) = p.motion(t);
+            x[d] = self.x0[d] + u;
+            v[d] = vel;
         }
     }
 

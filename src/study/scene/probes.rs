@@ -120,7 +120,11 @@ pub(super) fn probe_start(
             c.walls
                 .iter()
                 .map(|w| {
-                    let r = fdem_solver::model::ramp_integral(t, w.ramp);
+                    let h = w
+                        .history
+                        .as_ref()
+                        .map(fdem_solver::time_history::History::new);
+                    let r = fdem_solver::time_history::integral(t, w.ramp, h.as_ref());
                     [w.velocity[0] * r, w.velocity[1] * r]
                 })
                 .collect()
@@ -192,7 +196,11 @@ pub(super) fn stability_probe(
             .filter(|&(d, a)| !l.model.constrained[d] && *a != 0.0)
             .map(|(d, a)| (d as u32, -l.model.mass[d / 2] * a))
             .collect();
-        l.model.loads = vec![fdem_solver::model::RampedLoad { ramp: 0.0, forces }];
+        l.model.loads = vec![fdem_solver::model::RampedLoad {
+            ramp: 0.0,
+            forces,
+            history: None,
+        }];
     }
     let e_seed = l.model.kinetic_energy(seed);
     l.model.v0 = seed

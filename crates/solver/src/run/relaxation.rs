@@ -1,6 +1,9 @@
 //! The convergence of a dynamic relaxation ([`Relaxation`]): at the stability checks, the
 //! relative residual `|f|_free / max(|f_ext|, |reaction|)`; the run ends when it reaches
-//! `integrator.relaxation_tolerance`.
+//! `integrator.relaxation_tolerance`. `|f_ext|` is the full load: ramped loads at full
+//! strength, a load with a time history at its value at the check's time. With histories
+//! (on loads, prescribed motions or walls) the run cannot converge before the last of them
+//! stops changing: a load held at zero for a while would otherwise meet any tolerance.
 
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::stability::CHECK_EVERY;
@@ -12,6 +15,10 @@ pub struct Relaxation {
     tolerance: f64,
     /// `|f_ext|` at full load.
     load_norm: f64,
+    /// The load vector at a check, when some load has a history (else empty).
+    loads: Vec<f64>,
+    /// The time after which every history of the scene is constant [s] (0 without).
+    settle: f64,
     /// The relative residual at the last check.
     residual: Option<f64>,
     converged: bool,
@@ -23,6 +30,8 @@ impl Relaxation {
         Self {
             tolerance,
             load_norm: 0.0,
+            loads: Vec::new(),
+            settle: 0.0,
             residual: None,
             converged: false,
         }
@@ -34,6 +43,18 @@ impl Observer for Relaxation {
         let mut f = vec![0.0; 2 * run.sys.model.n_nodes()];
         run.sys.model.add_external(f64::INFINITY, &mut f);
         self.load_norm = f.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if run.sys.model.loads_have_histories() {
+            self.loads = f;
+        }
+        let scene = &run.loaded.scene;
+        let walls = scene.contact.iter().flat_map(|c| &c.walls);
+        self.settle = scene
+            .boundary_conditions
+            .iter()
+            .filter_map(|bc| bc.history())
+            .chain(walls.filter_map(|w| w.history.as_ref()))
+            .map(|h| h.settle_time())
+            .fold(0.0, f64::max);
         Ok(())
     }
 
@@ -42,6 +63,11 @@ impl Observer for Relaxation {
             return Ok(Flow::Continue);
         }
         let sys = &*run.sys;
+        if !self.loads.is_empty() {
+            self.loads.fill(0.0);
+            sys.model.add_external_static(run.state.t, &mut self.loads);
+            self.load_norm = self.loads.iter().map(|v| v * v).sum::<f64>().sqrt();
+        }
         let f = sys.force.as_flattened();
         let mut r2 = 0.0;
         for d in 0..f.len() {
@@ -59,7 +85,7 @@ impl Observer for Relaxation {
         let scale = self.load_norm.max(reac).max(f64::MIN_POSITIVE);
         let r = r2.sqrt() / scale;
         self.residual = Some(r);
-        if r <= self.tolerance {
+        if r <= self.tolerance && run.state.t >= self.settle {
             self.converged = true;
             return Ok(Flow::Stop);
         }

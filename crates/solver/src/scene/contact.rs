@@ -7,6 +7,7 @@ use std::path::Path;
 use fdem_contact::ContactLaw;
 use serde::{Deserialize, Serialize};
 
+use super::history::HistorySpec;
 use crate::error::SceneError;
 
 /// The scene's `"contact"` section. Present and `enabled` (default true): contact between all
@@ -120,6 +121,10 @@ pub struct WallSpec {
     /// Ramp time of the velocity [s] (default 0: a step).
     #[serde(default)]
     pub ramp: f64,
+    /// Time history of the factor on the velocity (default none: the `ramp`); not with
+    /// `ramp`. The wall moves as `point + velocity F(t)`, `F` the history's integral.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub history: Option<HistorySpec>,
     /// The wall's contact law (penalty default: `penalty_factor` times the largest Young's
     /// modulus of the scene).
     #[serde(default)]

@@ -6,7 +6,7 @@
 //! with an example per specimen, is documented in `docs/scene-format.md`.
 //!
 //! One file per part of the format: [`bodies`] (meshes and materials), [`conditions`]
-//! (boundary conditions and loads), [`integrator`] (analysis, time integration, damping),
+//! (boundary conditions and loads), [`history`] (their time histories), [`integrator`] (analysis, time integration, damping),
 //! [`output`] (frames and history probes), [`contact`] and [`fracture`] (the optional
 //! sections). The scene depends on nothing of the stages that read it.
 
@@ -20,6 +20,7 @@ pub mod bodies;
 pub mod conditions;
 pub mod contact;
 pub mod fracture;
+pub mod history;
 pub mod initial_stress;
 pub mod integrator;
 pub mod joint_materials;
@@ -27,10 +28,12 @@ pub mod output;
 
 pub use bodies::{Body, Law, MaterialSpec, Plane};
 pub use conditions::{
-    BoundaryCondition, Fixed, PointLoad, PrescribedVelocity, PressureLoad, TractionLoad,
+    BoundaryCondition, Fixed, PointLoad, PrescribedDisplacement, PrescribedVelocity, PressureLoad,
+    TractionLoad,
 };
 pub use contact::ContactSection;
 pub use fracture::FractureSection;
+pub use history::HistorySpec;
 pub use initial_stress::{GravityStress, InitialStress};
 pub use integrator::{Analysis, Damping, Integrator, TimeStep};
 pub use output::{GroupProbe, Histories, Output, Probe};
@@ -119,6 +122,13 @@ impl Scene {
         };
         bodies::validate(&self.bodies, file)?;
         conditions::validate(&self.boundary_conditions, file)?;
+        if self.analysis == Analysis::Static {
+            conditions::validate_static(&self.boundary_conditions, self.duration, file)?;
+        }
+        for (i, w) in self.contact.iter().flat_map(|c| c.walls.iter().enumerate()) {
+            let path = format!("contact.walls[{i}]");
+            history::check_with_ramp(w.history.as_ref(), w.ramp, &path, file)?;
+        }
         self.integrator.validate(self.analysis, file)?;
         if self.analysis != Analysis::Static {
             match self.duration {
