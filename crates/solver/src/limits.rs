@@ -416,7 +416,9 @@ fn element_driver(scene: &Scene, model: &Model, t: usize, w: f64) -> StepDriver 
         .materials
         .iter()
         .find(|(_, m)| {
-            m.young == spec.young && m.density == spec.density && m.poisson == spec.poisson
+            (m.young == spec.young || m.heterogeneity.is_some())
+                && m.density == spec.density
+                && m.poisson == spec.poisson
         })
         .map_or("*", |(k, _)| k.as_str());
     let c2 = spec.young / spec.density;

@@ -111,8 +111,12 @@ pub struct Model {
     pub tri_body: Vec<u32>,
     /// Thickness of each triangle [m].
     pub tri_thickness: Vec<f64>,
-    /// The distinct (material, thickness [m]) pairs.
+    /// The distinct (material, thickness [m]) pairs, and one row per triangle of a material
+    /// with a heterogeneity (its Young's modulus drawn for that triangle).
     pub materials: Vec<(MaterialSpec, f64)>,
+    /// Whether some triangle's Young's modulus is drawn (a material with a heterogeneity):
+    /// the frames then write each cell's `young`.
+    pub drawn_young: bool,
     /// First node of each body, and one past the last.
     pub body_nodes: Vec<std::ops::Range<u32>>,
     /// Lumped node masses [kg].
@@ -253,6 +257,8 @@ fn add_bodies(
     meshes: &[MeshInput],
 ) -> Result<EdgeGroups, SceneError> {
     let mut edge_groups: EdgeGroups = Vec::new();
+    // The rows shared by triangles (materials without heterogeneity), searched for reuse.
+    let mut shared: Vec<usize> = Vec::new();
     for (bi, (body, mesh)) in scene.bodies.iter().zip(meshes).enumerate() {
         let base = m.x0.len() as u32;
         m.body_nodes.push(base..base + mesh.nodes.len() as u32);
@@ -275,15 +281,23 @@ fn add_bodies(
                         format!("triangle {ti} is in group '{g}', which has no material"),
                     )
                 })?;
-            let mi = match m
-                .materials
-                .iter()
-                .position(|x| same(&x.0, spec) && x.1 == body.thickness)
-            {
-                Some(i) => i,
-                None => {
-                    m.materials.push((*spec, body.thickness));
-                    m.materials.len() - 1
+            let mi = if spec.heterogeneity.is_some() {
+                // its own row: Young's modulus drawn for its global index
+                m.drawn_young = true;
+                m.materials
+                    .push((spec.row(m.triangles.len() as u64), body.thickness));
+                m.materials.len() - 1
+            } else {
+                match shared.iter().copied().find(|&i| {
+                    let x = &m.materials[i];
+                    same(&x.0, spec) && x.1 == body.thickness
+                }) {
+                    Some(i) => i,
+                    None => {
+                        m.materials.push((*spec, body.thickness));
+                        shared.push(m.materials.len() - 1);
+                        m.materials.len() - 1
+                    }
                 }
             };
             m.triangles.push([t[0] + base, t[1] + base, t[2] + base]);

@@ -117,7 +117,19 @@ pub fn frame_from_parts(
         material: model.tri_material.iter().map(|&m| m as i32).collect(),
         body: model.tri_body.iter().map(|&b| b as i32).collect(),
         extra_point_vectors: Vec::new(),
-        extra_cell_scalars: Vec::new(),
+        // Young's modulus per cell [Pa], only when some triangle's is drawn
+        extra_cell_scalars: if model.drawn_young {
+            vec![(
+                "young".into(),
+                model
+                    .tri_material
+                    .iter()
+                    .map(|&r| model.materials[r as usize].0.young)
+                    .collect(),
+            )]
+        } else {
+            Vec::new()
+        },
         joints: None,
     }
 }
