@@ -131,6 +131,8 @@ fn drawn_moduli_are_the_same_bits_on_any_thread_count_and_follow_the_law() {
     for (t, e) in e1.iter().enumerate() {
         assert_eq!(e.to_bits(), h.young(t as u64).to_bits(), "triangle {t}");
     }
+    // one material entry: one material id for all its triangles
+    assert!(one.material.iter().all(|&m| m == 0), "material ids differ");
     let same = e1.iter().zip(e3).filter(|(a, b)| a == b).count();
     assert_eq!(same, 0, "seed 12 draws {same} moduli of seed 11");
     // Weibull m = 3: mean lambda Gamma(4/3), deviation lambda sqrt(Gamma(5/3) - Gamma(4/3)^2)
@@ -147,8 +149,14 @@ fn drawn_moduli_are_the_same_bits_on_any_thread_count_and_follow_the_law() {
         (m - mean) / mean,
         (s - sd) / sd
     );
-    assert!((m - mean).abs() < tol_m, "mean {m:e} vs {mean:e} +- {tol_m:e}");
-    assert!((s - sd).abs() < tol_s, "deviation {s:e} vs {sd:e} +- {tol_s:e}");
+    assert!(
+        (m - mean).abs() < tol_m,
+        "mean {m:e} vs {mean:e} +- {tol_m:e}"
+    );
+    assert!(
+        (s - sd).abs() < tol_s,
+        "deviation {s:e} vs {sd:e} +- {tol_s:e}"
+    );
     // Kolmogorov-Smirnov distance to the law's CDF: below 1.95 / sqrt(n) (level 0.001)
     let mut sorted = e1.to_vec();
     sorted.sort_by(f64::total_cmp);
@@ -196,6 +204,43 @@ fn the_effective_modulus_of_drawn_moduli_lies_between_reuss_and_voigt() {
     assert!(voigt > 1.1 * reuss, "Reuss {reuss} Voigt {voigt}");
 }
 
+#[test]
+fn only_the_group_with_a_heterogeneity_draws_and_each_group_keeps_one_material_id() {
+    // the block's triangles split into `a` (cells left of the middle, drawn) and `b`
+    // (uniform): `a` draws for its global indices, `b` keeps its modulus
+    let dir = common::temp_dir("young-groups");
+    let p = tension_scene(&dir, rock(None));
+    let mesh_path = dir.join("block.json");
+    let mut mesh: Value =
+        serde_json::from_str(&std::fs::read_to_string(&mesh_path).unwrap()).unwrap();
+    let in_a = |t: usize| (t / 2) % N < N / 2;
+    let (a, b): (Vec<usize>, Vec<usize>) = (0..2 * N * N).partition(|&t| in_a(t));
+    mesh["groups"][0] = json!({"name": "b", "dim": 2, "triangles": b});
+    mesh["groups"]
+        .as_array_mut()
+        .unwrap()
+        .insert(0, json!({"name": "a", "dim": 2, "triangles": a}));
+    std::fs::write(&mesh_path, mesh.to_string()).unwrap();
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    v["bodies"][0]["materials"] = json!({"a": rock(Some(5)), "b": rock(None)});
+    std::fs::write(&p, v.to_string()).unwrap();
+    let f = common::run(&p).0.last_frame;
+    let h: BulkHeterogeneity = serde_json::from_value(
+        json!({"seed": 5, "young": {"weibull": {"modulus": M, "scale": SCALE}}}),
+    )
+    .unwrap();
+    let e = young(&f).unwrap();
+    for t in 0..2 * N * N {
+        let (want, id) = if in_a(t) {
+            (h.young(t as u64), 0)
+        } else {
+            (SCALE, 1)
+        };
+        assert_eq!(e[t].to_bits(), want.to_bits(), "triangle {t}");
+        assert_eq!(f.material[t], id, "triangle {t}");
+    }
+}
+
 /// The stable step limit [s] of a short dynamic run of the block (left edge held in x).
 fn step_limit(tag: &str, rock: Value) -> f64 {
     let dir = common::temp_dir(tag);
@@ -235,7 +280,10 @@ fn the_stable_step_is_that_of_the_stiffest_drawn_triangle() {
         "step limit: drawn {drawn:.6e} s, uniform E_max = {e_max:.4e} Pa {uniform:.6e} s, \
          uniform E = scale {mean:.6e} s"
     );
-    assert!((drawn - uniform).abs() <= 1e-12 * uniform, "{drawn} vs {uniform}");
+    assert!(
+        (drawn - uniform).abs() <= 1e-12 * uniform,
+        "{drawn} vs {uniform}"
+    );
     assert!(drawn < 0.9 * mean, "{drawn} vs {mean}");
 }
 
@@ -264,12 +312,18 @@ fn bad_drawn_moduli_are_refused_with_the_path() {
     });
     says(
         &e,
-        &["bodies[0].materials.rock.heterogeneity.young.weibull.modulus", "fix:"],
+        &[
+            "bodies[0].materials.rock.heterogeneity.young.weibull.modulus",
+            "fix:",
+        ],
     );
     let e = refused("young-bad-cov", |r| {
         r["heterogeneity"]["young"] = json!({"lognormal": {"mean": 30e9, "cov": -0.1}})
     });
-    says(&e, &["bodies[0].materials.rock.heterogeneity.young.lognormal.cov"]);
+    says(
+        &e,
+        &["bodies[0].materials.rock.heterogeneity.young.lognormal.cov"],
+    );
     let e = refused("young-both", |r| r["young"] = json!(30e9));
     says(
         &e,
@@ -282,7 +336,13 @@ fn bad_drawn_moduli_are_refused_with_the_path() {
     let e = refused("young-unknown", |r| {
         r["heterogeneity"]["poisson"] = json!({"normal": {"mean": 0.2, "cov": 0.1}})
     });
-    says(&e, &["bodies[0].materials.rock.heterogeneity.poisson", "unknown field"]);
+    says(
+        &e,
+        &[
+            "bodies[0].materials.rock.heterogeneity.poisson",
+            "unknown field",
+        ],
+    );
     let e = refused("young-no-seed", |r| {
         r["heterogeneity"].as_object_mut().unwrap().remove("seed");
     });
