@@ -3,7 +3,8 @@
 //!
 //! The names are: body names (unique when given), the keys of `bodies[i].materials` (material
 //! regions of that body's mesh, or `"*"`), the `group` and `body` of every boundary condition
-//! and history probe, the `body` and `groups` of every fracture region, the `bodies` of every
+//! and history probe, the `body` and `groups` of every fracture region, the `body` and `group`
+//! of every pre-existing crack (an edge group), the `bodies` of every
 //! contact pair, and the wall names (unique, `wall<i>` for an unnamed wall). [`walk`] visits
 //! each of them with its JSON path; [`reference_fields`] lists them (the tests derive from
 //! it the wrong-name cases, so a field cannot be left out), and [`resolve`] checks them, each
@@ -103,7 +104,7 @@ pub enum RefKind {
     MaterialKey,
     /// A physical group of any dimension (fixed, velocity, point load, probes).
     Group,
-    /// An edge (dimension-1) group: pressure and traction.
+    /// An edge (dimension-1) group: pressure, traction and cracks.
     EdgeGroup,
     /// A surface (dimension-2) group: fracture regions.
     SurfaceGroup,
@@ -273,6 +274,26 @@ fn walk<'a>(
                     slot: Slot::None,
                 })?;
             }
+        }
+        for (i, c) in fr.cracks.iter().enumerate() {
+            if let Some(b) = &c.body {
+                f(Ref {
+                    path: format!("fracture.cracks[{i}].body"),
+                    pointer: format!("/fracture/cracks/{i}/body"),
+                    kind: RefKind::Body,
+                    name: b,
+                    body: Scope::None,
+                    slot: Slot::None,
+                })?;
+            }
+            f(Ref {
+                path: format!("fracture.cracks[{i}].group"),
+                pointer: format!("/fracture/cracks/{i}/group"),
+                kind: RefKind::EdgeGroup,
+                name: &c.group,
+                body: Scope::Named(c.body.as_deref()),
+                slot: Slot::None,
+            })?;
         }
     }
     if let Some(c) = &scene.contact {
@@ -489,7 +510,9 @@ impl<'a> Resolver<'a> {
             _ => "group",
         };
         let note = match r.kind {
-            RefKind::EdgeGroup => " (pressure and traction act on the edges of an edge group)",
+            RefKind::EdgeGroup => {
+                " (pressure, traction and cracks act on the edges of an edge group)"
+            }
             RefKind::SurfaceGroup => " (a fracturing region is made of surface groups)",
             _ => "",
         };

@@ -15,6 +15,10 @@ pub struct FractureSection {
     /// The joint material (SI units): tensile_strength, cohesion, friction_angle_deg,
     /// fracture_energy_i, fracture_energy_ii, penalty_normal, penalty_tangential.
     pub material: JointMaterialInput,
+    /// Pre-existing cracks: edge groups whose joints start broken, their faces in contact
+    /// (default none; `crate::scene::cracks`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cracks: Vec<super::cracks::Crack>,
     /// The joints found at load time, per body (filled by `crate::fracture_stage::explode_body`).
     #[serde(skip)]
     pub joints: Vec<(usize, Vec<Joint>)>,

@@ -1,0 +1,273 @@
+//! Pre-existing cracks (`fracture.cracks`): joints on the edges of an edge group that start
+//! broken, their faces in frictional contact.
+//!
+//! - Frictional sliding on a closed crack: a 1 x 2 m block (E = 10 GPa, nu = 0.25, plane
+//!   stress) cut through by a straight crack at beta = 30 degrees to the load plane (the plane
+//!   normal to the load), between a roller base (one corner pinned) and a roller top pushed
+//!   down by `delta` = 2e-4 m (strain 1e-4) over 20 wave transits. On the crack
+//!   `tau / sigma_n = tan(beta) = 0.577`: with mu = 0.45 < tan(beta) no equilibrium holds with
+//!   load on the upper piece (its horizontal balance needs `T / N = tan(beta)`), so it slides
+//!   off and the whole top displacement becomes slip, `s = delta / sin(beta)`; with mu = 0.75
+//!   > tan(beta) the block sticks and carries the elastic load `E delta W / H` with only the
+//!   contact's elastic slip (`Ft / k_t` per edge, docs/contact.md section 3). Asserted: sliding
+//!   slip within 10 % of `delta / sin(beta)` and load below 5 % of the elastic load; sticking
+//!   slip below 2 % of `delta / sin(beta)` and load within 10 % of the elastic load. Measured
+//!   values in the test's assertion messages and docs/validation.md.
+//! - Bad input: a crack group that is not an edge group, a crack without contact, crack edges
+//!   outside every fracture region: each refused with its JSON path.
+
+use crate::common;
+
+use std::path::PathBuf;
+
+use serde_json::{Value, json};
+
+/// A `w` x `h` block cut by the straight line from `(0, y0)` to `(w, y0 + w tan_b)`: `nx`
+/// columns, `ny` rows of cells below the line and `ny` above (each column's rows evenly
+/// spaced between the base, the line and the top). Groups: `band` (the cells beside the
+/// line) and `rest` (2), `crack` (the line's edges), `top`, `bottom` (1), `pin` (the base's
+/// left corner, 0).
+pub fn cut_block(nx: usize, ny: usize, w: f64, h: f64, y0: f64, tan_b: f64) -> Value {
+    let col = 2 * ny + 1;
+    let id = |i: usize, k: usize| (i * col + k) as u32;
+    let mut nodes = Vec::new();
+    for i in 0..=nx {
+        let x = w * i as f64 / nx as f64;
+        let yc = y0 + x * tan_b;
+        for k in 0..col {
+            let y = if k <= ny {
+                yc * k as f64 / ny as f64
+            } else {
+                yc + (h - yc) * (k - ny) as f64 / ny as f64
+            };
+            nodes.push([x, y]);
+        }
+    }
+    let (mut tris, mut band, mut rest) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..nx {
+        for k in 0..2 * ny {
+            let g = if k + 1 == ny || k == ny {
+                &mut band
+            } else {
+                &mut rest
+            };
+            g.push(tris.len());
+            tris.push([id(i, k), id(i + 1, k), id(i + 1, k + 1)]);
+            g.push(tris.len());
+            tris.push([id(i, k), id(i + 1, k + 1), id(i, k + 1)]);
+        }
+    }
+    let edges = |k: usize| -> Vec<[u32; 2]> { (0..nx).map(|i| [id(i, k), id(i + 1, k)]).collect() };
+    json!({
+        "nodes": nodes, "triangles": tris,
+        "groups": [
+            {"name": "band", "dim": 2, "triangles": band},
+            {"name": "rest", "dim": 2, "triangles": rest},
+            {"name": "crack", "dim": 1, "edges": edges(ny)},
+            {"name": "top", "dim": 1, "edges": edges(2 * ny)},
+            {"name": "bottom", "dim": 1, "edges": edges(0)},
+            {"name": "pin", "dim": 0, "nodes": [0]}
+        ]
+    })
+}
+
+const E: f64 = 10e9;
+const W: f64 = 1.0;
+const H: f64 = 2.0;
+const TAN_B: f64 = 0.577_350_269_189_625_8; // tan 30 degrees
+const DURATION: f64 = 0.02;
+const RAMP: f64 = 0.02;
+const V: f64 = 2e-4 / (DURATION - 0.5 * RAMP);
+
+/// The sliding-block scene with friction `mu` on the crack, in a folder of its own.
+fn sliding_scene(tag: &str, mu: f64) -> PathBuf {
+    let dir = common::temp_dir(tag);
+    let mesh = cut_block(10, 10, W, H, 0.7, TAN_B);
+    std::fs::write(dir.join("block.json"), mesh.to_string()).unwrap();
+    let v = json!({
+        "title": "block cut by a frictional crack at 30 degrees",
+        "bodies": [{
+            "name": "block", "mesh": "block.json",
+            "materials": { "*": { "young": E, "poisson": 0.25, "density": 2500.0, "plane": "stress" } },
+            "thickness": 1.0
+        }],
+        "fracture": {
+            "regions": [ { "body": "block", "groups": ["band"] } ],
+            "material": {
+                "tensile_strength": 1e8, "cohesion": 1e8, "friction_angle_deg": 30.0,
+                "fracture_energy_i": 1e5, "fracture_energy_ii": 1e5,
+                "penalty_normal": 100.0 * E, "penalty_tangential": 100.0 * E
+            },
+            "cracks": [ { "group": "crack" } ]
+        },
+        "contact": { "default": { "friction": mu } },
+        "boundary_conditions": [
+            { "fixed": { "group": "bottom", "y": true } },
+            { "fixed": { "group": "pin", "x": true } },
+            { "velocity": { "group": "top", "y": -V, "ramp": RAMP } }
+        ],
+        "integrator": { "scheme": "central-difference", "safety": 0.9 },
+        "duration": DURATION,
+        "output": { "frames": 1 },
+        "histories": { "every": 100, "probes": [ { "reaction": { "group": "top" } }, { "displacement": { "group": "top" } } ] }
+    });
+    let p = dir.join("scene.json");
+    std::fs::write(&p, v.to_string()).unwrap();
+    p
+}
+
+/// The sliding block with friction `mu` at the end of the run.
+struct Slide {
+    /// Mean slip of the crack's joints [m].
+    slip: f64,
+    /// Mean slip of the crack's joints in the middle half of the block's width [m].
+    slip_mid: f64,
+    /// Largest opening of the crack's joints [m] (negative: pressed).
+    opening: f64,
+    /// Top displacement (down) [m].
+    delta: f64,
+    /// Top reaction [N].
+    load: f64,
+    /// Broken joints.
+    broken: usize,
+}
+
+fn slide(mu: f64) -> Slide {
+    let p = sliding_scene(&format!("crack-slide-{mu}"), mu);
+    let (o, out) = common::run(&p);
+    let j = o.last_frame.joints.as_ref().expect("joint frame");
+    let cracked: Vec<usize> = (0..j.broken.len()).filter(|&i| j.broken[i] == 1).collect();
+    let mean = |v: &[usize]| v.iter().map(|&i| j.sliding[i].abs()).sum::<f64>() / v.len() as f64;
+    let mid: Vec<usize> = cracked
+        .iter()
+        .copied()
+        .filter(|&i| (0.5 * (j.points[2 * i][0] + j.points[2 * i + 1][0]) - 0.5 * W).abs() < 0.25 * W)
+        .collect();
+    let (head, rows) = common::histories(&out);
+    let u = *common::column(&head, &rows, "u_y[top]").last().unwrap();
+    let r = *common::column(&head, &rows, "reaction_y[top]").last().unwrap();
+    Slide {
+        slip: mean(&cracked),
+        slip_mid: mean(&mid),
+        opening: cracked.iter().map(|&i| j.opening[i]).fold(f64::MIN, f64::max),
+        delta: -u,
+        load: r.abs(),
+        broken: cracked.len(),
+    }
+}
+
+#[test]
+fn a_closed_crack_slides_when_tan_beta_exceeds_mu_and_sticks_below() {
+    let sin_b = TAN_B / (1.0 + TAN_B * TAN_B).sqrt();
+    let s = slide(0.45);
+    let k = slide(0.75);
+    // every crack edge is a broken joint from the start, and no other joint breaks
+    assert_eq!((s.broken, k.broken), (10, 10), "crack joints broken");
+    let elastic = |u: f64| E * u / H * W;
+    let kin = |u: f64| u / sin_b;
+    eprintln!(
+        "sliding (mu 0.45): slip {:.4e} m = {:.4} delta/sin(beta), largest opening {:.2e} m, \
+         load {:.4} of elastic; sticking (mu 0.75): slip {:.4e} m = {:.4} delta/sin(beta) \
+         (middle half {:.4}), load {:.4} of elastic",
+        s.slip,
+        s.slip / kin(s.delta),
+        s.opening,
+        s.load / elastic(s.delta),
+        k.slip,
+        k.slip / kin(k.delta),
+        k.slip_mid / kin(k.delta),
+        k.load / elastic(k.delta)
+    );
+    assert!(
+        (s.slip / kin(s.delta) - 1.0).abs() < 0.05,
+        "mu 0.45 < tan(beta): slip {:.4e} m against delta / sin(beta) = {:.4e} m",
+        s.slip,
+        kin(s.delta)
+    );
+    assert!(
+        s.opening < 1e-3 * s.delta,
+        "mu 0.45: the crack opened by {:.4e} m while sliding",
+        s.opening
+    );
+    assert!(
+        s.load < 0.05 * elastic(s.delta),
+        "mu 0.45: the sliding block carries {:.4e} N, elastic load {:.4e} N",
+        s.load,
+        elastic(s.delta)
+    );
+    assert!(
+        k.slip < 0.05 * kin(k.delta) && k.slip_mid < 0.02 * kin(k.delta),
+        "mu 0.75 > tan(beta): slip {:.4e} m (middle half {:.4e} m) against delta / sin(beta) \
+         = {:.4e} m",
+        k.slip,
+        k.slip_mid,
+        kin(k.delta)
+    );
+    assert!(
+        (k.load / elastic(k.delta) - 1.0).abs() < 0.05,
+        "mu 0.75: load {:.4e} N against the elastic {:.4e} N",
+        k.load,
+        elastic(k.delta)
+    );
+}
+
+/// The sliding-block scene with `edit` applied to its JSON, and the load error it gives.
+fn refused(tag: &str, edit: impl FnOnce(&mut Value)) -> String {
+    let p = sliding_scene(tag, 0.5);
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    edit(&mut v);
+    std::fs::write(&p, v.to_string()).unwrap();
+    match fdem_solver::driver::load(&p) {
+        Ok(_) => panic!("{tag}: the scene was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn says(err: &str, needles: &[&str]) {
+    for n in needles {
+        assert!(err.contains(n), "the error lacks {n:?}:\n{err}");
+    }
+}
+
+#[test]
+fn a_crack_group_that_is_not_an_edge_group_is_refused_with_its_path() {
+    let e = refused("crack-surface", |v| {
+        v["fracture"]["cracks"][0]["group"] = json!("band");
+    });
+    says(
+        &e,
+        &[
+            "fracture.cracks[0].group",
+            "edge group (dimension 1)",
+            "another dimension",
+            "bottom, crack, top",
+        ],
+    );
+    let e = refused("crack-unknown", |v| {
+        v["fracture"]["cracks"][0]["group"] = json!("no-such-group");
+    });
+    says(&e, &["fracture.cracks[0].group", "bottom, crack, top"]);
+}
+
+#[test]
+fn a_crack_without_contact_or_outside_the_fracture_region_is_refused() {
+    let e = refused("crack-no-contact", |v| {
+        v.as_object_mut().unwrap().remove("contact");
+    });
+    says(&e, &["fracture.cracks[0]", "contact"]);
+    let e = refused("crack-contact-off", |v| {
+        v["contact"]["pairs"] = json!([{ "bodies": ["block", "block"], "enabled": false }]);
+    });
+    says(&e, &["fracture.cracks[0]", "contact.pairs[0]"]);
+    // the region explodes only the rows away from the crack: its edges are no joints
+    let e = refused("crack-outside", |v| {
+        v["fracture"]["regions"][0]["groups"] = json!(["rest"]);
+    });
+    says(&e, &["fracture.cracks[0].group", "is not a joint", "fracture region"]);
+    // a crack on a body's boundary
+    let e = refused("crack-boundary", |v| {
+        v["fracture"]["regions"][0].as_object_mut().unwrap().remove("groups");
+        v["fracture"]["cracks"][0]["group"] = json!("top");
+    });
+    says(&e, &["fracture.cracks[0].group", "boundary"]);
+}
