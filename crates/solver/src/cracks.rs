@@ -33,11 +33,19 @@ pub fn resolve(scene: &mut Scene, file: &Path, meshes: &[Mesh]) -> Result<(), Sc
     for i in 0..n_cracks {
         let path = format!("fracture.cracks[{i}]");
         let (bi, joints) = {
-            let section = scene.fracture.as_ref().expect("cracks lie in a fracture section");
+            let section = scene
+                .fracture
+                .as_ref()
+                .expect("cracks lie in a fracture section");
             let c = &section.cracks[i];
             let bi = match &c.body {
-                Some(b) => scene.bodies.iter().position(|x| x.name.as_deref() == Some(b)),
-                None => meshes.iter().position(|m| edge_group(m, &c.group).is_some()),
+                Some(b) => scene
+                    .bodies
+                    .iter()
+                    .position(|x| x.name.as_deref() == Some(b)),
+                None => meshes
+                    .iter()
+                    .position(|m| edge_group(m, &c.group).is_some()),
             }
             .unwrap_or(0);
             contact_between_faces(scene, file, &path, bi)?;
