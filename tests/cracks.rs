@@ -386,7 +386,7 @@ fn griffith_failure_stress_of_a_plate_with_a_pre_existing_crack() {
 }
 
 /// The mesh-size sensitivity of the Griffith test: the fine mesh (tip size 1.07 mm,
-/// `meshes/griffith-plate.msh`), about 80 s in release; run with
+/// `meshes/griffith-plate.msh`), about 45 s in release; run with
 /// `cargo test --release --test all -- cracks::griffith_fine --ignored --nocapture`.
 #[test]
 #[ignore]
