@@ -21,7 +21,7 @@ use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
 use crate::mesh_input::MeshInput;
-use crate::scene::{BoundaryCondition, Probe, Scene};
+use crate::scene::{BoundaryCondition, FractureSection, Probe, Scene};
 
 /// The names a mesh offers to a scene.
 #[derive(Debug, Clone, Default)]
@@ -253,48 +253,7 @@ fn walk<'a>(
         })?;
     }
     if let Some(fr) = &scene.fracture {
-        for (i, r) in fr.regions.iter().enumerate() {
-            if let Some(b) = &r.body {
-                f(Ref {
-                    path: format!("fracture.regions[{i}].body"),
-                    pointer: format!("/fracture/regions/{i}/body"),
-                    kind: RefKind::Body,
-                    name: b,
-                    body: Scope::None,
-                    slot: Slot::Region(i),
-                })?;
-            }
-            for (j, g) in r.groups.iter().flatten().enumerate() {
-                f(Ref {
-                    path: format!("fracture.regions[{i}].groups[{j}]"),
-                    pointer: format!("/fracture/regions/{i}/groups/{j}"),
-                    kind: RefKind::SurfaceGroup,
-                    name: g,
-                    body: Scope::Named(r.body.as_deref()),
-                    slot: Slot::None,
-                })?;
-            }
-        }
-        for (i, c) in fr.cracks.iter().enumerate() {
-            if let Some(b) = &c.body {
-                f(Ref {
-                    path: format!("fracture.cracks[{i}].body"),
-                    pointer: format!("/fracture/cracks/{i}/body"),
-                    kind: RefKind::Body,
-                    name: b,
-                    body: Scope::None,
-                    slot: Slot::None,
-                })?;
-            }
-            f(Ref {
-                path: format!("fracture.cracks[{i}].group"),
-                pointer: format!("/fracture/cracks/{i}/group"),
-                kind: RefKind::EdgeGroup,
-                name: &c.group,
-                body: Scope::Named(c.body.as_deref()),
-                slot: Slot::None,
-            })?;
-        }
+        walk_fracture(fr, f)?;
     }
     if let Some(c) = &scene.contact {
         for (i, p) in c.pairs.iter().enumerate() {
@@ -321,6 +280,57 @@ fn walk<'a>(
                 })?;
             }
         }
+    }
+    Ok(())
+}
+
+/// [`walk`]'s part for the `"fracture"` section: the regions' bodies and surface groups, the
+/// cracks' bodies and edge groups.
+fn walk_fracture<'a>(
+    fr: &'a FractureSection,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, r) in fr.regions.iter().enumerate() {
+        if let Some(b) = &r.body {
+            f(Ref {
+                path: format!("fracture.regions[{i}].body"),
+                pointer: format!("/fracture/regions/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::Region(i),
+            })?;
+        }
+        for (j, g) in r.groups.iter().flatten().enumerate() {
+            f(Ref {
+                path: format!("fracture.regions[{i}].groups[{j}]"),
+                pointer: format!("/fracture/regions/{i}/groups/{j}"),
+                kind: RefKind::SurfaceGroup,
+                name: g,
+                body: Scope::Named(r.body.as_deref()),
+                slot: Slot::None,
+            })?;
+        }
+    }
+    for (i, c) in fr.cracks.iter().enumerate() {
+        if let Some(b) = &c.body {
+            f(Ref {
+                path: format!("fracture.cracks[{i}].body"),
+                pointer: format!("/fracture/cracks/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
+        f(Ref {
+            path: format!("fracture.cracks[{i}].group"),
+            pointer: format!("/fracture/cracks/{i}/group"),
+            kind: RefKind::EdgeGroup,
+            name: &c.group,
+            body: Scope::Named(c.body.as_deref()),
+            slot: Slot::None,
+        })?;
     }
     Ok(())
 }
