@@ -456,6 +456,12 @@ fn the_wing_crack_example_starts_with_its_flaw_broken() {
     assert_eq!(f["broken"].as_u64(), Some(14), "{f}");
     // no joint softens: what the books call dissipated is the trapezoidal rule's error on the
     // elastic joints' work (measured 2.0e-5 of the work)
-    let (d, w) = (f["dissipated"].as_f64().unwrap(), f["work"].as_f64().unwrap());
-    assert!(d.abs() < 1e-3 * w, "dissipated {d:.3e} J of the work {w:.3e} J: {f}");
+    let (d, w) = (
+        f["dissipated"].as_f64().unwrap(),
+        f["work"].as_f64().unwrap(),
+    );
+    assert!(
+        d.abs() < 1e-3 * w,
+        "dissipated {d:.3e} J of the work {w:.3e} J: {f}"
+    );
 }
