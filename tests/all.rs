@@ -48,6 +48,8 @@ mod fracture_scenes;
 mod fracture_specimens;
 #[path = "fuzz.rs"]
 mod fuzz;
+#[path = "joint_materials.rs"]
+mod joint_materials;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
 #[path = "parity.rs"]

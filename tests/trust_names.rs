@@ -153,12 +153,18 @@ fn every_name_scene(tag: &str) -> PathBuf {
             {"point-load": {"group": "tip", "force": [0.0, -1.0]}}
         ],
         "fracture": {
-            "regions": [ {"body": "left", "groups": ["weak"]}, {"body": "right"} ],
+            "regions": [ {"body": "left", "groups": ["weak"]}, {"body": "right", "material": "tough"} ],
             "material": {
                 "tensile_strength": 3e6, "cohesion": 10e6, "friction_angle_deg": 30.0,
                 "fracture_energy_i": 50.0, "fracture_energy_ii": 250.0,
                 "penalty_normal": 300e9, "penalty_tangential": 300e9
             },
+            "materials": {"tough": {
+                "tensile_strength": 6e6, "cohesion": 10e6, "friction_angle_deg": 30.0,
+                "fracture_energy_i": 50.0, "fracture_energy_ii": 250.0,
+                "penalty_normal": 300e9, "penalty_tangential": 300e9
+            }},
+            "interfaces": [ {"body": "left", "groups": ["rock", "weak"], "material": "tough"} ],
             "cracks": [ {"body": "right", "group": "flaw"} ]
         },
         "contact": {
@@ -250,7 +256,9 @@ fn every_name_field_is_resolved_in_one_place_and_a_wrong_name_is_refused() {
             || p == "/integrator/time_step"
             || (t.len() == 3 && t[0] == "bodies" && t[2] == "mesh")
             || (t.len() == 5 && t[2] == "materials" && (t[4] == "plane" || t[4] == "law"))
-            || (t.len() == 3 && t[0] == "histories" && t[1] == "probes");
+            || (t.len() == 3 && t[0] == "histories" && t[1] == "probes")
+            // the definitions of joint material names (their uses are checked)
+            || (t.len() == 3 && t[0] == "fracture" && t[1] == "materials");
         assert!(
             listed.contains(&p.as_str()) || not_a_name,
             "the string at {p} is neither a name the resolver checks nor a known non-name field"
@@ -265,6 +273,7 @@ fn every_name_field_is_resolved_in_one_place_and_a_wrong_name_is_refused() {
         RefKind::Group,
         RefKind::EdgeGroup,
         RefKind::SurfaceGroup,
+        RefKind::JointMaterial,
     ] {
         assert!(
             fields.iter().any(|f| f.kind == kind),
@@ -308,6 +317,14 @@ fn every_name_field_is_resolved_in_one_place_and_a_wrong_name_is_refused() {
                 let groups = if body == 0 { LEFT_GROUPS } else { RIGHT_GROUPS };
                 needles.push(f.path.replace(&f.name, wrong));
                 needles.extend(groups[2].iter().map(|s| s.to_string()));
+            }
+            RefKind::JointMaterial => {
+                *v.pointer_mut(&f.pointer).unwrap() = wrong.into();
+                needles.extend([
+                    f.path.clone(),
+                    format!("no joint material is named '{wrong}'"),
+                    "tough".into(),
+                ]);
             }
             RefKind::Body => {
                 *v.pointer_mut(&f.pointer).unwrap() = wrong.into();
@@ -390,9 +407,24 @@ fn resolution_refuses_ambiguous_and_duplicate_names() {
             ],
         ),
         (
-            "two-regions-one-body",
+            "two-regions-of-one-body-overlap-with-two-materials",
             Box::new(|v| v["fracture"]["regions"][1]["body"] = "left".into()),
-            vec!["fracture.regions[1].body", "fracture.regions[0] already"],
+            vec![
+                "fracture.regions[1]",
+                "overlaps fracture.regions[0]",
+                "'tough'",
+            ],
+        ),
+        (
+            "interface-without-body-among-several",
+            Box::new(|v| {
+                v["fracture"]["interfaces"][0]
+                    .as_object_mut()
+                    .unwrap()
+                    .remove("body");
+                v["fracture"]["interfaces"][0]["groups"] = json!(["rock", "tip"]);
+            }),
+            vec!["fracture.interfaces[0].groups[0]", "several bodies"],
         ),
         (
             "region-without-body-among-several",

@@ -29,6 +29,14 @@ pub enum FractureError {
         /// The value given.
         value: f64,
     },
+    /// A distribution of a drawn joint material field is invalid.
+    #[error("heterogeneity `{field}` = {value} is invalid: it must be finite and positive")]
+    InvalidHeterogeneity {
+        /// The path below the heterogeneity, e.g. `tensile_strength.weibull.modulus`.
+        field: String,
+        /// The value given.
+        value: f64,
+    },
     /// The fracture energy does not exceed the elastic work stored up to the peak, so no
     /// softening branch can dissipate it.
     #[error(

@@ -12,11 +12,21 @@
 //!   values follow the normal law conditioned on `x > 0`.
 //! - **Lognormal** (mean `mu`, coefficient of variation `cov` of the values themselves):
 //!   `x = exp(m + s z)` with `s^2 = ln(1 + cov^2)`, `m = ln(mu) - s^2/2`, `z` standard normal.
+//!
+//! A [`Heterogeneity`] draws some of a joint material's fields (strengths, fracture energies)
+//! per joint, each field from its own stream ([`stream_seed`]), so that drawing one more field
+//! leaves the values of the others unchanged.
+
+use serde::{Deserialize, Serialize};
 
 use crate::error::FractureError;
+use crate::material::JointMaterialInput;
 
 /// A distribution of a positive joint property (strength [Pa] or fracture energy [J/m^2]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// In JSON: `{"weibull": {"modulus": 6, "scale": 5e6}}`, `{"normal": {"mean": .., "cov": ..}}`
+/// or `{"lognormal": {"mean": .., "cov": ..}}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum Distribution {
     /// Weibull law.
     Weibull {
@@ -101,6 +111,100 @@ impl Distribution {
                 let s2 = (1.0 + cov * cov).ln();
                 normal_cdf((x.ln() - (mean.ln() - 0.5 * s2)) / s2.sqrt())
             }
+        }
+    }
+}
+
+/// The seed of stream `stream` of the field of `seed`: the fields of one seed drawn for
+/// different properties are independent (the generator's draw counter 0, never used by
+/// [`Distribution::sample`], keeps the streams apart from the values).
+pub fn stream_seed(seed: u64, stream: u64) -> u64 {
+    hash3(seed, stream, 0)
+}
+
+/// The fields of a joint material drawn per joint (fields left `None` keep the material's
+/// value). In JSON (`deny_unknown_fields`): `{"seed": 7, "tensile_strength": {"weibull":
+/// {...}}, "cohesion": ..., "fracture_energy_i": ..., "fracture_energy_ii": ...}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Heterogeneity {
+    /// Seed of the fields (the same seed, the same values on any number of threads).
+    pub seed: u64,
+    /// Tensile strength `ft` [Pa].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tensile_strength: Option<Distribution>,
+    /// Cohesion `c` [Pa].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cohesion: Option<Distribution>,
+    /// Mode I fracture energy `G_I` [J/m^2].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture_energy_i: Option<Distribution>,
+    /// Mode II fracture energy `G_II` [J/m^2].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fracture_energy_ii: Option<Distribution>,
+}
+
+impl Heterogeneity {
+    /// The drawn fields with their names as written in the input, in stream order (stream
+    /// `k` is field `k` of this list, given or not).
+    pub fn fields(&self) -> [(&'static str, Option<Distribution>); 4] {
+        [
+            ("tensile_strength", self.tensile_strength),
+            ("cohesion", self.cohesion),
+            ("fracture_energy_i", self.fracture_energy_i),
+            ("fracture_energy_ii", self.fracture_energy_ii),
+        ]
+    }
+
+    /// True when no field is drawn.
+    pub fn is_empty(&self) -> bool {
+        self.fields().iter().all(|(_, d)| d.is_none())
+    }
+
+    /// Checks every distribution; the error names the field (`cohesion.weibull.scale`).
+    pub fn validate(&self) -> Result<(), FractureError> {
+        for (name, d) in self.fields() {
+            if let Some(d) = d {
+                d.validate().map_err(|e| match e {
+                    FractureError::InvalidDistribution { field, value } => {
+                        FractureError::InvalidHeterogeneity {
+                            field: format!("{name}.{}.{field}", d.law()),
+                            value,
+                        }
+                    }
+                    other => other,
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The material of joint `joint` (its global index): `base` with the drawn fields replaced
+    /// by their values for that joint.
+    pub fn draw(&self, base: &JointMaterialInput, joint: u64) -> JointMaterialInput {
+        let mut m = *base;
+        let targets = [
+            &mut m.tensile_strength,
+            &mut m.cohesion,
+            &mut m.fracture_energy_i,
+            &mut m.fracture_energy_ii,
+        ];
+        for (k, ((_, d), v)) in self.fields().into_iter().zip(targets).enumerate() {
+            if let Some(d) = d {
+                *v = d.sample(stream_seed(self.seed, k as u64), joint);
+            }
+        }
+        m
+    }
+}
+
+impl Distribution {
+    /// The law's name as written in the input.
+    pub fn law(&self) -> &'static str {
+        match self {
+            Distribution::Weibull { .. } => "weibull",
+            Distribution::Normal { .. } => "normal",
+            Distribution::Lognormal { .. } => "lognormal",
         }
     }
 }
@@ -334,6 +438,59 @@ mod tests {
             .validate()
             .is_ok()
         );
+    }
+
+    #[test]
+    fn a_heterogeneity_draws_only_its_fields_each_from_its_own_stream() {
+        let base = JointMaterialInput {
+            tensile_strength: 5e6,
+            cohesion: 10e6,
+            friction_angle_deg: 30.0,
+            fracture_energy_i: 50.0,
+            fracture_energy_ii: 250.0,
+            penalty_normal: 3e12,
+            penalty_tangential: 3e12,
+        };
+        let w = Distribution::Weibull {
+            modulus: 6.0,
+            scale: 5e6,
+        };
+        let h = Heterogeneity {
+            seed: 7,
+            tensile_strength: Some(w),
+            cohesion: None,
+            fracture_energy_i: None,
+            fracture_energy_ii: None,
+        };
+        let both = Heterogeneity {
+            cohesion: Some(w),
+            ..h
+        };
+        for j in 0..100u64 {
+            let (a, b) = (h.draw(&base, j), both.draw(&base, j));
+            // drawing the cohesion too leaves the tensile strengths' bits unchanged
+            assert_eq!(a.tensile_strength.to_bits(), b.tensile_strength.to_bits());
+            assert_eq!(
+                a.tensile_strength.to_bits(),
+                w.sample(stream_seed(7, 0), j).to_bits()
+            );
+            assert_eq!(a.cohesion, 10e6);
+            assert_ne!(b.cohesion, b.tensile_strength, "one stream per field");
+            assert_eq!(
+                (a.fracture_energy_i, a.friction_angle_deg, a.penalty_normal),
+                (50.0, 30.0, 3e12)
+            );
+        }
+        let bad = Heterogeneity {
+            cohesion: Some(Distribution::Lognormal {
+                mean: 1e6,
+                cov: -0.1,
+            }),
+            ..h
+        };
+        let e = bad.validate().unwrap_err().to_string();
+        assert!(e.contains("`cohesion.lognormal.cov`"), "{e}");
+        assert!(h.validate().is_ok() && !h.is_empty());
     }
 
     #[test]

@@ -61,7 +61,7 @@ pub mod timestep;
 
 pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
-pub use heterogeneity::Distribution;
+pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
     JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, kinematics,
     point_traction,

@@ -28,8 +28,8 @@ use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use fdem_fracture::{
-    FractureEvent, Joint, JointScratch, JointSet, JointState, accumulate_joint_forces,
-    commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
+    FractureError, FractureEvent, Joint, JointScratch, JointSet, JointState,
+    accumulate_joint_forces, commit_joints, commit_joints_at_last_pass, joint_omega_sq_bound,
 };
 use fdem_mesh::Mesh;
 use serde::Serialize;
@@ -37,45 +37,69 @@ use serde::Serialize;
 use crate::contact_stage::BondedPairs;
 use crate::error::SceneError;
 use crate::model::Model;
+use crate::resolve::Resolved;
 use crate::scene::Scene;
 pub use crate::scene::fracture::{FractureSection, Region};
 use crate::star_bonds::StarBonds;
 use crate::system::{ForceContribution, StageReport};
 
-/// Explodes body `bi`'s mesh when `region` (the fracture region that names the body, as
-/// [`crate::resolve::resolve`] found it) is given, recording its joints (local node and
-/// triangle ids) in the scene; returns the mesh the body uses.
+/// Explodes body `bi`'s mesh when fracture regions name the body (as
+/// [`crate::resolve::resolve`] found them in `refs`): the union of their groups (the whole
+/// body when one names none). Records its joints (local node and triangle ids, the material
+/// of each from [`crate::joint_assign::assign`]) in the scene; returns the mesh the body uses.
 pub fn explode_body(
     scene: &mut Scene,
     file: &Path,
     bi: usize,
-    region: Option<usize>,
+    refs: &Resolved,
     mesh: Mesh,
 ) -> Result<Mesh, SceneError> {
-    let (Some(section), Some(ri)) = (scene.fracture.as_mut(), region) else {
+    let regions = &refs.fracture_regions[bi];
+    let b = &scene.bodies[bi];
+    let label = match &b.name {
+        Some(n) => format!("body '{n}' ({})", b.mesh.display()),
+        None => format!("bodies[{bi}] ({})", b.mesh.display()),
+    };
+    let (Some(section), Some(&ri)) = (scene.fracture.as_mut(), regions.first()) else {
         return Ok(mesh);
     };
-    let groups = section.regions.get(ri).and_then(|r| r.groups.clone());
-    let names: Option<Vec<&str>> = groups
-        .as_ref()
-        .map(|g| g.iter().map(|s| s.as_str()).collect());
+    let mut names: Option<Vec<&str>> = Some(Vec::new());
+    for &r in regions {
+        match (&section.regions[r].groups, names.as_mut()) {
+            (Some(g), Some(n)) => n.extend(g.iter().map(|s| s.as_str())),
+            _ => names = None,
+        }
+    }
     let ex = fdem_mesh::explode(&mesh, names.as_deref()).map_err(|e| SceneError::Invalid {
         file: file.to_path_buf(),
         path: format!("fracture.regions[{ri}]"),
         message: e.to_string(),
         fix: "name surface groups of the body's mesh".into(),
     })?;
+    let tris: Vec<[u32; 2]> = ex
+        .internal_edges
+        .iter()
+        .map(|e| e.tris.map(|t| t.0))
+        .collect();
+    let body = crate::joint_assign::BodyMeshes {
+        index: bi,
+        label,
+        original: &mesh,
+        exploded: &ex.mesh,
+    };
+    let materials = crate::joint_assign::assign(section, file, refs, &body, &tris)?;
     let joints = ex
         .internal_edges
         .iter()
-        .map(|e| {
+        .zip(materials)
+        .map(|(e, material)| {
             let n = e.nodes.map(|n| n.0);
             let (p, q) = (ex.mesh.nodes[n[0] as usize], ex.mesh.nodes[n[1] as usize]);
             Joint {
                 nodes: n,
                 triangles: e.tris.map(|t| t.0),
                 ref_length: ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt(),
-                material: 0,
+                material,
             }
         })
         .collect();
@@ -111,7 +135,7 @@ pub fn joint_set(
     let Some(section) = &scene.fracture else {
         return Ok(None);
     };
-    let joints = global_joints(section, model);
+    let mut joints = global_joints(section, model);
     if joints.is_empty() {
         return Ok(None);
     }
@@ -119,14 +143,24 @@ pub fn joint_set(
         .joints
         .first()
         .map_or(1.0, |(bi, _)| scene.bodies[*bi].thickness);
-    JointSet::new(&joints, &[section.material], model.n_nodes(), th)
+    let list = section.material_list();
+    let rows = crate::joint_assign::rows(file, &list, &mut joints)?;
+    JointSet::new(&joints, &rows, model.n_nodes(), th)
         .map(Some)
-        .map_err(|e| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path: "fracture.material".into(),
-            message: e.to_string(),
-            fix: "see the message: raise the penalty or the fracture energy, or refine the mesh"
-                .into(),
+        .map_err(|e| {
+            let m = match &e {
+                FractureError::FractureEnergyTooSmall { material, .. }
+                | FractureError::InvalidMaterial { material, .. } => list.get(*material as usize),
+                _ => None,
+            };
+            SceneError::Invalid {
+                file: file.to_path_buf(),
+                path: m.map_or("fracture.material".into(), |m| m.path()),
+                message: e.to_string(),
+                fix:
+                    "see the message: raise the penalty or the fracture energy, or refine the mesh"
+                        .into(),
+            }
         })
 }
 
@@ -191,6 +225,9 @@ pub struct FractureStage {
     bonded: Arc<Mutex<BondedPairs>>,
     report: Arc<Mutex<FractureReport>>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
+    /// True when the joint series carries each joint's strengths and fracture energies (a
+    /// scene of several joint materials or drawn ones: `FractureSection::varied_joints`).
+    pub(crate) write_properties: bool,
 }
 
 impl FractureStage {
@@ -276,6 +313,7 @@ impl FractureStage {
                 bonded: bonded.clone(),
                 report: report.clone(),
                 csv,
+                write_properties: false,
             },
             bonded,
             report,
@@ -417,7 +455,11 @@ impl ForceContribution for FractureStage {
 
     /// Hands the joints to the writer (the `joints_NNNN.vtu` series, `crate::output::joints`).
     fn frame_fields(&self, x: &[[f64; 2]], frame: &mut crate::output::FrameData) {
-        frame.joints = Some(crate::output::JointFrame::new(&self.set, &self.state, x));
+        let mut joints = crate::output::JointFrame::new(&self.set, &self.state, x);
+        if self.write_properties {
+            joints.properties = Some(crate::output::JointProperties::new(&self.set));
+        }
+        frame.joints = Some(joints);
     }
 
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {

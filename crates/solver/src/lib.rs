@@ -32,6 +32,7 @@ pub mod diagnosis;
 pub mod error;
 pub mod estimate;
 pub mod fracture_stage;
+pub mod joint_assign;
 pub mod ledger;
 pub mod limits;
 pub mod load;

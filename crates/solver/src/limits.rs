@@ -386,20 +386,15 @@ pub fn step_driver(inp: &StepInputs) -> StepDriver {
     if w_c >= w_j {
         return contact_driver(scene, e_max, w_c);
     }
-    let m = scene.fracture.as_ref().map(|f| f.material);
-    let (field, p) = match m {
-        Some(m) if m.penalty_tangential > m.penalty_normal => {
-            ("penalty_tangential", m.penalty_tangential)
-        }
-        Some(m) => ("penalty_normal", m.penalty_normal),
-        None => ("penalty_normal", f64::NAN),
-    };
+    let (path, p) = scene
+        .fracture
+        .as_ref()
+        .and_then(|f| crate::scene::joint_materials::largest_penalty(&f.material_list()))
+        .unwrap_or(("fracture.material.penalty_normal".into(), f64::NAN));
     StepDriver {
-        path: format!("fracture.material.{field}"),
         what: format!("the joint penalty {p:.3e} Pa gives a frequency bound of {w_j:.3e} rad/s"),
-        fix: format!(
-            "lower fracture.material.{field} (a few times Young's modulus is usual, e.g. 10 E)"
-        ),
+        fix: format!("lower {path} (a few times Young's modulus is usual, e.g. 10 E)"),
+        path,
         unusual: p.is_nan() || p > MAX_PENALTY_RATIO * e_max,
     }
 }

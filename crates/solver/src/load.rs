@@ -89,8 +89,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let mut meshes = Vec::new();
     let mut inputs = Vec::new();
     for (i, mesh) in read.into_iter().enumerate() {
-        let region = refs.fracture_region[i];
-        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, region, mesh)?;
+        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, &refs, mesh)?;
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }

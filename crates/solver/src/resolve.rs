@@ -3,15 +3,16 @@
 //!
 //! The names are: body names (unique when given), the keys of `bodies[i].materials` (material
 //! regions of that body's mesh, or `"*"`), the `group` and `body` of every boundary condition
-//! and history probe, the `body` and `groups` of every fracture region, the `body` and `group`
-//! of every pre-existing crack (an edge group), the `bodies` of every
-//! contact pair, and the wall names (unique, `wall<i>` for an unnamed wall). [`walk`] visits
+//! and history probe, the `body`, `groups` and `material` of every fracture region and
+//! interface (a material: a key of `fracture.materials`), the `body` and `group` of every
+//! pre-existing crack (an edge group), the `bodies` of every contact pair,
+//! and the wall names (unique, `wall<i>` for an unnamed wall). [`walk`] visits
 //! each of them with its JSON path; [`reference_fields`] lists them (the tests derive from
 //! it the wrong-name cases, so a field cannot be left out), and [`resolve`] checks them, each
 //! failure a [`SceneError::Invalid`] with the JSON path, what is wrong and the valid names.
 //!
-//! Also refused here, because they would make a name mean two things: two fracture regions on
-//! one body, two contact pairs for the same two bodies, two identical history probes (the same
+//! Also refused here, because they would make a name mean two things: an interface whose two
+//! groups lie in different bodies, two contact pairs for the same two bodies, two identical history probes (the same
 //! columns twice), and body or wall names with the characters `, [ ] /` that the CSV column
 //! names use.
 
@@ -106,8 +107,10 @@ pub enum RefKind {
     Group,
     /// An edge (dimension-1) group: pressure, traction and cracks.
     EdgeGroup,
-    /// A surface (dimension-2) group: fracture regions.
+    /// A surface (dimension-2) group: fracture regions and interfaces.
     SurfaceGroup,
+    /// A joint material: a key of `fracture.materials` (fracture regions and interfaces).
+    JointMaterial,
 }
 
 /// One name field of a scene.
@@ -131,6 +134,7 @@ enum Slot {
     Condition(usize),
     Probe(usize),
     Region(usize),
+    Interface(usize, usize),
     Pair(usize, usize),
 }
 
@@ -253,7 +257,40 @@ fn walk<'a>(
         })?;
     }
     if let Some(fr) = &scene.fracture {
-        walk_fracture(fr, f)?;
+        for (i, r) in fr.regions.iter().enumerate() {
+            if let Some(b) = &r.body {
+                f(Ref {
+                    path: format!("fracture.regions[{i}].body"),
+                    pointer: format!("/fracture/regions/{i}/body"),
+                    kind: RefKind::Body,
+                    name: b,
+                    body: Scope::None,
+                    slot: Slot::Region(i),
+                })?;
+            }
+            for (j, g) in r.groups.iter().flatten().enumerate() {
+                f(Ref {
+                    path: format!("fracture.regions[{i}].groups[{j}]"),
+                    pointer: format!("/fracture/regions/{i}/groups/{j}"),
+                    kind: RefKind::SurfaceGroup,
+                    name: g,
+                    body: Scope::Named(r.body.as_deref()),
+                    slot: Slot::None,
+                })?;
+            }
+            if let Some(m) = &r.material {
+                f(Ref {
+                    path: format!("fracture.regions[{i}].material"),
+                    pointer: format!("/fracture/regions/{i}/material"),
+                    kind: RefKind::JointMaterial,
+                    name: m,
+                    body: Scope::None,
+                    slot: Slot::None,
+                })?;
+            }
+        }
+        walk_interfaces(fr, f)?;
+        walk_cracks(fr, f)?;
     }
     if let Some(c) = &scene.contact {
         for (i, p) in c.pairs.iter().enumerate() {
@@ -284,34 +321,11 @@ fn walk<'a>(
     Ok(())
 }
 
-/// [`walk`]'s part for the `"fracture"` section: the regions' bodies and surface groups, the
-/// cracks' bodies and edge groups.
-fn walk_fracture<'a>(
+/// The names of `fracture.cracks` (bodies and edge groups), for [`walk`].
+fn walk_cracks<'a>(
     fr: &'a FractureSection,
     f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
 ) -> Result<(), SceneError> {
-    for (i, r) in fr.regions.iter().enumerate() {
-        if let Some(b) = &r.body {
-            f(Ref {
-                path: format!("fracture.regions[{i}].body"),
-                pointer: format!("/fracture/regions/{i}/body"),
-                kind: RefKind::Body,
-                name: b,
-                body: Scope::None,
-                slot: Slot::Region(i),
-            })?;
-        }
-        for (j, g) in r.groups.iter().flatten().enumerate() {
-            f(Ref {
-                path: format!("fracture.regions[{i}].groups[{j}]"),
-                pointer: format!("/fracture/regions/{i}/groups/{j}"),
-                kind: RefKind::SurfaceGroup,
-                name: g,
-                body: Scope::Named(r.body.as_deref()),
-                slot: Slot::None,
-            })?;
-        }
-    }
     for (i, c) in fr.cracks.iter().enumerate() {
         if let Some(b) = &c.body {
             f(Ref {
@@ -329,6 +343,44 @@ fn walk_fracture<'a>(
             kind: RefKind::EdgeGroup,
             name: &c.group,
             body: Scope::Named(c.body.as_deref()),
+            slot: Slot::None,
+        })?;
+    }
+    Ok(())
+}
+
+/// The names of `fracture.interfaces`, for [`walk`].
+fn walk_interfaces<'a>(
+    fr: &'a crate::scene::FractureSection,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, it) in fr.interfaces.iter().enumerate() {
+        if let Some(b) = &it.body {
+            f(Ref {
+                path: format!("fracture.interfaces[{i}].body"),
+                pointer: format!("/fracture/interfaces/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
+        for (k, g) in it.groups.iter().enumerate() {
+            f(Ref {
+                path: format!("fracture.interfaces[{i}].groups[{k}]"),
+                pointer: format!("/fracture/interfaces/{i}/groups/{k}"),
+                kind: RefKind::SurfaceGroup,
+                name: g,
+                body: Scope::Named(it.body.as_deref()),
+                slot: Slot::Interface(i, k),
+            })?;
+        }
+        f(Ref {
+            path: format!("fracture.interfaces[{i}].material"),
+            pointer: format!("/fracture/interfaces/{i}/material"),
+            kind: RefKind::JointMaterial,
+            name: &it.material,
+            body: Scope::None,
             slot: Slot::None,
         })?;
     }
@@ -357,8 +409,10 @@ pub struct Resolved {
     pub conditions: Vec<usize>,
     /// The body of each history probe (`None`: the energy probe).
     pub probes: Vec<Option<usize>>,
-    /// For each body, the fracture region that explodes it, if any.
-    pub fracture_region: Vec<Option<usize>>,
+    /// For each body, the fracture regions that explode it (none: it does not fracture).
+    pub fracture_regions: Vec<Vec<usize>>,
+    /// The body of the two groups of each fracture interface.
+    pub interfaces: Vec<[usize; 2]>,
     /// The two bodies of each contact pair.
     pub pairs: Vec<[usize; 2]>,
 }
@@ -460,19 +514,7 @@ impl<'a> Resolver<'a> {
             ));
         };
         match r.slot {
-            Slot::Region(i) => {
-                if let Some(prev) = out.fracture_region[bi] {
-                    return Err(self.bad(
-                        &r.path,
-                        format!(
-                            "fracture.regions[{prev}] already makes body '{}' fracture",
-                            r.name
-                        ),
-                        "list all the body's fracturing groups in one region".into(),
-                    ));
-                }
-                out.fracture_region[bi] = Some(i);
-            }
+            Slot::Region(i) => out.fracture_regions[bi].push(i),
             Slot::Pair(i, k) => out.pairs[i][k] = bi,
             _ => {}
         }
@@ -523,7 +565,9 @@ impl<'a> Resolver<'a> {
             RefKind::EdgeGroup => {
                 " (pressure, traction and cracks act on the edges of an edge group)"
             }
-            RefKind::SurfaceGroup => " (a fracturing region is made of surface groups)",
+            RefKind::SurfaceGroup => {
+                " (fracture regions and interfaces are made of surface groups)"
+            }
             _ => "",
         };
         let bodies: Vec<usize> = match body {
@@ -595,7 +639,61 @@ impl<'a> Resolver<'a> {
         match r.slot {
             Slot::Condition(i) => out.conditions[i] = bi,
             Slot::Probe(i) => out.probes[i] = Some(bi),
+            Slot::Interface(i, k) => out.interfaces[i][k] = bi,
             _ => {}
+        }
+        Ok(())
+    }
+
+    /// A key of `fracture.materials`.
+    fn joint_material(&self, r: &Ref<'_>) -> Result<(), SceneError> {
+        let Some(fr) = &self.scene.fracture else {
+            return Ok(());
+        };
+        if fr.materials.contains_key(r.name) {
+            return Ok(());
+        }
+        let names: Vec<&String> = fr.materials.keys().collect();
+        Err(self.bad(
+            &r.path,
+            format!("no joint material is named '{}'", r.name),
+            if names.is_empty() {
+                "name the materials under fracture.materials and use one of their keys here".into()
+            } else {
+                format!(
+                    "use one of: {} (the keys of fracture.materials)",
+                    list(&names)
+                )
+            },
+        ))
+    }
+
+    /// The two groups of an interface lie in one body, which fractures.
+    fn interfaces_in_one_body(&self, out: &Resolved) -> Result<(), SceneError> {
+        for (i, b) in out.interfaces.iter().enumerate() {
+            if b[0] != b[1] {
+                return Err(self.bad(
+                    &format!("fracture.interfaces[{i}].groups"),
+                    format!(
+                        "the groups lie in different bodies: {} and {}",
+                        self.label(b[0]),
+                        self.label(b[1])
+                    ),
+                    "an interface joins two groups of one body: add \"body\" to it".into(),
+                ));
+            }
+            if out.fracture_regions[b[0]].is_empty() {
+                return Err(self.bad(
+                    &format!("fracture.interfaces[{i}]"),
+                    format!(
+                        "{} has no fracture region, so no joint lies between the groups",
+                        self.label(b[0])
+                    ),
+                    "add a fracture region for the body (its joints are made by the explode \
+                     of the regions)"
+                        .into(),
+                ));
+            }
         }
         Ok(())
     }
@@ -607,14 +705,7 @@ impl<'a> Resolver<'a> {
                 if r.body.is_some() {
                     continue;
                 }
-                if let Some(prev) = out.fracture_region[0] {
-                    return Err(self.bad(
-                        &format!("fracture.regions[{i}]"),
-                        format!("fracture.regions[{prev}] already makes the body fracture"),
-                        "list all the body's fracturing groups in one region".into(),
-                    ));
-                }
-                out.fracture_region[0] = Some(i);
+                out.fracture_regions[0].push(i);
             }
         }
         Ok(())
@@ -737,7 +828,8 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
     let mut out = Resolved {
         conditions: vec![0; scene.boundary_conditions.len()],
         probes: vec![None; scene.histories.probes.len()],
-        fracture_region: vec![None; scene.bodies.len()],
+        fracture_regions: vec![Vec::new(); scene.bodies.len()],
+        interfaces: vec![[0, 0]; scene.fracture.as_ref().map_or(0, |f| f.interfaces.len())],
         pairs: vec![[0, 0]; scene.contact.as_ref().map_or(0, |c| c.pairs.len())],
     };
     walk(scene, &mut |r: Ref<'_>| match r.kind {
@@ -745,8 +837,13 @@ pub fn resolve(scene: &Scene, file: &Path, meshes: &[MeshNames]) -> Result<Resol
         RefKind::Body => cx.body(&r, &mut out),
         RefKind::MaterialKey => cx.material_key(&r),
         RefKind::Group | RefKind::EdgeGroup | RefKind::SurfaceGroup => cx.group(&r, &mut out),
+        RefKind::JointMaterial => cx.joint_material(&r),
     })?;
     cx.regions_without_body(&mut out)?;
+    for r in &mut out.fracture_regions {
+        r.sort_unstable();
+    }
+    cx.interfaces_in_one_body(&out)?;
     cx.materials_cover_regions()?;
     cx.contact_names(&out)?;
     cx.probes_unique(&out)?;

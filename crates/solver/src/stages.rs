@@ -134,8 +134,9 @@ pub fn attach_to(
             .as_ref()
             .and_then(|f| f.initial_state.clone())
             .or_else(|| crate::cracks::initial_state(scene, &set, &sys.model));
-        let (stage, b, _) =
+        let (mut stage, b, _) =
             crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial);
+        stage.write_properties = scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }

@@ -29,6 +29,41 @@ pub struct JointFrame {
     pub normal_traction: Vec<f64>,
     /// Shear traction, mean of the two points [Pa] (0 once broken).
     pub shear_traction: Vec<f64>,
+    /// Each joint's strengths and fracture energies, only in a scene whose joints differ in
+    /// material (several joint materials, or drawn ones).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub properties: Option<JointProperties>,
+}
+
+/// The material values of every joint (one entry per joint).
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct JointProperties {
+    /// Tensile strength `ft` [Pa].
+    pub tensile_strength: Vec<f64>,
+    /// Cohesion `c` [Pa].
+    pub cohesion: Vec<f64>,
+    /// Mode I fracture energy [J/m^2].
+    pub fracture_energy_i: Vec<f64>,
+    /// Mode II fracture energy [J/m^2].
+    pub fracture_energy_ii: Vec<f64>,
+}
+
+impl JointProperties {
+    /// The values of the joints of `set`, from each joint's material row.
+    pub fn new(set: &JointSet) -> Self {
+        let of = |f: fn(&fdem_fracture::JointMaterial) -> f64| -> Vec<f64> {
+            set.material
+                .iter()
+                .map(|&m| f(&set.materials[m as usize]))
+                .collect()
+        };
+        Self {
+            tensile_strength: of(|m| m.ft),
+            cohesion: of(|m| m.cohesion),
+            fracture_energy_i: of(|m| m.g_i),
+            fracture_energy_ii: of(|m| m.g_ii),
+        }
+    }
 }
 
 /// Mode code of a joint: 0 with no damage, else [`FractureMode::from_mix`] as 1 (I), 2 (II),
@@ -123,6 +158,7 @@ impl JointFrame {
             sliding: vec![0.0; n],
             normal_traction: vec![0.0; n],
             shear_traction: vec![0.0; n],
+            properties: None,
         };
         // one row per joint, evaluated in parallel (each from its own joint only) and written
         // straight into its place in every column

@@ -22,6 +22,7 @@
 //! | `time_of_failure` | time of the break [s]; -1 for an unbroken joint (never NaN) |
 //! | `opening`, `sliding` | `o = w . nn`, `s = w . tt`, mean of the two points [m] (`w` = x_S - x_P, x_R - x_Q) |
 //! | `normal_traction`, `shear_traction` | `sigma`, `tau` of the law, mean of the two points [Pa], tension positive; 0 once broken |
+//! | `tensile_strength`, `cohesion`, `fracture_energy_i`, `fracture_energy_ii` | the joint's material values [Pa, Pa, J/m^2, J/m^2], only in a scene whose joints differ in material (several joint materials, or drawn ones) |
 
 use std::path::{Path, PathBuf};
 use vtkio::model::{
@@ -66,7 +67,7 @@ pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
         },
         data: Attributes {
             point: Vec::new(),
-            cell: vec![
+            cell: [
                 array("damage", j.damage.clone()),
                 int_array("mode", j.mode.clone()),
                 array("mode_mix", j.mode_mix.clone()),
@@ -76,7 +77,17 @@ pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
                 array("sliding", j.sliding.clone()),
                 array("normal_traction", j.normal_traction.clone()),
                 array("shear_traction", j.shear_traction.clone()),
-            ],
+            ]
+            .into_iter()
+            .chain(j.properties.iter().flat_map(|p| {
+                [
+                    array("tensile_strength", p.tensile_strength.clone()),
+                    array("cohesion", p.cohesion.clone()),
+                    array("fracture_energy_i", p.fracture_energy_i.clone()),
+                    array("fracture_energy_ii", p.fracture_energy_ii.clone()),
+                ]
+            }))
+            .collect(),
         },
     };
     super::vtu::piece_bytes(piece, level)

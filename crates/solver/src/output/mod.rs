@@ -18,6 +18,6 @@ pub mod vtu;
 pub use atomic::write_atomic;
 pub use frame::{FrameData, frame_from_parts, make_frame};
 pub use history::HistoryWriter;
-pub use joint_frame::JointFrame;
+pub use joint_frame::{JointFrame, JointProperties};
 pub use joints::JointSeries;
 pub use pvd::Collection;

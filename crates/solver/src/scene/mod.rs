@@ -22,6 +22,7 @@ pub mod contact;
 pub mod cracks;
 pub mod fracture;
 pub mod integrator;
+pub mod joint_materials;
 pub mod output;
 
 pub use bodies::{Body, Law, MaterialSpec, Plane};
@@ -137,6 +138,9 @@ impl Scene {
         self.damping.validate(file)?;
         self.output.validate(file)?;
         self.histories.validate(file)?;
+        if let Some(f) = &self.fracture {
+            f.validate(file)?;
+        }
         Ok(())
     }
 }
