@@ -32,6 +32,8 @@ mod block_compression;
 mod cantilever;
 #[path = "contact_scenes.rs"]
 mod contact_scenes;
+#[path = "cracks.rs"]
+mod cracks;
 #[path = "disc_relaxation.rs"]
 mod disc_relaxation;
 #[path = "extremes.rs"]
