@@ -26,6 +26,10 @@ GEOS = [
     "hertz-disc",
     "notched-beam-coarse",
     "block-coarse",
+    "griffith-plate-coarse",
+    "griffith-plate",
+    "wing-crack",
+    "dfn-block",
 ]
 # (suffix, MshFileVersion, Binary)
 VARIANTS = {"cantilever-coarse": [("-bin", 4.1, 1), ("-v22", 2.2, 0)]}

@@ -34,6 +34,8 @@ mod bulk_heterogeneity;
 mod cantilever;
 #[path = "contact_scenes.rs"]
 mod contact_scenes;
+#[path = "cracks.rs"]
+mod cracks;
 #[path = "disc_relaxation.rs"]
 mod disc_relaxation;
 #[path = "extremes.rs"]

@@ -75,7 +75,8 @@ fn assert_says(errs: &[String], tag: &str, needles: &[&str]) {
 
 /// A structured `nx` x `ny` block of cells of size `c`, as a JSON mesh: surface groups
 /// `rock` (left half of the columns) and `weak` (right half), edge groups `top` and `base`,
-/// point group `center`; `tip` (the top right corner) when `tip` is set.
+/// point group `center`; `tip` (the top right corner) and the edge group `flaw` (the middle
+/// row's inner edges) when `tip` is set.
 fn block_mesh(nx: usize, ny: usize, c: f64, tip: bool) -> Value {
     let (nodes, tris) = common::structured_rectangle(nx, ny, nx as f64 * c, ny as f64 * c);
     let id = |i: usize, j: usize| j * (nx + 1) + i;
@@ -98,6 +99,11 @@ fn block_mesh(nx: usize, ny: usize, c: f64, tip: bool) -> Value {
     ];
     if tip {
         groups.push(json!({"name": "tip", "dim": 0, "nodes": [id(nx, ny)]}));
+        // a crack along the middle row, its two tips inside the block
+        let flaw: Vec<[usize; 2]> = (1..nx - 1)
+            .map(|i| [id(i, ny / 2), id(i + 1, ny / 2)])
+            .collect();
+        groups.push(json!({"name": "flaw", "dim": 1, "edges": flaw}));
     }
     json!({"nodes": nodes, "triangles": tris, "groups": groups})
 }
@@ -109,15 +115,15 @@ const LEFT_GROUPS: [&[&str]; 3] = [
     &["rock", "weak"],
 ];
 const RIGHT_GROUPS: [&[&str]; 3] = [
-    &["base", "center", "rock", "tip", "top", "weak"],
-    &["base", "top"],
+    &["base", "center", "flaw", "rock", "tip", "top", "weak"],
+    &["base", "flaw", "top"],
     &["rock", "weak"],
 ];
 
 /// Two blocks `left` and `right` (both with groups `rock`, `weak`, `top`, `base`, `center`;
-/// `right` also `tip`), with every kind of name: boundary conditions of every kind, with and
-/// without `body`, probes, fracture regions with and without groups, contact pairs and
-/// named and unnamed walls. Returns the scene file.
+/// `right` also `tip` and `flaw`), with every kind of name: boundary conditions of every kind,
+/// with and without `body`, probes, fracture regions with and without groups, a pre-existing
+/// crack, contact pairs and named and unnamed walls. Returns the scene file.
 fn every_name_scene(tag: &str) -> PathBuf {
     let dir = common::temp_dir(tag);
     let c = 0.0025;
@@ -158,7 +164,8 @@ fn every_name_scene(tag: &str) -> PathBuf {
                 "fracture_energy_i": 50.0, "fracture_energy_ii": 250.0,
                 "penalty_normal": 300e9, "penalty_tangential": 300e9
             }},
-            "interfaces": [ {"body": "left", "groups": ["rock", "weak"], "material": "tough"} ]
+            "interfaces": [ {"body": "left", "groups": ["rock", "weak"], "material": "tough"} ],
+            "cracks": [ {"body": "right", "group": "flaw"} ]
         },
         "contact": {
             "pairs": [

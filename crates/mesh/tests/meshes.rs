@@ -9,6 +9,30 @@ use std::path::Path;
 /// lines or triangles of the group.
 const MESHIO_COUNTS: &[(&str, usize, usize, &str)] = &[
     (
+        "griffith-plate-coarse.msh",
+        1151,
+        2242,
+        "crack:1:27,ligament:1:36,top:1:13,bottom:1:13,strip:2:446,bulk:2:1796",
+    ),
+    (
+        "griffith-plate.msh",
+        1677,
+        3294,
+        "crack:1:37,ligament:1:48,top:1:13,bottom:1:13,strip:2:976,bulk:2:2318",
+    ),
+    (
+        "wing-crack.msh",
+        1255,
+        2388,
+        "flaw:1:14,bottom:1:20,right:1:40,top:1:20,left:1:40,rock:2:2388",
+    ),
+    (
+        "dfn-block.msh",
+        1755,
+        3428,
+        "dfn:1:108,bottom:1:20,right:1:20,top:1:20,left:1:20,rock:2:3428",
+    ),
+    (
         "block-coarse.msh",
         230,
         406,
@@ -188,6 +212,10 @@ fn mesh_areas_match_geometry() {
         ("notched-beam.msh", 0.2 * 0.05 - 0.002 * 0.01, 1e-12),
         ("notched-beam-coarse.msh", 0.2 * 0.05 - 0.002 * 0.01, 1e-12),
         ("block-coarse.msh", 0.05 * 0.05, 1e-12),
+        ("griffith-plate-coarse.msh", 1.0, 1e-12),
+        ("griffith-plate.msh", 1.0, 1e-12),
+        ("wing-crack.msh", 0.05 * 0.1, 1e-12),
+        ("dfn-block.msh", 1.0, 1e-12),
         // arcs: chord error of a segment of angle dt is R^2 (dt - sin dt)/2 ~ R^2 dt^3/12
         ("brazilian-disc.msh", PI * 0.025f64.powi(2), 1e-3),
         ("thick-cylinder.msh", PI / 4.0 * 3.0, 1e-3),

@@ -5,6 +5,7 @@
 //!   on nothing of the stages that read it.
 //! - [`mesh_input`]: one body's mesh as the solver needs it (nodes, triangles, named groups).
 //! - [`resolve`]: every name a scene refers to, resolved once against the bodies' meshes.
+//! - [`cracks`]: pre-existing cracks resolved to joints, and the joint state they start from.
 //! - [`limits`]: the derived quantities of a run (step, steps, frames, rows) checked.
 //! - [`model`]: all bodies in one node numbering; constraints; consistent nodal loads.
 //! - [`time_history`]: the factor of a load, prescribed motion or wall in time (its ramp or
@@ -28,6 +29,7 @@
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
 pub mod contact_stage;
+pub mod cracks;
 pub mod diagnosis;
 pub mod error;
 pub mod estimate;

@@ -93,6 +93,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
+    crate::cracks::resolve(&mut scene, file, &meshes)?;
     let model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
         static_checks::check_supports(&scene, file, &model)?;

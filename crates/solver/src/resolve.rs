@@ -4,7 +4,8 @@
 //! The names are: body names (unique when given), the keys of `bodies[i].materials` (material
 //! regions of that body's mesh, or `"*"`), the `group` and `body` of every boundary condition
 //! and history probe, the `body`, `groups` and `material` of every fracture region and
-//! interface (a material: a key of `fracture.materials`), the `bodies` of every contact pair,
+//! interface (a material: a key of `fracture.materials`), the `body` and `group` of every
+//! pre-existing crack (an edge group), the `bodies` of every contact pair,
 //! and the wall names (unique, `wall<i>` for an unnamed wall). [`walk`] visits
 //! each of them with its JSON path; [`reference_fields`] lists them (the tests derive from
 //! it the wrong-name cases, so a field cannot be left out), and [`resolve`] checks them, each
@@ -21,7 +22,7 @@ use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
 use crate::mesh_input::MeshInput;
-use crate::scene::{BoundaryCondition, Probe, Scene};
+use crate::scene::{BoundaryCondition, FractureSection, Probe, Scene};
 
 /// The names a mesh offers to a scene.
 #[derive(Debug, Clone, Default)]
@@ -104,7 +105,7 @@ pub enum RefKind {
     MaterialKey,
     /// A physical group of any dimension (fixed, velocity, point load, probes).
     Group,
-    /// An edge (dimension-1) group: pressure and traction.
+    /// An edge (dimension-1) group: pressure, traction and cracks.
     EdgeGroup,
     /// A surface (dimension-2) group: fracture regions and interfaces.
     SurfaceGroup,
@@ -291,6 +292,7 @@ fn walk<'a>(
             }
         }
         walk_interfaces(fr, f)?;
+        walk_cracks(fr, f)?;
     }
     walk_initial_stress(scene, f)?;
     if let Some(c) = &scene.contact {
@@ -318,6 +320,34 @@ fn walk<'a>(
                 })?;
             }
         }
+    }
+    Ok(())
+}
+
+/// The names of `fracture.cracks` (bodies and edge groups), for [`walk`].
+fn walk_cracks<'a>(
+    fr: &'a FractureSection,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, c) in fr.cracks.iter().enumerate() {
+        if let Some(b) = &c.body {
+            f(Ref {
+                path: format!("fracture.cracks[{i}].body"),
+                pointer: format!("/fracture/cracks/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
+        f(Ref {
+            path: format!("fracture.cracks[{i}].group"),
+            pointer: format!("/fracture/cracks/{i}/group"),
+            kind: RefKind::EdgeGroup,
+            name: &c.group,
+            body: Scope::Named(c.body.as_deref()),
+            slot: Slot::None,
+        })?;
     }
     Ok(())
 }
@@ -568,7 +598,9 @@ impl<'a> Resolver<'a> {
             _ => "group",
         };
         let note = match r.kind {
-            RefKind::EdgeGroup => " (pressure and traction act on the edges of an edge group)",
+            RefKind::EdgeGroup => {
+                " (pressure, traction and cracks act on the edges of an edge group)"
+            }
             RefKind::SurfaceGroup => {
                 " (fracture regions and interfaces are made of surface groups)"
             }

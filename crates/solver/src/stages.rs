@@ -102,7 +102,8 @@ pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
 
 /// Attaches the stages a scene needs to `sys` (time step `dt`, histories every `every` steps
 /// into `out_dir`): joints first (from the scene's saved fracture state when it has one,
-/// [`crate::fracture_stage::FractureSection::initial_state`]), then contact (which excludes
+/// [`crate::fracture_stage::FractureSection::initial_state`], else with the pre-existing
+/// cracks broken, [`crate::cracks::initial_state`]), then contact (which excludes
 /// the bonded pairs: intact joints and stars).
 pub fn attach(
     scene: &Scene,
@@ -131,7 +132,8 @@ pub fn attach_to(
         let initial = scene
             .fracture
             .as_ref()
-            .and_then(|f| f.initial_state.clone());
+            .and_then(|f| f.initial_state.clone())
+            .or_else(|| crate::cracks::initial_state(scene, &set, &sys.model));
         let (mut stage, b, _) =
             crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial);
         stage.write_properties = scene.fracture.as_ref().is_some_and(|f| f.varied_joints());

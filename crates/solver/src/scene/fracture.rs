@@ -30,6 +30,10 @@ pub struct FractureSection {
     /// Interfaces: the joints between two surface groups take their own material.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub interfaces: Vec<Interface>,
+    /// Pre-existing cracks: edge groups whose joints start broken, their faces in contact
+    /// (default none; `crate::scene::cracks`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cracks: Vec<super::cracks::Crack>,
     /// The joints found at load time, per body (filled by `crate::fracture_stage::explode_body`).
     #[serde(skip)]
     pub joints: Vec<(usize, Vec<Joint>)>,

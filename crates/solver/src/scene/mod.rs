@@ -19,6 +19,7 @@ use crate::error::SceneError;
 pub mod bodies;
 pub mod conditions;
 pub mod contact;
+pub mod cracks;
 pub mod fracture;
 pub mod history;
 pub mod initial_stress;
