@@ -28,6 +28,8 @@ mod adaptive_step;
 mod bar_pulse;
 #[path = "block_compression.rs"]
 mod block_compression;
+#[path = "bulk_heterogeneity.rs"]
+mod bulk_heterogeneity;
 #[path = "cantilever.rs"]
 mod cantilever;
 #[path = "contact_scenes.rs"]

@@ -412,13 +412,17 @@ fn element_driver(scene: &Scene, model: &Model, t: usize, w: f64) -> StepDriver 
     let b = model.tri_body[t] as usize;
     let spec = model.materials[model.tri_material[t] as usize].0;
     let body = &scene.bodies[b];
-    let key = body
-        .materials
-        .iter()
-        .find(|(_, m)| {
-            m.young == spec.young && m.density == spec.density && m.poisson == spec.poisson
-        })
-        .map_or("*", |(k, _)| k.as_str());
+    let found = body.materials.iter().find(|(_, m)| {
+        (m.young == spec.young || m.heterogeneity.is_some())
+            && m.density == spec.density
+            && m.poisson == spec.poisson
+    });
+    let key = found.map_or("*", |(k, _)| k.as_str());
+    // a drawn modulus is set by its distribution
+    let young_field = match found {
+        Some((_, m)) if m.heterogeneity.is_some() => "heterogeneity.young",
+        _ => "young",
+    };
     let c2 = spec.young / spec.density;
     let first = model
         .tri_body
@@ -436,7 +440,7 @@ fn element_driver(scene: &Scene, model: &Model, t: usize, w: f64) -> StepDriver 
             )
         } else {
             (
-                "young",
+                young_field,
                 "check Young's modulus [Pa] (e.g. 30e9 for concrete)",
             )
         };

@@ -111,8 +111,16 @@ pub struct Model {
     pub tri_body: Vec<u32>,
     /// Thickness of each triangle [m].
     pub tri_thickness: Vec<f64>,
-    /// The distinct (material, thickness [m]) pairs.
+    /// The distinct (material, thickness [m]) pairs, and one row per triangle of a material
+    /// with a heterogeneity (its Young's modulus drawn for that triangle).
     pub materials: Vec<(MaterialSpec, f64)>,
+    /// Whether some triangle's Young's modulus is drawn (a material with a heterogeneity):
+    /// the frames then write each cell's `young`.
+    pub drawn_young: bool,
+    /// The material id of each row of `materials`, as the frames' `material` array shows it:
+    /// the row itself, except that the rows drawn for one material entry share one id (ids
+    /// numbered in order of first use).
+    pub material_id: Vec<u32>,
     /// First node of each body, and one past the last.
     pub body_nodes: Vec<std::ops::Range<u32>>,
     /// Lumped node masses [kg].
@@ -253,6 +261,11 @@ fn add_bodies(
     meshes: &[MeshInput],
 ) -> Result<EdgeGroups, SceneError> {
     let mut edge_groups: EdgeGroups = Vec::new();
+    // The rows shared by triangles (materials without heterogeneity), searched for reuse.
+    let mut shared: Vec<usize> = Vec::new();
+    // The id of each drawn material entry: ((body, key), id).
+    let mut drawn_ids: Vec<((usize, &str), u32)> = Vec::new();
+    let mut next_id = 0u32;
     for (bi, (body, mesh)) in scene.bodies.iter().zip(meshes).enumerate() {
         let base = m.x0.len() as u32;
         m.body_nodes.push(base..base + mesh.nodes.len() as u32);
@@ -264,10 +277,10 @@ fn add_bodies(
         m.v0.extend(std::iter::repeat_n(body.initial_velocity, mesh.nodes.len()));
         for (ti, t) in mesh.triangles.iter().enumerate() {
             let g = &mesh.triangle_group[ti];
-            let spec = body
+            let (key, spec) = body
                 .materials
-                .get(g)
-                .or_else(|| body.materials.get("*"))
+                .get_key_value(g)
+                .or_else(|| body.materials.get_key_value("*"))
                 .ok_or_else(|| {
                     unresolved(
                         file,
@@ -275,15 +288,34 @@ fn add_bodies(
                         format!("triangle {ti} is in group '{g}', which has no material"),
                     )
                 })?;
-            let mi = match m
-                .materials
-                .iter()
-                .position(|x| same(&x.0, spec) && x.1 == body.thickness)
-            {
-                Some(i) => i,
-                None => {
-                    m.materials.push((*spec, body.thickness));
-                    m.materials.len() - 1
+            let mi = if spec.heterogeneity.is_some() {
+                // its own row: Young's modulus drawn for its global index
+                m.drawn_young = true;
+                m.materials
+                    .push((spec.row(m.triangles.len() as u64), body.thickness));
+                let id = match drawn_ids.iter().find(|(k, _)| *k == (bi, key.as_str())) {
+                    Some(&(_, id)) => id,
+                    None => {
+                        drawn_ids.push(((bi, key.as_str()), next_id));
+                        next_id += 1;
+                        next_id - 1
+                    }
+                };
+                m.material_id.push(id);
+                m.materials.len() - 1
+            } else {
+                match shared.iter().copied().find(|&i| {
+                    let x = &m.materials[i];
+                    same(&x.0, spec) && x.1 == body.thickness
+                }) {
+                    Some(i) => i,
+                    None => {
+                        m.materials.push((*spec, body.thickness));
+                        m.material_id.push(next_id);
+                        next_id += 1;
+                        shared.push(m.materials.len() - 1);
+                        m.materials.len() - 1
+                    }
                 }
             };
             m.triangles.push([t[0] + base, t[1] + base, t[2] + base]);

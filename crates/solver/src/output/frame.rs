@@ -31,7 +31,8 @@ pub struct FrameData {
     pub von_mises: Vec<f64>,
     /// Strain energy density per reference area [J/m^3].
     pub energy_density: Vec<f64>,
-    /// Material id per triangle.
+    /// Material id per triangle (one per material entry and thickness, in order of first
+    /// use; the triangles of a material with drawn moduli share one).
     pub material: Vec<i32>,
     /// Body id per triangle.
     pub body: Vec<i32>,
@@ -114,10 +115,26 @@ pub fn frame_from_parts(
         von_mises: stress.iter().map(|s| von_mises(*s)).collect(),
         stress,
         energy_density,
-        material: model.tri_material.iter().map(|&m| m as i32).collect(),
+        material: model
+            .tri_material
+            .iter()
+            .map(|&r| model.material_id.get(r as usize).map_or(r, |&id| id) as i32)
+            .collect(),
         body: model.tri_body.iter().map(|&b| b as i32).collect(),
         extra_point_vectors: Vec::new(),
-        extra_cell_scalars: Vec::new(),
+        // Young's modulus per cell [Pa], only when some triangle's is drawn
+        extra_cell_scalars: if model.drawn_young {
+            vec![(
+                "young".into(),
+                model
+                    .tri_material
+                    .iter()
+                    .map(|&r| model.materials[r as usize].0.young)
+                    .collect(),
+            )]
+        } else {
+            Vec::new()
+        },
         joints: None,
     }
 }

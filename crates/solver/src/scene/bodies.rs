@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use fdem_fracture::Distribution;
 use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
@@ -65,7 +66,9 @@ pub struct MaterialSpec {
     /// Material law (default `linear-elastic`).
     #[serde(default)]
     pub law: Law,
-    /// Young's modulus E [Pa], > 0.
+    /// Young's modulus E [Pa], > 0. Absent (read as NaN) when `heterogeneity` draws it per
+    /// triangle: exactly one of the two is given.
+    #[serde(default = "absent", skip_serializing_if = "is_absent")]
     pub young: f64,
     /// Poisson's ratio nu, in [0, 0.5).
     pub poisson: f64,
@@ -74,6 +77,101 @@ pub struct MaterialSpec {
     /// Plane stress or plane strain (default `stress`).
     #[serde(default)]
     pub plane: Plane,
+    /// Young's modulus drawn per triangle (default none: every triangle of the group has
+    /// `young`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heterogeneity: Option<BulkHeterogeneity>,
+}
+
+fn absent() -> f64 {
+    f64::NAN
+}
+
+fn is_absent(x: &f64) -> bool {
+    x.is_nan()
+}
+
+/// The stream of the per-triangle Young's modulus in the field of a seed
+/// (`fdem_fracture::heterogeneity::stream_seed`): apart from the joints' streams 0-3, so one
+/// seed used for both gives independent fields.
+pub const YOUNG_STREAM: u64 = 16;
+
+/// The bulk constants drawn per triangle. In JSON (`deny_unknown_fields`): `{"seed": 7,
+/// "young": {"weibull": {"modulus": 8, "scale": 30e9}}}` (or `normal` / `lognormal`, as the
+/// joints' heterogeneity).
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BulkHeterogeneity {
+    /// Seed of the field (the same seed, the same values on any number of threads).
+    pub seed: u64,
+    /// Distribution of Young's modulus E [Pa].
+    pub young: Distribution,
+}
+
+impl BulkHeterogeneity {
+    /// Young's modulus of the triangle with global index `triangle` in the model (all
+    /// bodies' triangles in scene order): the draw of `(seed, triangle)` on [`YOUNG_STREAM`].
+    pub fn young(&self, triangle: u64) -> f64 {
+        let seed = fdem_fracture::heterogeneity::stream_seed(self.seed, YOUNG_STREAM);
+        self.young.sample(seed, triangle)
+    }
+}
+
+impl MaterialSpec {
+    /// The material of the triangle with global index `triangle`: `self` with Young's modulus
+    /// drawn when the material has a heterogeneity (and no heterogeneity left).
+    pub fn row(&self, triangle: u64) -> MaterialSpec {
+        match &self.heterogeneity {
+            Some(h) => MaterialSpec {
+                young: h.young(triangle),
+                heterogeneity: None,
+                ..*self
+            },
+            None => *self,
+        }
+    }
+
+    /// Checks Young's modulus at `p` (`bodies[i].materials.GROUP`): given and positive, or
+    /// drawn from a valid distribution (exactly one of the two).
+    fn validate_young(&self, file: &Path, p: &str) -> Result<(), SceneError> {
+        let bad = |path: String, message: String, fix: String| {
+            SceneError::invalid(file, path, message, fix)
+        };
+        match (&self.heterogeneity, self.young.is_nan()) {
+            (None, true) => Err(bad(
+                p.into(),
+                "missing field `young`".into(),
+                format!(
+                    "add \"young\": <value in Pa>, or draw it per triangle under \
+                     {p}.heterogeneity.young"
+                ),
+            )),
+            (Some(_), false) => Err(bad(
+                format!("{p}.young"),
+                format!("`young` is given a value and also drawn by {p}.heterogeneity.young"),
+                format!("remove {p}.young or {p}.heterogeneity"),
+            )),
+            (Some(h), true) => h.young.validate().map_err(|e| {
+                let sub = match &e {
+                    fdem_fracture::FractureError::InvalidDistribution { field, .. } => {
+                        format!(".{field}")
+                    }
+                    _ => String::new(),
+                };
+                bad(
+                    format!("{p}.heterogeneity.young.{}{sub}", h.young.law()),
+                    e.to_string(),
+                    "give every parameter of the distribution a positive finite value".into(),
+                )
+            }),
+            (None, false) if !(self.young > 0.0 && self.young.is_finite()) => Err(bad(
+                format!("{p}.young"),
+                format!("Young's modulus {} is not positive", self.young),
+                "set young to a positive value in Pa".into(),
+            )),
+            (None, false) => Ok(()),
+        }
+    }
 }
 
 /// Checks the values of the bodies that the JSON types cannot (at least one body, positive
@@ -105,13 +203,7 @@ pub(crate) fn validate(bodies: &[Body], file: &Path) -> Result<(), SceneError> {
         }
         for (g, m) in &b.materials {
             let p = format!("bodies[{i}].materials.{g}");
-            if !(m.young > 0.0 && m.young.is_finite()) {
-                return Err(bad(
-                    format!("{p}.young"),
-                    format!("Young's modulus {} is not positive", m.young),
-                    "set young to a positive value in Pa",
-                ));
-            }
+            m.validate_young(file, &p)?;
             if !(m.density > 0.0 && m.density.is_finite()) {
                 return Err(bad(
                     format!("{p}.density"),

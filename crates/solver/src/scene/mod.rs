@@ -27,7 +27,7 @@ pub mod integrator;
 pub mod joint_materials;
 pub mod output;
 
-pub use bodies::{Body, Law, MaterialSpec, Plane};
+pub use bodies::{Body, BulkHeterogeneity, Law, MaterialSpec, Plane};
 pub use conditions::{
     BoundaryCondition, Fixed, PointLoad, PrescribedDisplacement, PrescribedVelocity, PressureLoad,
     TractionLoad,
