@@ -63,7 +63,8 @@ pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
 pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
-    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, kinematics,
+    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, evaluate_offset,
+    kinematics,
     point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};

@@ -46,6 +46,11 @@ pub struct JointSet {
     pub node_offsets: Vec<u32>,
     /// `4 j + k` for node k (P, Q, R, S) of joint j, in increasing order per node.
     pub node_slots: Vec<u32>,
+    /// Per joint, the initial offsets `[o0, s0]` (m) of the opening and the sliding that an
+    /// initial (in-situ) stress gives it ([`JointSet::set_initial_tractions`]): the law is
+    /// evaluated at `o + o0`, `s + s0`, so that at zero deformation the joint transmits the
+    /// initial traction. Empty when there is none (the pass then takes its plain branch).
+    pub initial_offsets: Vec<[f64; 2]>,
 }
 
 impl JointSet {
@@ -78,6 +83,7 @@ impl JointSet {
             n_nodes,
             node_offsets: Vec::new(),
             node_slots: Vec::new(),
+            initial_offsets: Vec::new(),
         };
         for (j, jt) in joints.iter().enumerate() {
             let joint = j as u32;
@@ -129,6 +135,89 @@ impl JointSet {
         set.node_offsets = offsets;
         set.node_slots = slots;
         Ok(set)
+    }
+
+    /// Prestresses the joints: `t0[j] = [sigma0, tau0]` (Pa) is the traction joint `j` carries
+    /// at zero deformation (normal part tension-positive along `nn`, shear part along `tt`, the
+    /// traction on T1's face). Each joint gets the offsets `[o0, s0]` at which its undamaged
+    /// law gives exactly that traction (docs/fracture.md, "Prestressed joints"):
+    ///
+    /// ```text
+    /// sigma0 <= 0:  o0 = sigma0/(p/h)                         (the linear compression branch)
+    /// sigma0 > 0:   o0 = o_p (1 - sqrt(1 - sigma0/ft))         (inverse of ft (2x - x^2))
+    /// fs = c + <-sigma(o0)> tan(phi),  s_p = 2 h fs/p_t
+    /// s0 = sign(tau0) s_p (1 - sqrt(1 - |tau0|/fs))             (inverse of fs (2y - y^2))
+    /// ```
+    ///
+    /// Errors: a tension `sigma0 >= ft` or a shear `|tau0| >= fs` (the joint would start
+    /// broken), a traction that is not finite, a list of the wrong length. All tractions zero
+    /// leaves the set without offsets (its results are then bit for bit those of a set never
+    /// prestressed).
+    pub fn set_initial_tractions(&mut self, t0: &[[f64; 2]]) -> Result<(), FractureError> {
+        if t0.len() != self.len() {
+            return Err(FractureError::BadInitialTractions(format!(
+                "{} tractions for {} joints",
+                t0.len(),
+                self.len()
+            )));
+        }
+        if t0.iter().all(|t| *t == [0.0; 2]) {
+            self.initial_offsets = Vec::new();
+            return Ok(());
+        }
+        let mut off = Vec::with_capacity(t0.len());
+        for (j, &[sigma0, tau0]) in t0.iter().enumerate() {
+            if !(sigma0.is_finite() && tau0.is_finite()) {
+                return Err(FractureError::BadInitialTractions(format!(
+                    "joint {j}: traction [{sigma0}, {tau0}] Pa is not finite"
+                )));
+            }
+            let material = self.material[j];
+            let (m, k) = (&self.materials[material as usize], &self.consts[j]);
+            let o0 = if sigma0 <= 0.0 {
+                sigma0 / k.kn
+            } else if sigma0 < m.ft {
+                k.o_p * (1.0 - (1.0 - sigma0 / m.ft).sqrt())
+            } else {
+                return Err(FractureError::InitialTractionTooHigh {
+                    joint: j as u32,
+                    material,
+                    what: "tensile",
+                    traction: sigma0,
+                    strength: m.ft,
+                });
+            };
+            // the law's shear strength and peak slip at that opening
+            let (fs, s_p) = if o0 < 0.0 {
+                let fs = m.shear_strength(k.kn * o0);
+                (fs, k.slip_per_fs * fs)
+            } else {
+                (m.cohesion, k.s_p0)
+            };
+            if tau0.abs() >= fs {
+                return Err(FractureError::InitialTractionTooHigh {
+                    joint: j as u32,
+                    material,
+                    what: "shear",
+                    traction: tau0.abs(),
+                    strength: fs,
+                });
+            }
+            let s0 = tau0.signum() * s_p * (1.0 - (1.0 - tau0.abs() / fs).sqrt());
+            off.push([o0, if tau0 == 0.0 { 0.0 } else { s0 }]);
+        }
+        self.initial_offsets = off;
+        Ok(())
+    }
+
+    /// The initial offsets `[o0, s0]` of joint `j` (zero without an initial stress).
+    #[inline]
+    pub fn initial_offset(&self, j: usize) -> [f64; 2] {
+        if self.initial_offsets.is_empty() {
+            [0.0; 2]
+        } else {
+            self.initial_offsets[j]
+        }
     }
 
     /// Number of joints.
