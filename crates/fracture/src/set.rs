@@ -177,7 +177,9 @@ impl JointSet {
             let o0 = if sigma0 <= 0.0 {
                 sigma0 / k.kn
             } else if sigma0 < m.ft {
-                k.o_p * (1.0 - (1.0 - sigma0 / m.ft).sqrt())
+                // 1 - sqrt(1 - r) = r/(1 + sqrt(1 - r)), without the cancellation
+                let r = sigma0 / m.ft;
+                k.o_p * r / (1.0 + (1.0 - r).sqrt())
             } else {
                 return Err(FractureError::InitialTractionTooHigh {
                     joint: j as u32,
@@ -203,7 +205,8 @@ impl JointSet {
                     strength: fs,
                 });
             }
-            let s0 = tau0.signum() * s_p * (1.0 - (1.0 - tau0.abs() / fs).sqrt());
+            let r = tau0.abs() / fs;
+            let s0 = tau0.signum() * s_p * r / (1.0 + (1.0 - r).sqrt());
             off.push([o0, if tau0 == 0.0 { 0.0 } else { s0 }]);
         }
         self.initial_offsets = off;
