@@ -239,3 +239,73 @@ impl JointSet {
         self.nodes[j].map(|n| x[n as usize])
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::joint::{PointHistory, evaluate_offset};
+
+    /// One joint along +x (nn = -y), P = S = (0, 0), Q = R = (h, 0).
+    fn one(ft: f64, c: f64) -> (JointSet, [[f64; 2]; 4]) {
+        let m = JointMaterialInput {
+            tensile_strength: ft,
+            cohesion: c,
+            friction_angle_deg: 30.0,
+            fracture_energy_i: 100.0,
+            fracture_energy_ii: 500.0,
+            penalty_normal: 1e11,
+            penalty_tangential: 5e10,
+        };
+        let h = 0.02;
+        let j = Joint {
+            nodes: [0, 1, 2, 3],
+            triangles: [0, 1],
+            ref_length: h,
+            material: 0,
+        };
+        let x = [[0.0, 0.0], [h, 0.0], [h, 0.0], [0.0, 0.0]];
+        (JointSet::new(&[j], &[m], 4, 1.0).unwrap(), x)
+    }
+
+    /// The offsets invert the undamaged law: at zero deformation the joint carries the given
+    /// traction (to 1e-12 relative) in compression with shear and in tension with shear, its
+    /// nodal forces are `A t0` on T1's nodes, and it stays undamaged; a tension at `ft` or a
+    /// shear at `fs` is refused, naming the mode.
+    #[test]
+    fn offsets_give_the_initial_traction_at_rest() {
+        for t0 in [[-20e6, 5e6], [-20e6, -7e6], [3e6, 2e6], [0.0, -1e6], [-1e6, 0.0]] {
+            let (mut set, x) = one(5e6, 10e6);
+            set.set_initial_tractions(&[t0]).unwrap();
+            let m = &set.materials[0];
+            let e = evaluate_offset(
+                m,
+                &set.consts[0],
+                &x,
+                &PointHistory::FRESH,
+                1.0,
+                set.initial_offsets[0],
+            );
+            let a = 0.5 * 0.02;
+            for p in 0..2 {
+                let (sig, tau) = (e.local[4 * p] / a, e.local[4 * p + 1] / a);
+                assert!((sig - t0[0]).abs() <= 1e-12 * 20e6, "{t0:?}: sigma {sig}");
+                assert!((tau - t0[1]).abs() <= 1e-12 * 20e6, "{t0:?}: tau {tau}");
+            }
+            assert_eq!(e.damage, [0.0; 2]);
+            // nn = -y, tt = +x: the force on P is A (sigma nn + tau tt)
+            let f = e.forces[0];
+            assert!((f[0] - a * t0[1]).abs() <= 1e-12 * a * 20e6, "{f:?}");
+            assert!((f[1] + a * t0[0]).abs() <= 1e-12 * a * 20e6, "{f:?}");
+        }
+        let (mut set, _) = one(5e6, 10e6);
+        let e = set.set_initial_tractions(&[[5e6, 0.0]]).unwrap_err();
+        assert!(e.to_string().contains("tensile"), "{e}");
+        // fs = c + 20 tan 30 = 21.55 MPa at sigma = -20 MPa
+        let e = set.set_initial_tractions(&[[-20e6, 22e6]]).unwrap_err();
+        assert!(e.to_string().contains("shear"), "{e}");
+        assert!(set.set_initial_tractions(&[[-20e6, 21e6]]).is_ok());
+        // all zero: no offsets (the plain pass)
+        set.set_initial_tractions(&[[0.0; 2]]).unwrap();
+        assert!(set.initial_offsets.is_empty());
+    }
+}
