@@ -185,7 +185,10 @@ fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
         jf.damage.len(),
         tau_max
     );
-    assert!(emax <= 1e-12 * smax * smax / E * 2.0, "ledger error {emax} J");
+    assert!(
+        emax <= 1e-12 * smax * smax / E * 2.0,
+        "ledger error {emax} J"
+    );
     assert!(serr <= 1e-9 * smax, "frame stress error {serr} Pa");
     assert!(terr <= 1e-9 * smax, "joint traction error {terr} Pa");
     if s[2] != 0.0 || s[0] != s[1] {
@@ -364,7 +367,12 @@ fn initial_tension_above_joint_strength_is_refused() {
         Ok(_) => panic!("loaded"),
         Err(e) => e.to_string(),
     };
-    for n in ["fracture.material", "tensile traction", "tensile_strength", "start broken"] {
+    for n in [
+        "fracture.material",
+        "tensile traction",
+        "tensile_strength",
+        "start broken",
+    ] {
         assert!(e.contains(n), "'{n}' not in: {e}");
     }
     // just below the strength it loads

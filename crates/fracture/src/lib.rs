@@ -63,9 +63,8 @@ pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
 pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
-    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, evaluate_offset,
-    kinematics,
-    point_traction,
+    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces,
+    evaluate_offset, kinematics, point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};

@@ -273,7 +273,13 @@ mod tests {
     /// shear at `fs` is refused, naming the mode.
     #[test]
     fn offsets_give_the_initial_traction_at_rest() {
-        for t0 in [[-20e6, 5e6], [-20e6, -7e6], [3e6, 2e6], [0.0, -1e6], [-1e6, 0.0]] {
+        for t0 in [
+            [-20e6, 5e6],
+            [-20e6, -7e6],
+            [3e6, 2e6],
+            [0.0, -1e6],
+            [-1e6, 0.0],
+        ] {
             let (mut set, x) = one(5e6, 10e6);
             set.set_initial_tractions(&[t0]).unwrap();
             let m = &set.materials[0];

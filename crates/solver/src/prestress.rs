@@ -37,7 +37,11 @@ pub fn joint_tractions(set: &JointSet, x0: &[[f64; 2]], s0: &[[f64; 3]]) -> Vec<
         .map(|j| {
             let k = kinematics(&set.gather(j, x0), set.consts[j].h);
             let [a, b] = set.triangles[j].map(|t| s0[t as usize]);
-            let s = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])];
+            let s = [
+                0.5 * (a[0] + b[0]),
+                0.5 * (a[1] + b[1]),
+                0.5 * (a[2] + b[2]),
+            ];
             let t = [
                 s[0] * k.nn[0] + s[2] * k.nn[1],
                 s[2] * k.nn[0] + s[1] * k.nn[1],
@@ -66,7 +70,12 @@ pub fn prestress_joints(
     let t0 = joint_tractions(set, &model.x0, s0);
     set.set_initial_tractions(&t0).map_err(|e| {
         let FractureError::InitialTractionTooHigh { joint, .. } = &e else {
-            return SceneError::invalid(file, "initial_stress", e.to_string(), "check the initial stress");
+            return SceneError::invalid(
+                file,
+                "initial_stress",
+                e.to_string(),
+                "check the initial stress",
+            );
         };
         let j = *joint as usize;
         let section = scene.fracture.as_ref();
@@ -74,7 +83,10 @@ pub fn prestress_joints(
             .and_then(|sec| {
                 let list = sec.material_list();
                 let joints = crate::fracture_stage::global_joints(sec, model);
-                joints.get(j).and_then(|jt| list.get(jt.material as usize)).map(|m| m.path())
+                joints
+                    .get(j)
+                    .and_then(|jt| list.get(jt.material as usize))
+                    .map(|m| m.path())
             })
             .unwrap_or_else(|| "fracture.material".into());
         let x = set.gather(j, &model.x0);
