@@ -349,8 +349,8 @@ fn excavation_breaks_weak_joints_near_the_opening() {
     assert!(rmax <= 0.5, "{rmax}");
 }
 
-/// An initial tension across joints at or above their tensile strength is refused at load,
-/// naming the joint material and the fix.
+/// An initial tension across joints at or above their tensile strength, or a shear at or above
+/// their shear strength, is refused at load, naming the joint material and the fix.
 #[test]
 fn initial_tension_above_joint_strength_is_refused() {
     let dir = common::temp_dir("prejoint-bad");
@@ -371,6 +371,21 @@ fn initial_tension_above_joint_strength_is_refused() {
         "fracture.material",
         "tensile traction",
         "tensile_strength",
+        "start broken",
+    ] {
+        assert!(e.contains(n), "'{n}' not in: {e}");
+    }
+    // shear: on the vertical edges tau0 = sxy = 12 MPa, fs = c + 1 MPa tan 30 = 10.58 MPa
+    let mut sh = scene.clone();
+    sh["initial_stress"] = json!([{"uniform": [-1e6, -1e6, 12e6]}]);
+    let e = match fdem_solver::driver::load(&write(&dir, "shear.json", &sh)) {
+        Ok(_) => panic!("loaded"),
+        Err(e) => e.to_string(),
+    };
+    for n in [
+        "fracture.material",
+        "shear traction",
+        "cohesion",
         "start broken",
     ] {
         assert!(e.contains(n), "'{n}' not in: {e}");

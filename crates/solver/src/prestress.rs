@@ -69,7 +69,7 @@ pub fn prestress_joints(
     }
     let t0 = joint_tractions(set, &model.x0, s0);
     set.set_initial_tractions(&t0).map_err(|e| {
-        let FractureError::InitialTractionTooHigh { joint, .. } = &e else {
+        let FractureError::InitialTractionTooHigh { joint, what, .. } = &e else {
             return SceneError::invalid(
                 file,
                 "initial_stress",
@@ -100,9 +100,15 @@ pub fn prestress_joints(
                 0.5 * (x[0][0] + x[1][0]),
                 0.5 * (x[0][1] + x[1][1])
             ),
-            "raise the material's tensile_strength (or cohesion) above the initial traction, \
-             or make the initial stress compressive across the joints (in-situ rock is in \
-             compression)",
+            if *what == "shear" {
+                "raise the material's cohesion (or friction_angle_deg) so that the shear \
+                 strength exceeds the initial shear traction, or check the initial stress's \
+                 sxy"
+            } else {
+                "raise the material's tensile_strength above the initial tension, or make the \
+                 initial stress compressive across the joints (in-situ rock is in compression; \
+                 tension is positive)"
+            },
         )
     })
 }
