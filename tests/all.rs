@@ -60,6 +60,8 @@ mod joint_materials;
 mod malformed_scenes;
 #[path = "parity.rs"]
 mod parity;
+#[path = "prestressed_joints.rs"]
+mod prestressed_joints;
 #[path = "stable_step_bounds.rs"]
 mod stable_step_bounds;
 #[path = "stress_fields.rs"]

@@ -69,6 +69,27 @@ pub enum FractureError {
         /// The largest edge length (m) valid with this penalty.
         h_max: f64,
     },
+    /// An initial (in-situ) traction at or above a joint's strength: the joint would start
+    /// broken.
+    #[error(
+        "joint {joint} (material {material}): the initial stress gives it a {what} traction of \
+         {traction:.4e} Pa, at or above its strength {strength:.4e} Pa, so it would start broken"
+    )]
+    InitialTractionTooHigh {
+        /// Joint index.
+        joint: u32,
+        /// Material index.
+        material: u32,
+        /// `tensile` (normal, tension) or `shear`.
+        what: &'static str,
+        /// The traction's size (Pa): the normal tension, or `|tau0|`.
+        traction: f64,
+        /// The strength it reaches: `ft`, or `fs = c + <-sigma0> tan(phi)`.
+        strength: f64,
+    },
+    /// An initial traction that is not finite, or given for another number of joints.
+    #[error("initial tractions: {0}")]
+    BadInitialTractions(String),
     /// A joint refers to a node that does not exist.
     #[error("joint {joint}: node id {node} is out of range (there are {n_nodes} nodes)")]
     NodeOutOfRange {

@@ -366,12 +366,45 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
     t: f64,
 ) -> JointEval {
     let mut out = JointEval::default();
-    out.stored = evaluate_into::<FULL>(
+    out.stored = evaluate_into::<FULL, false>(
         mat,
         consts,
         x,
         [damage_old, mix_old, shear_secant_old],
         t,
+        [0.0; 2],
+        EvalOut {
+            forces: &mut out.forces,
+            damage: &mut out.damage,
+            mode_mix: &mut out.mode_mix,
+            shear_secant: &mut out.shear_secant,
+            local: &mut out.local,
+        },
+    );
+    out
+}
+
+/// [`evaluate`] of a prestressed joint: the law at the opening `o + o0` and the sliding
+/// `s + s0` with `off = [o0, s0]` ([`crate::JointSet::set_initial_tractions`]); the frame
+/// terms of the forces keep the kinematic `o`, `s` (the offsets are constants of the joint's
+/// frame). The local work conjugates hold `o + o0`, `s + s0`.
+#[inline]
+pub fn evaluate_offset(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    x: &JointNodes,
+    hist: &PointHistory,
+    t: f64,
+    off: [f64; 2],
+) -> JointEval {
+    let mut out = JointEval::default();
+    out.stored = evaluate_into::<true, true>(
+        mat,
+        consts,
+        x,
+        [hist.damage, hist.mode_mix, hist.shear_secant],
+        t,
+        off,
         EvalOut {
             forces: &mut out.forces,
             damage: &mut out.damage,
@@ -393,14 +426,17 @@ pub(crate) struct EvalOut<'a> {
 }
 
 /// One joint's evaluation written in place (no [`JointEval`] in between); `old` is the
-/// committed damage, mode indicator and shear secant per point. Returns the stored energy.
+/// committed damage, mode indicator and shear secant per point. With `OFF`, the law sees the
+/// opening and sliding shifted by `off = [o0, s0]` (a prestressed joint; without `OFF` the
+/// offsets are not read). Returns the stored energy.
 #[inline(always)]
-pub(crate) fn evaluate_into<const FULL: bool>(
+pub(crate) fn evaluate_into<const FULL: bool, const OFF: bool>(
     mat: &JointMaterial,
     consts: &JointConsts,
     x: &JointNodes,
     old: [[f64; 2]; 3],
     t: f64,
+    off: [f64; 2],
     out: EvalOut<'_>,
 ) -> f64 {
     let [damage_old, mix_old, shear_secant_old] = old;
@@ -413,11 +449,16 @@ pub(crate) fn evaluate_into<const FULL: bool>(
     let mut q = [[0.0; 2]; 2];
     let mut local = [0.0; 8];
     for i in 0..2 {
+        let (o, sl) = if OFF {
+            (k.o[i] + off[0], k.s[i] + off[1])
+        } else {
+            (k.o[i], k.s[i])
+        };
         let pt = law::<FULL>(
             mat,
             consts,
-            k.o[i],
-            k.s[i],
+            o,
+            sl,
             damage_old[i],
             mix_old[i],
             shear_secant_old[i],
@@ -429,8 +470,8 @@ pub(crate) fn evaluate_into<const FULL: bool>(
         let (a_sigma, a_tau) = (area * pt.sigma, area * pt.tau);
         local[4 * i] = a_sigma;
         local[4 * i + 1] = a_tau;
-        local[4 * i + 2] = k.o[i];
-        local[4 * i + 3] = k.s[i];
+        local[4 * i + 2] = o;
+        local[4 * i + 3] = sl;
         q[i] = [
             a_sigma * k.nn[0] + a_tau * k.tt[0],
             a_sigma * k.nn[1] + a_tau * k.tt[1],

@@ -21,6 +21,9 @@
 //!   [`commit_joints`] (damage, energy books, breaking when fully damaged and open (or slid by
 //!   `h/10`), events); at the positions of the last pass the commit swaps the trial arrays
 //!   in (structure of arrays, [`state`]) instead of evaluating again.
+//! - [`set`]: the joints as plain arrays; [`JointSet::set_initial_tractions`] prestresses them
+//!   (an in-situ stress): constant offsets of the opening and sliding at which the undamaged
+//!   law gives the initial traction, so the joint carries it at zero deformation.
 //! - [`timestep`]: the joints' bound on `omega^2` for the stable time step.
 //! - [`events`]: a broken joint reported as data ([`FractureEvent`]): the solver hands the
 //!   two triangles to contact; this crate does not depend on contact.
@@ -63,8 +66,8 @@ pub use error::FractureError;
 pub use events::{FractureEvent, FractureMode};
 pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
-    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces, kinematics,
-    point_traction,
+    JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces,
+    evaluate_offset, kinematics, point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};

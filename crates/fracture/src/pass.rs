@@ -130,8 +130,23 @@ fn check_sizes(set: &JointSet, state: &JointState, x: &[[f64; 2]]) {
     assert_eq!(state.len(), set.len(), "state belongs to another joint set");
 }
 
-/// The fused pass: forces and trial history of every joint at `x` into `scratch`.
+/// The fused pass: forces and trial history of every joint at `x` into `scratch`. One branch
+/// per pass: a set with initial offsets (prestressed joints) takes the offset variant.
 fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut JointScratch) {
+    if set.initial_offsets.is_empty() {
+        trial_pass_impl::<false>(set, state, x, scratch);
+    } else {
+        trial_pass_impl::<true>(set, state, x, scratch);
+    }
+}
+
+/// [`trial_pass`]; with `OFF` each joint's law sees its initial offsets.
+fn trial_pass_impl<const OFF: bool>(
+    set: &JointSet,
+    state: &JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+) {
     let n = set.len();
     scratch.fit(n);
     let th = set.thickness;
@@ -152,8 +167,13 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
             let (nodes, consts, material) = (
                 &set.nodes[r.clone()],
                 &set.consts[r.clone()],
-                &set.material[r],
+                &set.material[r.clone()],
             );
+            let offsets = if OFF {
+                &set.initial_offsets[r]
+            } else {
+                &[][..]
+            };
             let mut fl = 0u8;
             for i in 0..n {
                 let ho = &old[i];
@@ -171,12 +191,13 @@ fn trial_pass(set: &JointSet, state: &JointState, x: &[[f64; 2]], scratch: &mut 
                     x[ns as usize],
                 ];
                 let hn = &mut h[i];
-                let stored = evaluate_into::<true>(
+                let stored = evaluate_into::<true, OFF>(
                     &set.materials[material[i] as usize],
                     &consts[i],
                     &xs,
                     [ho.damage, ho.mode_mix, ho.shear_secant],
                     th,
+                    if OFF { offsets[i] } else { [0.0; 2] },
                     EvalOut {
                         forces: &mut f[i],
                         damage: &mut hn.damage,

@@ -46,6 +46,11 @@ pub struct JointSet {
     pub node_offsets: Vec<u32>,
     /// `4 j + k` for node k (P, Q, R, S) of joint j, in increasing order per node.
     pub node_slots: Vec<u32>,
+    /// Per joint, the initial offsets `[o0, s0]` (m) of the opening and the sliding that an
+    /// initial (in-situ) stress gives it ([`JointSet::set_initial_tractions`]): the law is
+    /// evaluated at `o + o0`, `s + s0`, so that at zero deformation the joint transmits the
+    /// initial traction. Empty when there is none (the pass then takes its plain branch).
+    pub initial_offsets: Vec<[f64; 2]>,
 }
 
 impl JointSet {
@@ -78,6 +83,7 @@ impl JointSet {
             n_nodes,
             node_offsets: Vec::new(),
             node_slots: Vec::new(),
+            initial_offsets: Vec::new(),
         };
         for (j, jt) in joints.iter().enumerate() {
             let joint = j as u32;
@@ -131,6 +137,92 @@ impl JointSet {
         Ok(set)
     }
 
+    /// Prestresses the joints: `t0[j] = [sigma0, tau0]` (Pa) is the traction joint `j` carries
+    /// at zero deformation (normal part tension-positive along `nn`, shear part along `tt`, the
+    /// traction on T1's face). Each joint gets the offsets `[o0, s0]` at which its undamaged
+    /// law gives exactly that traction (docs/fracture.md, "Prestressed joints"):
+    ///
+    /// ```text
+    /// sigma0 <= 0:  o0 = sigma0/(p/h)                         (the linear compression branch)
+    /// sigma0 > 0:   o0 = o_p (1 - sqrt(1 - sigma0/ft))         (inverse of ft (2x - x^2))
+    /// fs = c + <-sigma(o0)> tan(phi),  s_p = 2 h fs/p_t
+    /// s0 = sign(tau0) s_p (1 - sqrt(1 - |tau0|/fs))             (inverse of fs (2y - y^2))
+    /// ```
+    ///
+    /// Errors: a tension `sigma0 >= ft` or a shear `|tau0| >= fs` (the joint would start
+    /// broken), a traction that is not finite, a list of the wrong length. All tractions zero
+    /// leaves the set without offsets (its results are then bit for bit those of a set never
+    /// prestressed).
+    pub fn set_initial_tractions(&mut self, t0: &[[f64; 2]]) -> Result<(), FractureError> {
+        if t0.len() != self.len() {
+            return Err(FractureError::BadInitialTractions(format!(
+                "{} tractions for {} joints",
+                t0.len(),
+                self.len()
+            )));
+        }
+        if t0.iter().all(|t| *t == [0.0; 2]) {
+            self.initial_offsets = Vec::new();
+            return Ok(());
+        }
+        let mut off = Vec::with_capacity(t0.len());
+        for (j, &[sigma0, tau0]) in t0.iter().enumerate() {
+            if !(sigma0.is_finite() && tau0.is_finite()) {
+                return Err(FractureError::BadInitialTractions(format!(
+                    "joint {j}: traction [{sigma0}, {tau0}] Pa is not finite"
+                )));
+            }
+            let material = self.material[j];
+            let (m, k) = (&self.materials[material as usize], &self.consts[j]);
+            let o0 = if sigma0 <= 0.0 {
+                sigma0 / k.kn
+            } else if sigma0 < m.ft {
+                // 1 - sqrt(1 - r) = r/(1 + sqrt(1 - r)), without the cancellation
+                let r = sigma0 / m.ft;
+                k.o_p * r / (1.0 + (1.0 - r).sqrt())
+            } else {
+                return Err(FractureError::InitialTractionTooHigh {
+                    joint: j as u32,
+                    material,
+                    what: "tensile",
+                    traction: sigma0,
+                    strength: m.ft,
+                });
+            };
+            // the law's shear strength and peak slip at that opening
+            let (fs, s_p) = if o0 < 0.0 {
+                let fs = m.shear_strength(k.kn * o0);
+                (fs, k.slip_per_fs * fs)
+            } else {
+                (m.cohesion, k.s_p0)
+            };
+            if tau0.abs() >= fs {
+                return Err(FractureError::InitialTractionTooHigh {
+                    joint: j as u32,
+                    material,
+                    what: "shear",
+                    traction: tau0.abs(),
+                    strength: fs,
+                });
+            }
+            let r = tau0.abs() / fs;
+            let s0 = tau0.signum() * s_p * r / (1.0 + (1.0 - r).sqrt());
+            off.push([o0, if tau0 == 0.0 { 0.0 } else { s0 }]);
+        }
+        self.initial_offsets = off;
+        Ok(())
+    }
+
+    /// The initial offsets `[o0, s0]` of joint `j` (zero without an initial stress).
+    #[inline]
+    pub fn initial_offset(&self, j: usize) -> [f64; 2] {
+        if self.initial_offsets.is_empty() {
+            [0.0; 2]
+        } else {
+            self.initial_offsets[j]
+        }
+    }
+
     /// Number of joints.
     pub fn len(&self) -> usize {
         self.nodes.len()
@@ -145,5 +237,81 @@ impl JointSet {
     #[inline]
     pub fn gather(&self, j: usize, x: &[[f64; 2]]) -> [[f64; 2]; 4] {
         self.nodes[j].map(|n| x[n as usize])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::joint::{PointHistory, evaluate_offset};
+
+    /// One joint along +x (nn = -y), P = S = (0, 0), Q = R = (h, 0).
+    fn one(ft: f64, c: f64) -> (JointSet, [[f64; 2]; 4]) {
+        let m = JointMaterialInput {
+            tensile_strength: ft,
+            cohesion: c,
+            friction_angle_deg: 30.0,
+            fracture_energy_i: 100.0,
+            fracture_energy_ii: 500.0,
+            penalty_normal: 1e11,
+            penalty_tangential: 5e10,
+        };
+        let h = 0.02;
+        let j = Joint {
+            nodes: [0, 1, 2, 3],
+            triangles: [0, 1],
+            ref_length: h,
+            material: 0,
+        };
+        let x = [[0.0, 0.0], [h, 0.0], [h, 0.0], [0.0, 0.0]];
+        (JointSet::new(&[j], &[m], 4, 1.0).unwrap(), x)
+    }
+
+    /// The offsets invert the undamaged law: at zero deformation the joint carries the given
+    /// traction (to 1e-12 relative) in compression with shear and in tension with shear, its
+    /// nodal forces are `A t0` on T1's nodes, and it stays undamaged; a tension at `ft` or a
+    /// shear at `fs` is refused, naming the mode.
+    #[test]
+    fn offsets_give_the_initial_traction_at_rest() {
+        for t0 in [
+            [-20e6, 5e6],
+            [-20e6, -7e6],
+            [3e6, 2e6],
+            [0.0, -1e6],
+            [-1e6, 0.0],
+        ] {
+            let (mut set, x) = one(5e6, 10e6);
+            set.set_initial_tractions(&[t0]).unwrap();
+            let m = &set.materials[0];
+            let e = evaluate_offset(
+                m,
+                &set.consts[0],
+                &x,
+                &PointHistory::FRESH,
+                1.0,
+                set.initial_offsets[0],
+            );
+            let a = 0.5 * 0.02;
+            for p in 0..2 {
+                let (sig, tau) = (e.local[4 * p] / a, e.local[4 * p + 1] / a);
+                assert!((sig - t0[0]).abs() <= 1e-12 * 20e6, "{t0:?}: sigma {sig}");
+                assert!((tau - t0[1]).abs() <= 1e-12 * 20e6, "{t0:?}: tau {tau}");
+            }
+            assert_eq!(e.damage, [0.0; 2]);
+            // nn = -y, tt = +x: the force on P is A (sigma nn + tau tt)
+            let f = e.forces[0];
+            assert!((f[0] - a * t0[1]).abs() <= 1e-12 * a * 20e6, "{f:?}");
+            assert!((f[1] + a * t0[0]).abs() <= 1e-12 * a * 20e6, "{f:?}");
+        }
+        let (mut set, _) = one(5e6, 10e6);
+        let e = set.set_initial_tractions(&[[5e6, 0.0]]).unwrap_err();
+        assert!(e.to_string().contains("tensile"), "{e}");
+        // fs = c + 20 tan 30 = 21.55 MPa at sigma = -20 MPa
+        let e = set.set_initial_tractions(&[[-20e6, 22e6]]).unwrap_err();
+        assert!(e.to_string().contains("shear"), "{e}");
+        assert!(set.set_initial_tractions(&[[-20e6, 21e6]]).is_ok());
+        // all zero: no offsets (the plain pass)
+        set.set_initial_tractions(&[[0.0; 2]]).unwrap();
+        assert!(set.initial_offsets.is_empty());
     }
 }

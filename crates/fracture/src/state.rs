@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use crate::joint::{PointHistory, evaluate};
+use crate::joint::{PointHistory, evaluate, evaluate_offset};
 use crate::set::JointSet;
 
 /// Committed history and energy books of one joint.
@@ -100,13 +100,13 @@ impl JointState {
             .with_min_len(1024)
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
-                let e = evaluate(
-                    m,
-                    &set.consts[j],
-                    &set.gather(j, x),
-                    &PointHistory::FRESH,
-                    set.thickness,
-                );
+                let (k, xs) = (&set.consts[j], set.gather(j, x));
+                let e = if set.initial_offsets.is_empty() {
+                    evaluate(m, k, &xs, &PointHistory::FRESH, set.thickness)
+                } else {
+                    let off = set.initial_offsets[j];
+                    evaluate_offset(m, k, &xs, &PointHistory::FRESH, set.thickness, off)
+                };
                 JointHistory {
                     damage: e.damage,
                     shear_secant: e.shear_secant,

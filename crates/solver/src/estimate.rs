@@ -390,7 +390,11 @@ impl Stepper {
             .contributions
             .iter()
             .find_map(|c| c.joint_state())?;
-        let set = crate::fracture_stage::joint_set(&l.scene, &self.sys.model, &l.file).ok()??;
+        let mut set =
+            crate::fracture_stage::joint_set(&l.scene, &self.sys.model, &l.file).ok()??;
+        let s0 = &self.sys.elements.initial_stress;
+        crate::prestress::prestress_joints(&l.scene, &l.file, &self.sys.model, s0, &mut set)
+            .ok()?;
         let x = self.state.x_nodes();
         let frame = crate::output::JointFrame::new(&set, state, x);
         let mut u = 0.0f64;

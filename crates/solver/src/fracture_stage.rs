@@ -108,7 +108,7 @@ pub fn explode_body(
 }
 
 /// All joints in the model's numbering.
-fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joint> {
+pub(crate) fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joint> {
     let mut out = Vec::new();
     for (bi, joints) in &section.joints {
         let node_base = model.body_nodes[*bi].start;

@@ -110,6 +110,13 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     elements.set_initial_stress(crate::prestress::field(
         &scene, file, &model, &meshes, &refs,
     )?);
+    if elements.prestressed()
+        && let Some(mut set) = crate::fracture_stage::joint_set(&scene, &model, file)?
+    {
+        // refuse at load a joint that the initial stress would start broken
+        let s0 = &elements.initial_stress;
+        crate::prestress::prestress_joints(&scene, file, &model, s0, &mut set)?;
+    }
     let scheme: SchemeKind = scene
         .integrator
         .scheme

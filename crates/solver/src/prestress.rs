@@ -9,9 +9,18 @@
 //! (its boundary tractions and its divergence `rho g`, which the lumped gravity load
 //! `rho A t g / 3` per corner equals for the constant-strain triangle). Overlapping entries
 //! add up.
+//!
+//! The joints of a fracturing body are prestressed to match ([`prestress_joints`]): joint `j`
+//! between triangles T1 and T2 gets the traction `t0 = sigma0 . nn` on its reference edge
+//! (`nn` from T1 to T2), `sigma0` the mean of the two triangles' initial stresses, split
+//! into its normal part `sigma_n0 = nn . t0` (tension-positive) and its shear part
+//! `tau0 = tt . t0`; the fracture crate turns it into offsets of the joint's opening and
+//! sliding (`fdem_fracture::JointSet::set_initial_tractions`), so that the joint carries
+//! `t0` at zero deformation and the body starts at rest.
 
 use std::path::Path;
 
+use fdem_fracture::{FractureError, JointSet, kinematics};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
@@ -19,10 +28,95 @@ use crate::model::Model;
 use crate::resolve::Resolved;
 use crate::scene::Scene;
 
+/// The initial traction `[sigma_n0, tau0]` (Pa) of every joint of `set` from the triangles'
+/// initial stresses `s0` (`[sxx, syy, sxy]` per model triangle, in the reference): the mean
+/// of its two triangles' stresses applied to the joint's reference normal `nn` (from T1 to
+/// T2), normal part tension-positive, shear part along `tt` (the traction on T1's face).
+pub fn joint_tractions(set: &JointSet, x0: &[[f64; 2]], s0: &[[f64; 3]]) -> Vec<[f64; 2]> {
+    (0..set.len())
+        .map(|j| {
+            let k = kinematics(&set.gather(j, x0), set.consts[j].h);
+            let [a, b] = set.triangles[j].map(|t| s0[t as usize]);
+            let s = [
+                0.5 * (a[0] + b[0]),
+                0.5 * (a[1] + b[1]),
+                0.5 * (a[2] + b[2]),
+            ];
+            let t = [
+                s[0] * k.nn[0] + s[2] * k.nn[1],
+                s[2] * k.nn[0] + s[1] * k.nn[1],
+            ];
+            [
+                t[0] * k.nn[0] + t[1] * k.nn[1],
+                t[0] * k.tt[0] + t[1] * k.tt[1],
+            ]
+        })
+        .collect()
+}
+
+/// Prestresses the joints of `set` ([`joint_tractions`]) when the scene has an initial stress
+/// (`s0` non-empty; nothing is done otherwise). Error: a joint whose initial tension or shear
+/// reaches its strength (it would start broken), naming the joint's material.
+pub fn prestress_joints(
+    scene: &Scene,
+    file: &Path,
+    model: &Model,
+    s0: &[[f64; 3]],
+    set: &mut JointSet,
+) -> Result<(), SceneError> {
+    if s0.is_empty() {
+        return Ok(());
+    }
+    let t0 = joint_tractions(set, &model.x0, s0);
+    set.set_initial_tractions(&t0).map_err(|e| {
+        let FractureError::InitialTractionTooHigh { joint, what, .. } = &e else {
+            return SceneError::invalid(
+                file,
+                "initial_stress",
+                e.to_string(),
+                "check the initial stress",
+            );
+        };
+        let j = *joint as usize;
+        let section = scene.fracture.as_ref();
+        let path = section
+            .and_then(|sec| {
+                let list = sec.material_list();
+                let joints = crate::fracture_stage::global_joints(sec, model);
+                joints
+                    .get(j)
+                    .and_then(|jt| list.get(jt.material as usize))
+                    .map(|m| m.path())
+            })
+            .unwrap_or_else(|| "fracture.material".into());
+        let x = set.gather(j, &model.x0);
+        SceneError::invalid(
+            file,
+            path,
+            format!(
+                "{e} (the joint between triangles {} and {}, at ({:.4e}, {:.4e}) m)",
+                set.triangles[j][0],
+                set.triangles[j][1],
+                0.5 * (x[0][0] + x[1][0]),
+                0.5 * (x[0][1] + x[1][1])
+            ),
+            if *what == "shear" {
+                "raise the material's cohesion (or friction_angle_deg) so that the shear \
+                 strength exceeds the initial shear traction, or check the initial stress's \
+                 sxy"
+            } else {
+                "raise the material's tensile_strength above the initial tension, or make the \
+                 initial stress compressive across the joints (in-situ rock is in compression; \
+                 tension is positive)"
+            },
+        )
+    })
+}
+
 /// One initial stress `[sxx, syy, sxy]` [Pa] per triangle of `model`, or an empty vector
 /// when the scene has none. `meshes[i]` is body `i`'s mesh as the model holds it; `refs`
-/// gives each entry's body. Errors: an entry on a fracturing body, a gravity entry with a
-/// node above its surface.
+/// gives each entry's body. Error: a gravity entry with a node above its surface. The joints
+/// of a fracturing body get their share with [`prestress_joints`].
 pub fn field(
     scene: &Scene,
     file: &Path,
@@ -43,14 +137,6 @@ pub fn field(
     for (i, e) in scene.initial_stress.iter().enumerate() {
         let path = format!("initial_stress[{i}]");
         let bi = refs.initial_stress[i];
-        if !refs.fracture_regions[bi].is_empty() {
-            return Err(SceneError::invalid(
-                file,
-                path,
-                "an initial stress on a fracturing body is not supported: its joints would start unloaded while the triangles carry the stress",
-                "remove the entry, or the body's fracture region",
-            ));
-        }
         let mesh = &meshes[bi];
         // the entry's triangles, in the body's numbering
         let tris: Vec<usize> = match &e.groups {

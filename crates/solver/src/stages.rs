@@ -128,7 +128,9 @@ pub fn attach_to(
 ) -> Result<(), SceneError> {
     let mut bonded = None;
     crate::fracture_stage::check_initial_state(scene, file)?;
-    if let Some(set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
+    if let Some(mut set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
+        let s0 = &sys.elements.initial_stress;
+        crate::prestress::prestress_joints(scene, file, &sys.model, s0, &mut set)?;
         let initial = scene
             .fracture
             .as_ref()

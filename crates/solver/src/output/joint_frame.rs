@@ -102,12 +102,18 @@ fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
     let intact = state.intact[j];
     let (sigma, tau) = if intact {
         let m = &set.materials[set.material[j] as usize];
+        let off = set.initial_offset(j);
         let t: [_; 2] = std::array::from_fn(|i| {
+            let (o, sl) = if set.initial_offsets.is_empty() {
+                (k.o[i], k.s[i])
+            } else {
+                (k.o[i] + off[0], k.s[i] + off[1])
+            };
             point_traction(
                 m,
                 &set.consts[j],
-                k.o[i],
-                k.s[i],
+                o,
+                sl,
                 h.damage[i],
                 h.mode_mix[i],
                 h.shear_secant[i],
