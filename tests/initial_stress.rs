@@ -14,28 +14,6 @@ const E: f64 = 10e9;
 const NU: f64 = 0.25;
 const RHO: f64 = 2500.0;
 
-/// Writes a structured `nx` x `ny` rectangle `lx` x `ly` (group `rock`, edge groups `left`,
-/// `right`, `bottom`, `top`) as `rect.json` into `dir`.
-fn rectangle(dir: &Path, nx: usize, ny: usize, lx: f64, ly: f64) {
-    let (nodes, tris) = common::structured_rectangle(nx, ny, lx, ly);
-    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let bottom: Vec<[u32; 2]> = (0..nx).map(|i| [id(i, 0), id(i + 1, 0)]).collect();
-    let top: Vec<[u32; 2]> = (0..nx).map(|i| [id(i + 1, ny), id(i, ny)]).collect();
-    let left: Vec<[u32; 2]> = (0..ny).map(|j| [id(0, j + 1), id(0, j)]).collect();
-    let right: Vec<[u32; 2]> = (0..ny).map(|j| [id(nx, j), id(nx, j + 1)]).collect();
-    let mesh = json!({
-        "nodes": nodes, "triangles": tris,
-        "groups": [
-            {"name": "rock", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()},
-            {"name": "bottom", "dim": 1, "edges": bottom},
-            {"name": "top", "dim": 1, "edges": top},
-            {"name": "left", "dim": 1, "edges": left},
-            {"name": "right", "dim": 1, "edges": right}
-        ]
-    });
-    std::fs::write(dir.join("rect.json"), mesh.to_string()).unwrap();
-}
-
 fn rock() -> Value {
     json!({"rock": {"young": E, "poisson": NU, "density": RHO, "plane": "strain"}})
 }
@@ -73,7 +51,7 @@ fn speed_bound(k: f64, m_min: f64) -> f64 {
 #[test]
 fn uniform_in_situ_stress_with_matching_tractions_stays_at_rest() {
     let dir = common::temp_dir("insitu-rest");
-    rectangle(&dir, 16, 8, 2.0, 1.0);
+    common::rectangle_with_sides(&dir, 16, 8, 2.0, 1.0);
     let s = [-20e6, -10e6, 5e6];
     let scene = json!({
         "bodies": [{"mesh": "rect.json", "materials": rock()}],
@@ -229,7 +207,7 @@ fn excavated_hole_gives_the_biaxial_kirsch_field() {
 fn geostatic_column_under_gravity_stays_at_rest() {
     let dir = common::temp_dir("insitu-column");
     let (g, h, k0) = (9.81, 8.0, 0.5);
-    rectangle(&dir, 4, 32, 1.0, h);
+    common::rectangle_with_sides(&dir, 4, 32, 1.0, h);
     let mut scene = json!({
         "analysis": "static",
         "bodies": [{"mesh": "rect.json", "materials": rock()}],
@@ -292,7 +270,7 @@ fn geostatic_column_under_gravity_stays_at_rest() {
 #[test]
 fn relaxation_reaches_the_static_excavation() {
     let dir = common::temp_dir("insitu-relax");
-    rectangle(&dir, 8, 8, 1.0, 1.0);
+    common::rectangle_with_sides(&dir, 8, 8, 1.0, 1.0);
     let mut rel = Vec::new();
     for k in [1.0f64, 0.1] {
         let s: [f64; 3] = [-10e6 * k, -6e6 * k, 2e6 * k];
@@ -373,7 +351,7 @@ fn load_err(dir: &Path, name: &str, scene: &Value) -> String {
 #[test]
 fn bad_initial_stress_is_refused_with_its_path() {
     let dir = common::temp_dir("insitu-bad");
-    rectangle(&dir, 2, 2, 1.0, 1.0);
+    common::rectangle_with_sides(&dir, 2, 2, 1.0, 1.0);
     let base = json!({
         "analysis": "static",
         "bodies": [{"name": "block", "mesh": "rect.json", "materials": rock()}],

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::common;
+use fdem_fracture::heterogeneity::gamma;
 use fdem_solver::driver::{self, Outcome, RunOptions};
 
 /// A strip `[0, nx c] x [0, ny c]` of square cells of side `c`, each cut into two CCW
@@ -183,25 +184,6 @@ fn chain_scene(dir: &Path, n: usize, modulus: f64, scale: f64, seed: u64) -> Pat
         2.5e-3,
     );
     write(dir, &scene)
-}
-
-/// Gamma function (Lanczos, g = 7, 9 terms; about 1e-15 relative).
-fn gamma(x: f64) -> f64 {
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    let x = x - 1.0;
-    let t = x + 7.5;
-    let s: f64 = C[0] + (1..9).map(|i| C[i] / (x + i as f64)).sum::<f64>();
-    (2.0 * std::f64::consts::PI).sqrt() * t.powf(x + 0.5) * (-t).exp() * s
 }
 
 /// Weakest link: N = 8 joints in series, Weibull modulus m = 12, scale lambda = 3 MPa, 96

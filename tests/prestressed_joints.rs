@@ -33,28 +33,6 @@ fn write(dir: &Path, name: &str, scene: &Value) -> PathBuf {
     p
 }
 
-/// A structured `nx` x `ny` rectangle `lx` x `ly` (group `rock`, edge groups `left`, `right`,
-/// `bottom`, `top`) as `rect.json` in `dir`.
-fn rectangle(dir: &Path, nx: usize, ny: usize, lx: f64, ly: f64) {
-    let (nodes, tris) = common::structured_rectangle(nx, ny, lx, ly);
-    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let bottom: Vec<[u32; 2]> = (0..nx).map(|i| [id(i, 0), id(i + 1, 0)]).collect();
-    let top: Vec<[u32; 2]> = (0..nx).map(|i| [id(i + 1, ny), id(i, ny)]).collect();
-    let left: Vec<[u32; 2]> = (0..ny).map(|j| [id(0, j + 1), id(0, j)]).collect();
-    let right: Vec<[u32; 2]> = (0..ny).map(|j| [id(nx, j), id(nx, j + 1)]).collect();
-    let mesh = json!({
-        "nodes": nodes, "triangles": tris,
-        "groups": [
-            {"name": "rock", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()},
-            {"name": "bottom", "dim": 1, "edges": bottom},
-            {"name": "top", "dim": 1, "edges": top},
-            {"name": "left", "dim": 1, "edges": left},
-            {"name": "right", "dim": 1, "edges": right}
-        ]
-    });
-    std::fs::write(dir.join("rect.json"), mesh.to_string()).unwrap();
-}
-
 /// An annulus `a < r < b` (`nt` sectors, `nr` rings, radii growing geometrically) as
 /// `ring.json` in `dir`: group `rock`, edge groups `hole` (r = a) and `outer` (r = b).
 fn annulus(dir: &Path, a: f64, b: f64, nt: usize, nr: usize) {
@@ -121,7 +99,7 @@ fn block_at_rest(tag: &str, s: [f64; 3]) -> f64 {
 
 fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
     let dir = common::temp_dir(tag);
-    rectangle(&dir, 16, 8, 2.0, 1.0);
+    common::rectangle_with_sides(&dir, 16, 8, 2.0, 1.0);
     let scene = json!({
         "bodies": [{"mesh": "rect.json", "materials": rock()}],
         "initial_stress": [{"uniform": s}],
@@ -354,7 +332,7 @@ fn excavation_breaks_weak_joints_near_the_opening() {
 #[test]
 fn initial_tension_above_joint_strength_is_refused() {
     let dir = common::temp_dir("prejoint-bad");
-    rectangle(&dir, 2, 2, 1.0, 1.0);
+    common::rectangle_with_sides(&dir, 2, 2, 1.0, 1.0);
     let mut scene = json!({
         "duration": 1e-6,
         "bodies": [{"mesh": "rect.json", "materials": rock()}],

@@ -310,3 +310,25 @@ pub fn two_blocks(dir: &Path, n: usize, l: f64, gap_x: f64) -> serde_json::Value
         { "name": "right", "mesh": "block.json", "materials": mat, "offset": [gap_x, 0.0] }
     ])
 }
+
+/// Writes a structured `nx` x `ny` rectangle `lx` x `ly` (surface group `rock`, edge groups
+/// `left`, `right`, `bottom`, `top`) as `rect.json` into `dir`.
+pub fn rectangle_with_sides(dir: &Path, nx: usize, ny: usize, lx: f64, ly: f64) {
+    let (nodes, tris) = structured_rectangle(nx, ny, lx, ly);
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let bottom: Vec<[u32; 2]> = (0..nx).map(|i| [id(i, 0), id(i + 1, 0)]).collect();
+    let top: Vec<[u32; 2]> = (0..nx).map(|i| [id(i + 1, ny), id(i, ny)]).collect();
+    let left: Vec<[u32; 2]> = (0..ny).map(|j| [id(0, j + 1), id(0, j)]).collect();
+    let right: Vec<[u32; 2]> = (0..ny).map(|j| [id(nx, j), id(nx, j + 1)]).collect();
+    let mesh = serde_json::json!({
+        "nodes": nodes, "triangles": tris,
+        "groups": [
+            {"name": "rock", "dim": 2, "triangles": (0..tris.len()).collect::<Vec<_>>()},
+            {"name": "bottom", "dim": 1, "edges": bottom},
+            {"name": "top", "dim": 1, "edges": top},
+            {"name": "left", "dim": 1, "edges": left},
+            {"name": "right", "dim": 1, "edges": right}
+        ]
+    });
+    std::fs::write(dir.join("rect.json"), mesh.to_string()).unwrap();
+}
