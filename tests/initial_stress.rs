@@ -56,12 +56,7 @@ fn uniform_in_situ_stress_with_matching_tractions_stays_at_rest() {
     let scene = json!({
         "bodies": [{"mesh": "rect.json", "materials": rock()}],
         "initial_stress": [{"uniform": s}],
-        "boundary_conditions": [
-            {"traction": {"group": "right", "value": [s[0], s[2]]}},
-            {"traction": {"group": "left", "value": [-s[0], -s[2]]}},
-            {"traction": {"group": "top", "value": [s[2], s[1]]}},
-            {"traction": {"group": "bottom", "value": [-s[2], -s[1]]}}
-        ],
+        "boundary_conditions": common::matching_tractions(s),
         "integrator": {"scheme": "central-difference", "time_step": "auto", "safety": 0.5},
         "output": {"frames": 4},
         "histories": {"every": 1, "probes": ["energy"]}

@@ -100,18 +100,16 @@ fn block_at_rest(tag: &str, s: [f64; 3]) -> f64 {
 fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
     let dir = common::temp_dir(tag);
     common::rectangle_with_sides(&dir, 16, 8, 2.0, 1.0);
+    let mut bcs = vec![
+        json!({"fixed": {"group": "left", "x": true}}),
+        json!({"fixed": {"group": "bottom", "y": true}}),
+    ];
+    bcs.extend(common::matching_tractions(s));
     let scene = json!({
         "bodies": [{"mesh": "rect.json", "materials": rock()}],
         "initial_stress": [{"uniform": s}],
         "fracture": fr,
-        "boundary_conditions": [
-            {"fixed": {"group": "left", "x": true}},
-            {"fixed": {"group": "bottom", "y": true}},
-            {"traction": {"group": "right", "value": [s[0], s[2]]}},
-            {"traction": {"group": "left", "value": [-s[0], -s[2]]}},
-            {"traction": {"group": "top", "value": [s[2], s[1]]}},
-            {"traction": {"group": "bottom", "value": [-s[2], -s[1]]}}
-        ],
+        "boundary_conditions": bcs,
         "integrator": {"scheme": "central-difference", "time_step": "auto", "safety": 0.5},
         "output": {"frames": 2},
         "histories": {"every": 1, "probes": ["energy"]}

@@ -332,3 +332,15 @@ pub fn rectangle_with_sides(dir: &Path, nx: usize, ny: usize, lx: f64, ly: f64) 
     });
     std::fs::write(dir.join("rect.json"), mesh.to_string()).unwrap();
 }
+
+/// Tractions `sigma n` of the uniform stress `s = [sxx, syy, sxy]` on the four sides of
+/// [`rectangle_with_sides`] (outward normals +x, -x, +y, -y): a body in that stress is then in
+/// equilibrium.
+pub fn matching_tractions(s: [f64; 3]) -> Vec<serde_json::Value> {
+    vec![
+        serde_json::json!({"traction": {"group": "right", "value": [s[0], s[2]]}}),
+        serde_json::json!({"traction": {"group": "left", "value": [-s[0], -s[2]]}}),
+        serde_json::json!({"traction": {"group": "top", "value": [s[2], s[1]]}}),
+        serde_json::json!({"traction": {"group": "bottom", "value": [-s[2], -s[1]]}}),
+    ]
+}

@@ -243,15 +243,7 @@ pub fn linear_stresses(l: &Loaded, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
     let mut density = Vec::with_capacity(e.len());
     for td in &e.tris {
         let c = &e.materials[td.material as usize];
-        let g = reference_gradients(td.ginv);
-        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
-        for a in 0..3 {
-            let n = td.nodes[a] as usize;
-            let (ux, uy) = (u[2 * n], u[2 * n + 1]);
-            exx += ux * g[a][0];
-            eyy += uy * g[a][1];
-            gxy += ux * g[a][1] + uy * g[a][0];
-        }
+        let [exx, eyy, gxy] = small_strain(td, u);
         let sxx = (c.lam + 2.0 * c.mu) * exx + c.lam * eyy;
         let syy = c.lam * exx + (c.lam + 2.0 * c.mu) * eyy;
         let sxy = c.mu * gxy;
@@ -266,21 +258,26 @@ pub fn linear_stresses(l: &Loaded, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
     for (t, s0) in e.initial_stress.iter().enumerate() {
         let s = &mut stress[t];
         let d = &mut density[t];
-        // the triangle's strain, as above
-        let td = &e.tris[t];
-        let g = reference_gradients(td.ginv);
-        let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
-        for a in 0..3 {
-            let n = td.nodes[a] as usize;
-            let (ux, uy) = (u[2 * n], u[2 * n + 1]);
-            exx += ux * g[a][0];
-            eyy += uy * g[a][1];
-            gxy += ux * g[a][1] + uy * g[a][0];
-        }
+        let [exx, eyy, gxy] = small_strain(&e.tris[t], u);
         s[0] += s0[0];
         s[1] += s0[1];
         s[2] += s0[2];
         *d += s0[0] * exx + s0[1] * eyy + s0[2] * gxy;
     }
     (stress, density)
+}
+
+/// The small strain `[exx, eyy, gamma_xy]` of triangle `td` under the nodal displacements `u`
+/// (two per node).
+fn small_strain(td: &fdem_mesh::TriData, u: &[f64]) -> [f64; 3] {
+    let g = reference_gradients(td.ginv);
+    let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
+    for a in 0..3 {
+        let n = td.nodes[a] as usize;
+        let (ux, uy) = (u[2 * n], u[2 * n + 1]);
+        exx += ux * g[a][0];
+        eyy += uy * g[a][1];
+        gxy += ux * g[a][1] + uy * g[a][0];
+    }
+    [exx, eyy, gxy]
 }
