@@ -169,7 +169,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
             .unwrap();
         let tris = set.triangles.clone();
         let (_, bonded, _) =
-            fdem_solver::fracture_stage::FractureStage::new(set, &l.model, None, saved);
+            fdem_solver::fracture_stage::FractureStage::new(set, &l.model, None, saved, false);
         let initial = bonded.lock().unwrap().initial.clone();
         (tris, initial)
     };
@@ -231,7 +231,7 @@ fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
             .build()
             .unwrap();
         let (stage, bonded, _) = pool.install(|| {
-            fdem_solver::fracture_stage::FractureStage::new(set(), &l.model, None, None)
+            fdem_solver::fracture_stage::FractureStage::new(set(), &l.model, None, None, false)
         });
         assert_eq!(
             bonded.lock().unwrap().initial,

@@ -232,13 +232,16 @@ pub struct BondedPairs {
 
 impl ContactStage {
     /// Builds the stage for a scene with an enabled contact section; `dt` is the step,
-    /// `out_dir` receives `walls.csv` (every `csv_every` steps) when there are walls.
+    /// `out_dir` receives `walls.csv` (every `csv_every` steps) when there are walls: a new
+    /// file, or (`resume`) the file of the run being resumed, cut back by
+    /// [`ForceContribution::restore`].
     pub fn new(
         scene: &Scene,
         model: &Model,
         dt: f64,
         out_dir: Option<&Path>,
         csv_every: u64,
+        resume: bool,
     ) -> Option<(Self, Arc<Mutex<ContactReport>>)> {
         let section = scene.contact.as_ref().filter(|c| c.enabled)?;
         let laws = laws(section, scene, model);
@@ -273,15 +276,12 @@ impl ContactStage {
         }));
         let csv = if nw > 0 {
             out_dir.and_then(|d| {
-                let f = std::fs::File::create(d.join("walls.csv")).ok()?;
-                let mut w = std::io::BufWriter::new(f);
                 let mut head = String::from("time");
                 for (i, s) in section.walls.iter().enumerate() {
                     let n = s.name.clone().unwrap_or_else(|| format!("wall{i}"));
                     head.push_str(&format!(",u_x[{n}],u_y[{n}],force_x[{n}],force_y[{n}]"));
                 }
-                writeln!(w, "{head}").ok()?;
-                Some(w)
+                crate::output::open_csv(d, "walls.csv", &head, resume)
             })
         } else {
             None
@@ -347,6 +347,17 @@ impl ContactStage {
 }
 
 impl ForceContribution for ContactStage {
+    fn save(&mut self, _e: &mut crate::checkpoint::Enc) -> std::io::Result<()> {
+        todo!("checkpoint of this stage")
+    }
+
+    fn restore(
+        &mut self,
+        _d: &mut crate::checkpoint::Dec,
+    ) -> Result<(), crate::checkpoint::DecodeError> {
+        todo!("checkpoint of this stage")
+    }
+
     fn name(&self) -> &str {
         "contact"
     }

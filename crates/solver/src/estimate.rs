@@ -357,7 +357,7 @@ impl Stepper {
             l.elements.clone(),
             l.scene.damping.mass_proportional,
         );
-        crate::stages::attach_to(&l.scene, &l.file, &mut sys, l.dt, None, u64::MAX)?;
+        crate::stages::attach_to(&l.scene, &l.file, &mut sys, l.dt, None, u64::MAX, false)?;
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -460,8 +460,14 @@ struct Released {
 impl Released {
     fn new(l: &Loaded) -> Option<Self> {
         l.scene.fracture.as_ref()?;
-        let (stage, _) =
-            crate::contact_stage::ContactStage::new(&l.scene, &l.model, l.dt, None, u64::MAX)?;
+        let (stage, _) = crate::contact_stage::ContactStage::new(
+            &l.scene,
+            &l.model,
+            l.dt,
+            None,
+            u64::MAX,
+            false,
+        )?;
         let x = l.model.x0.clone();
         let n = x.len();
         let mut r = Self {

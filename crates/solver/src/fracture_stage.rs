@@ -240,6 +240,7 @@ impl FractureStage {
         model: &Model,
         out_dir: Option<&Path>,
         initial: Option<JointState>,
+        resume: bool,
     ) -> (Self, Arc<Mutex<BondedPairs>>, Arc<Mutex<FractureReport>>) {
         let adopted = initial.is_some();
         let n_joints = set.len();
@@ -293,10 +294,8 @@ impl FractureStage {
             ..Default::default()
         }));
         let csv = out_dir.and_then(|d| {
-            let f = std::fs::File::create(d.join("fractures.csv")).ok()?;
-            let mut w = std::io::BufWriter::new(f);
-            writeln!(w, "time,x,y,mode,mode_mix,energy_released,joint").ok()?;
-            Some(w)
+            let head = "time,x,y,mode,mode_mix,energy_released,joint";
+            crate::output::open_csv(d, "fractures.csv", head, resume)
         });
         (
             Self {
@@ -432,6 +431,17 @@ impl FractureStage {
 }
 
 impl ForceContribution for FractureStage {
+    fn save(&mut self, _e: &mut crate::checkpoint::Enc) -> std::io::Result<()> {
+        todo!("checkpoint of this stage")
+    }
+
+    fn restore(
+        &mut self,
+        _d: &mut crate::checkpoint::Dec,
+    ) -> Result<(), crate::checkpoint::DecodeError> {
+        todo!("checkpoint of this stage")
+    }
+
     fn name(&self) -> &str {
         "fracture"
     }

@@ -28,6 +28,7 @@
 //!   scene's terms, with the fix.
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
+pub mod checkpoint;
 pub mod contact_stage;
 pub mod cracks;
 pub mod diagnosis;

@@ -113,11 +113,13 @@ pub fn attach(
     out_dir: &Path,
     every: u64,
 ) -> Result<(), SceneError> {
-    attach_to(scene, file, sys, dt, Some(out_dir), every)
+    attach_to(scene, file, sys, dt, Some(out_dir), every, false)
 }
 
 /// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
-/// the stages of `fdem check`'s timed sample of the run.
+/// the stages of `fdem check`'s timed sample of the run. `resume`: the stages continue the
+/// files of a run resumed from a checkpoint (their state comes next, from
+/// [`ForceContribution::restore`](crate::system::ForceContribution::restore)).
 pub fn attach_to(
     scene: &Scene,
     file: &Path,
@@ -125,6 +127,7 @@ pub fn attach_to(
     dt: f64,
     out_dir: Option<&Path>,
     every: u64,
+    resume: bool,
 ) -> Result<(), SceneError> {
     let mut bonded = None;
     crate::fracture_stage::check_initial_state(scene, file)?;
@@ -137,13 +140,13 @@ pub fn attach_to(
             .and_then(|f| f.initial_state.clone())
             .or_else(|| crate::cracks::initial_state(scene, &set, &sys.model));
         let (mut stage, b, _) =
-            crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial);
+            crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial, resume);
         stage.write_properties = scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }
     if let Some((mut stage, _)) =
-        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, out_dir, every)
+        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, out_dir, every, resume)
     {
         stage.bonded = bonded;
         stage.book_work = scene

@@ -17,6 +17,7 @@ use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
 use rayon::prelude::*;
 
+use crate::checkpoint::{Dec, DecodeError, Enc};
 use crate::model::Model;
 use crate::output::FrameData;
 
@@ -81,6 +82,16 @@ pub trait ForceContribution: Send {
     fn frame_fields(&self, _x: &[[f64; 2]], _frame: &mut FrameData) {}
     /// Called once after the last step (flush files; default: nothing).
     fn finish(&mut self) {}
+    /// Appends to a checkpoint everything this term carries from one step to the next
+    /// (committed histories, couples, detection state, counters, energy sums, the last
+    /// evaluation's results that reports and frames read, the length of its CSV file, which
+    /// it flushes), so that [`ForceContribution::restore`] on a term attached afresh for the
+    /// same scene continues bit for bit.
+    fn save(&mut self, e: &mut Enc) -> std::io::Result<()>;
+    /// Restores what [`ForceContribution::save`] wrote, on a term attached afresh (`resume`)
+    /// for the same scene, and cuts its CSV file back to its length at the checkpoint. Sizes
+    /// that do not match the scene are an error, never a panic.
+    fn restore(&mut self, d: &mut Dec) -> Result<(), DecodeError>;
     /// The joints' committed history, for a term that has one (the fracture stage): the
     /// driver hands it out with the run's outcome so that a later run can start from it
     /// (default: none).

@@ -7,6 +7,7 @@
 //! every file an earlier run wrote there ([`folder::claim`]). vtkio is used only in [`vtu`].
 
 pub mod atomic;
+pub mod csv;
 pub mod folder;
 pub mod frame;
 pub mod history;
@@ -16,6 +17,7 @@ pub mod pvd;
 pub mod vtu;
 
 pub use atomic::write_atomic;
+pub use csv::{csv_length, open_csv, truncate_csv};
 pub use frame::{FrameData, frame_from_parts, make_frame};
 pub use history::HistoryWriter;
 pub use joint_frame::{JointFrame, JointProperties};
