@@ -121,6 +121,7 @@ fn bench(c: &mut Criterion) {
     let opts = RunOptions {
         out_dir: dir.join("out"),
         raw: false,
+        ..Default::default()
     };
     // one run with the stage timers, for the profile
     let o = run_outcome(&mut l, &opts, &mut |_| {}).unwrap();

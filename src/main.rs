@@ -1,13 +1,14 @@
 //! The `fdem` command-line program: a thin dispatcher to the subcommands.
 //!
-//! - `fdem run SCENE [--out DIR] [--raw]`: run a scene (`src/cmd/run.rs`).
+//! - `fdem run SCENE [--out DIR] [--raw] [--checkpoint-every N|TIME] [--stop-after N]`, or
+//!   `fdem run [SCENE] --resume DIR`: run a scene, or continue a run (`src/cmd/run.rs`).
 //! - `fdem check SCENE`: validate a scene, stable steps, estimated time (`src/cmd/check.rs`).
 //! - `fdem info MESH`: describe a mesh file (`src/cmd/info.rs`).
 //! - `fdem plot load-displacement DIR...`: load-displacement curves of runs (`src/cmd/plot.rs`).
 //! - `fdem study oscillator [--out DIR]`: the time-integration study (`src/study/`).
 //!
 //! Exit codes ([`EXIT_CODES`], from the typed error: [`exit_code`]): 0 success, 2 bad input,
-//! 3 a run that did not reach its goal, 1 anything else.
+//! 3 a run that did not reach its goal, 4 a run interrupted (resumable), 1 anything else.
 
 mod cmd;
 mod plot;
@@ -26,6 +27,9 @@ Exit codes (every subcommand):
   2  bad input: the scene, a mesh, a run folder or an argument is invalid (nothing is written)
   3  the run did not reach its goal: a relaxation that did not converge, or a run stopped as
      unstable (its output so far is written)
+  4  the run was interrupted (SIGINT or SIGTERM, or --stop-after): it wrote a checkpoint and a
+     summary marked interrupted; `fdem run --resume DIR` continues it (a second signal ends
+     the process at once, with code 128 + the signal's number)
   1  anything else (e.g. a file that cannot be written)";
 
 /// fdem: a 2D combined finite-discrete element solver.
@@ -41,15 +45,29 @@ enum Command {
     /// Run a scene: writes a ParaView collection (.pvd + .vtu), histories.csv and summary.json.
     #[command(after_help = EXIT_CODES)]
     Run {
-        /// The scene file (JSON, see docs/scene-format.md).
-        scene: PathBuf,
+        /// The scene file (JSON, see docs/scene-format.md); with --resume, the scene of the
+        /// checkpointed run by default.
+        #[arg(required_unless_present = "resume")]
+        scene: Option<PathBuf>,
         /// Output folder (default results/<scene name>); the files an earlier run wrote
         /// there are removed first, other files are kept.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "resume")]
         out: Option<PathBuf>,
         /// Also write each frame's arrays as JSON (frame_NNNN.json), for independent checks.
         #[arg(long)]
         raw: bool,
+        /// Write a checkpoint (checkpoint.fdem) every N steps, or every wall-clock time
+        /// (90s, 30min, 2h), or `off`; default: the scene's output.checkpoint_every, else 10min.
+        #[arg(long, value_name = "STEPS|TIME", value_parser = parse_every)]
+        checkpoint_every: Option<fdem_solver::checkpoint::Every>,
+        /// Continue the run in DIR from its checkpoint; its frames, CSV files and summary
+        /// go on as if it had never stopped.
+        #[arg(long, value_name = "DIR")]
+        resume: Option<PathBuf>,
+        /// Stop after this many steps in all, with a checkpoint, as if interrupted (exit
+        /// code 4); a later --resume goes on.
+        #[arg(long, value_name = "STEPS")]
+        stop_after: Option<u64>,
     },
     /// Validate a scene: report the mesh, each scheme's stable time step and the run time.
     #[command(after_help = EXIT_CODES)]
@@ -71,6 +89,11 @@ enum Command {
     Study(study::StudyCommand),
 }
 
+/// `--checkpoint-every`: steps, a wall-clock time or `off`.
+fn parse_every(s: &str) -> Result<fdem_solver::checkpoint::Every, String> {
+    fdem_solver::checkpoint::Every::parse(s)
+}
+
 /// Writes `bytes` to `path` whole or not at all: a temporary file beside it, then a rename.
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut tmp = path.as_os_str().to_owned();
@@ -83,7 +106,21 @@ pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run { scene, out, raw } => cmd::run::run(&scene, out, raw),
+        Command::Run {
+            scene,
+            out,
+            raw,
+            checkpoint_every,
+            resume,
+            stop_after,
+        } => cmd::run::run(cmd::run::RunArgs {
+            scene,
+            out,
+            raw,
+            checkpoint_every,
+            resume,
+            stop_after,
+        }),
         Command::Check { scene } => cmd::check::check(&scene),
         Command::Info { mesh } => cmd::info::info(&mesh),
         Command::Plot(cmd) => cmd::plot::run(cmd),
@@ -129,8 +166,9 @@ fn exit_code(e: &anyhow::Error) -> u8 {
     for cause in e.chain() {
         if let Some(r) = cause.downcast_ref::<RunError>() {
             return match r {
-                RunError::Scene(_) | RunError::Static { .. } => 2,
+                RunError::Scene(_) | RunError::Static { .. } | RunError::Checkpoint(_) => 2,
                 RunError::Unstable { .. } | RunError::NotConverged { .. } => 3,
+                RunError::Interrupted { .. } => 4,
                 RunError::Output { .. } => 1,
             };
         }

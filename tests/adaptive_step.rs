@@ -18,6 +18,7 @@ fn run(scene: &Path, tag: &str) -> (Outcome, fdem_solver::Loaded) {
         &RunOptions {
             out_dir: out,
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )

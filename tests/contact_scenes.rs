@@ -68,6 +68,7 @@ fn running_a_loaded_scene_twice_attaches_its_stages_once() {
     let options = fdem_solver::driver::RunOptions {
         out_dir: out,
         raw: false,
+        ..Default::default()
     };
     let first = driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap();
     let second = driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap();
@@ -82,6 +83,7 @@ fn run_raw(scene: &std::path::Path) -> (Vec<serde_json::Value>, std::path::PathB
     let options = driver::RunOptions {
         out_dir: out.clone(),
         raw: true,
+        ..Default::default()
     };
     driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap();
     let mut frames = Vec::new();

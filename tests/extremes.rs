@@ -87,6 +87,7 @@ fn run(l: &mut Loaded, dir: &Path) -> Result<Outcome, RunError> {
         &RunOptions {
             out_dir: dir.join("out"),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )
@@ -640,6 +641,7 @@ fn impact_at_a_tenth_of_the_wave_speed() {
         &RunOptions {
             out_dir: scene.parent().unwrap().join("out"),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     );

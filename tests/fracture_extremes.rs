@@ -16,6 +16,7 @@ fn try_run(scene: &std::path::Path) -> Result<(Outcome, std::path::PathBuf), Str
         &RunOptions {
             out_dir: out.clone(),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )

@@ -66,6 +66,7 @@ fn run(l: &mut Loaded, out: &std::path::Path) -> Outcome {
         &RunOptions {
             out_dir: out.to_path_buf(),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )
@@ -269,6 +270,7 @@ fn a_saved_state_of_another_scene_is_refused_before_the_folder_is_touched() {
         &RunOptions {
             out_dir: out.clone(),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )

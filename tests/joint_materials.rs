@@ -96,6 +96,7 @@ fn run(p: &Path) -> Outcome {
         &RunOptions {
             out_dir: p.parent().unwrap().join("out"),
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )

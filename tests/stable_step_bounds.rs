@@ -78,6 +78,7 @@ fn state_at(scene: &Path, t: f64) -> fdem_solver::Loaded {
         &fdem_solver::RunOptions {
             out_dir: out,
             raw: false,
+            ..Default::default()
         },
         &mut |_| {},
     )

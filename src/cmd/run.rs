@@ -1,16 +1,81 @@
 //! `fdem run SCENE [--out DIR]`: runs a scene and writes its results (the run owns the
-//! folder: fdem's files of an earlier run there are removed first).
+//! folder: fdem's files of an earlier run there are removed first); `fdem run --resume DIR`
+//! continues a run from its checkpoint. SIGINT/SIGTERM stop a run with a checkpoint.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize};
 use std::time::Instant;
 
 use anyhow::Result;
 use fdem_solver::driver::{self, Progress, RunOptions};
 
-/// Runs the scene at `scene`, writing into `out` (default `results/<scene name>`).
-pub fn run(scene: &Path, out: Option<PathBuf>, raw: bool) -> Result<()> {
-    let out = out.unwrap_or_else(|| {
+/// What `fdem run` was given.
+pub struct RunArgs {
+    /// The scene (with `resume`: the checkpointed run's scene by default).
+    pub scene: Option<PathBuf>,
+    /// The output folder.
+    pub out: Option<PathBuf>,
+    /// Also write raw JSON frames.
+    pub raw: bool,
+    /// `--checkpoint-every`.
+    pub checkpoint_every: Option<fdem_solver::checkpoint::Every>,
+    /// `--resume DIR`.
+    pub resume: Option<PathBuf>,
+    /// `--stop-after STEPS`.
+    pub stop_after: Option<u64>,
+}
+
+/// SIGINT and SIGTERM: the first sets `stop` to the signal's number (the run stops after its
+/// step with a checkpoint), a second one ends the process at once (code 128 + the number).
+fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let stop = Arc::new(AtomicUsize::new(0));
+    let armed = Arc::new(AtomicBool::new(false));
+    for sig in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(&armed))?;
+        signal_hook::flag::register(sig, Arc::clone(&armed))?;
+        signal_hook::flag::register_usize(sig, Arc::clone(&stop), sig as usize)?;
+    }
+    Ok(stop)
+}
+
+/// The scene of a resumed run: the one given, else the one the checkpoint names.
+fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBuf> {
+    if let Some(s) = scene {
+        return Ok(s);
+    }
+    let file = dir.join(fdem_solver::checkpoint::FILE_NAME);
+    let cp = fdem_solver::checkpoint::read(&file).map_err(fdem_solver::RunError::from)?;
+    let scene = cp.header.scene_file;
+    if !scene.exists() {
+        return Err(crate::bad_input(format!(
+            "{}: the checkpoint's scene {} is not there any more\n  fix: give it: fdem run SCENE --resume {}",
+            file.display(),
+            scene.display(),
+            dir.display()
+        )));
+    }
+    Ok(scene)
+}
+
+/// Runs a scene (or resumes a run), writing into `out` (default `results/<scene name>`).
+pub fn run(args: RunArgs) -> Result<()> {
+    let RunArgs {
+        scene,
+        out,
+        raw,
+        checkpoint_every,
+        resume,
+        stop_after,
+    } = args;
+    let scene = match &resume {
+        Some(dir) => resumed_scene(dir, scene)?,
+        None => scene.expect("clap requires a scene without --resume"),
+    };
+    let scene = scene.as_path();
+    let out = resume.clone().or(out).unwrap_or_else(|| {
         let stem = scene
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -22,6 +87,10 @@ pub fn run(scene: &Path, out: Option<PathBuf>, raw: bool) -> Result<()> {
     let options = RunOptions {
         out_dir: out.clone(),
         raw,
+        checkpoint_every,
+        stop: Some(stop_on_signals()?),
+        stop_after,
+        resume: resume.is_some(),
     };
     let summary = if std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(1000);

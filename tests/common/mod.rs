@@ -87,6 +87,7 @@ fn run_into(scene: &Path, raw: bool) -> (Outcome, PathBuf) {
         &RunOptions {
             out_dir: out.clone(),
             raw,
+            ..Default::default()
         },
         &mut |_| {},
     )

@@ -88,6 +88,7 @@ fn bench(c: &mut Criterion) {
     let opts = RunOptions {
         out_dir: out.clone(),
         raw: false,
+        ..Default::default()
     };
     let mut group = c.benchmark_group("elastic_scene_1M_central_difference");
     group.throughput(Throughput::Elements(n_tri as u64 * STEPS));

@@ -347,14 +347,14 @@ impl ContactStage {
 }
 
 impl ForceContribution for ContactStage {
-    fn save(&mut self, _e: &mut crate::checkpoint::Enc) -> std::io::Result<()> {
+    fn save(&mut self, _e: &mut crate::checkpoint::pack::Enc) -> std::io::Result<()> {
         todo!("checkpoint of this stage")
     }
 
     fn restore(
         &mut self,
-        _d: &mut crate::checkpoint::Dec,
-    ) -> Result<(), crate::checkpoint::DecodeError> {
+        _d: &mut crate::checkpoint::pack::Dec,
+    ) -> Result<(), crate::checkpoint::pack::DecodeError> {
         todo!("checkpoint of this stage")
     }
 

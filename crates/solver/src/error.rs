@@ -117,6 +117,26 @@ pub enum RunError {
         /// What to change.
         fix: String,
     },
+    /// A checkpoint that cannot be resumed (damaged, of a newer format, of another scene).
+    #[error("{}: {}\n  fix: {}", .0.file.display(), .0.message, .0.fix)]
+    Checkpoint(crate::checkpoint::CheckpointError),
+    /// The run was asked to stop (a signal, or its `stop_after` step): it wrote a checkpoint
+    /// and its summary, marked interrupted.
+    #[error(
+        "the run was interrupted ({reason}) at step {step} (t = {time:e} s); its checkpoint is {}\n  to continue: fdem run --resume {}",
+        checkpoint.display(),
+        checkpoint.parent().map_or_else(|| ".".into(), |p| p.display().to_string())
+    )]
+    Interrupted {
+        /// What stopped it: `SIGINT`, `SIGTERM`, `stop_after`.
+        reason: String,
+        /// Steps done.
+        step: u64,
+        /// Simulated time [s].
+        time: f64,
+        /// The checkpoint written.
+        checkpoint: PathBuf,
+    },
     /// The static solve failed.
     #[error("static solve failed: {message}\n  fix: {fix}")]
     Static {
@@ -125,4 +145,10 @@ pub enum RunError {
         /// What to change.
         fix: String,
     },
+}
+
+impl From<crate::checkpoint::CheckpointError> for RunError {
+    fn from(e: crate::checkpoint::CheckpointError) -> Self {
+        RunError::Checkpoint(e)
+    }
 }

@@ -39,6 +39,7 @@ use serde::Serialize;
 
 use fdem_time::State;
 
+use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
 use crate::model::Model;
 use crate::system::{SceneSystem, StageReport};
 
@@ -580,5 +581,136 @@ mod tests {
                 assert!(d.contains(&format!("{n} ")), "{n} missing from {d}");
             }
         }
+    }
+}
+
+impl Pack for Energies {
+    fn pack(&self, e: &mut Enc) {
+        e.put(&self.initial_kinetic);
+        e.put(&self.initial_strain);
+        e.put(&self.initial_stored);
+        e.put(&self.initial);
+        e.put(&self.external_work);
+        e.put(&self.gravity_work);
+        e.put(&self.support_work);
+        e.put(&self.wall_work);
+        e.put(&self.supplied);
+        e.put(&self.kinetic);
+        e.put(&self.strain);
+        e.put(&self.stored);
+        e.put(&self.present);
+        e.put(&self.mass_damping);
+        e.put(&self.viscosity);
+        e.put(&self.contact_damping);
+        e.put(&self.friction);
+        e.put(&self.fracture);
+        e.put(&self.switch_loss);
+        e.put(&self.contact_residual);
+        e.put(&self.elastic_residual);
+        e.put(&self.dissipated);
+        e.put(&self.error);
+        e.put(&self.in_play);
+        e.put(&self.dissipated_or_error);
+        e.put(&self.residuals_booked);
+    }
+
+    fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
+        Ok(Self {
+            initial_kinetic: d.get()?,
+            initial_strain: d.get()?,
+            initial_stored: d.get()?,
+            initial: d.get()?,
+            external_work: d.get()?,
+            gravity_work: d.get()?,
+            support_work: d.get()?,
+            wall_work: d.get()?,
+            supplied: d.get()?,
+            kinetic: d.get()?,
+            strain: d.get()?,
+            stored: d.get()?,
+            present: d.get()?,
+            mass_damping: d.get()?,
+            viscosity: d.get()?,
+            contact_damping: d.get()?,
+            friction: d.get()?,
+            fracture: d.get()?,
+            switch_loss: d.get()?,
+            contact_residual: d.get()?,
+            elastic_residual: d.get()?,
+            dissipated: d.get()?,
+            error: d.get()?,
+            in_play: d.get()?,
+            dissipated_or_error: d.get()?,
+            residuals_booked: d.get()?,
+        })
+    }
+}
+
+impl Books {
+    /// Appends the books to a checkpoint (all of them: the sums and the last booked state).
+    pub fn save(&self, e: &mut Enc) {
+        e.put(&self.sums);
+        e.put(&self.loaded_dofs);
+        e.put(&self.fext_full);
+        e.put(&self.prev_fext);
+        e.put(&self.prev_x_loaded);
+        e.put(&self.prescribed);
+        e.put(&self.prev_r_pres);
+        e.put(&self.prev_x_pres);
+        e.put(&self.k_prescribed0);
+        e.put(&self.mass_dof);
+        e.put(&self.alpha);
+        e.put(&self.p_mass);
+        e.put(&self.p_visc);
+        e.put(&self.visc_sums);
+        e.put(&self.grav0);
+        e.put(&self.t_prev);
+        e.put(&self.internal_work);
+        e.put(&self.prev_f_int);
+        e.put(&self.prev_x);
+        e.put(&self.book_residuals);
+    }
+
+    /// The books [`Books::save`] wrote, for a system of `n` nodes.
+    pub fn restore(d: &mut Dec, n: usize) -> Result<Self, DecodeError> {
+        let b = Books {
+            sums: d.get()?,
+            loaded_dofs: d.get()?,
+            fext_full: d.get()?,
+            prev_fext: d.get()?,
+            prev_x_loaded: d.get()?,
+            prescribed: d.get()?,
+            prev_r_pres: d.get()?,
+            prev_x_pres: d.get()?,
+            k_prescribed0: d.get()?,
+            mass_dof: d.vec_of_len(2 * n, "mass per DOF")?,
+            alpha: d.get()?,
+            p_mass: d.get()?,
+            p_visc: d.get()?,
+            visc_sums: d.get()?,
+            grav0: d.get()?,
+            t_prev: d.get()?,
+            internal_work: d.get()?,
+            prev_f_int: d.get()?,
+            prev_x: d.get()?,
+            book_residuals: d.get()?,
+        };
+        let dofs_ok = b
+            .loaded_dofs
+            .iter()
+            .chain(&b.prescribed)
+            .all(|&k| k < 2 * n);
+        let sizes_ok = b.prev_fext.len() == b.loaded_dofs.len()
+            && b.prev_x_loaded.len() == b.loaded_dofs.len()
+            && b.prev_r_pres.len() == b.prescribed.len()
+            && b.prev_x_pres.len() == b.prescribed.len()
+            && (b.fext_full.is_empty() || b.fext_full.len() == 2 * n)
+            && (b.grav0.is_empty() || b.grav0.len() == 2 * n)
+            && (b.prev_f_int.is_empty() || b.prev_f_int.len() == n)
+            && (b.prev_x.is_empty() || b.prev_x.len() == n);
+        if !(dofs_ok && sizes_ok) {
+            return Err(d.error("the energy books do not fit the scene's nodes"));
+        }
+        Ok(b)
     }
 }

@@ -231,6 +231,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         threads: rayon::current_num_threads(),
         stages: serde_json::Value::Null,
         time_step_range: None,
+        interrupted: None,
     };
     Ok((frame, summary))
 }

@@ -56,6 +56,19 @@ pub struct Summary {
     pub stages: serde_json::Value,
     /// An `"adaptive"` step: the smallest and the largest step taken [s].
     pub time_step_range: Option<[f64; 2]>,
+    /// Present when the run was interrupted (a signal, or `--stop-after`): where it stopped
+    /// and the checkpoint to resume from.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interrupted: Option<Interrupted>,
+}
+
+/// How an interrupted run stopped.
+#[derive(Debug, Clone, Serialize)]
+pub struct Interrupted {
+    /// What stopped it: `SIGINT`, `SIGTERM` or `stop_after`.
+    pub reason: String,
+    /// The checkpoint written at the stop (`fdem run --resume DIR` continues from it).
+    pub checkpoint: String,
 }
 
 impl Summary {

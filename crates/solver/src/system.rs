@@ -17,7 +17,7 @@ use fdem_mesh::{Elements, ForceScratch};
 use fdem_time::SecondOrderSystem;
 use rayon::prelude::*;
 
-use crate::checkpoint::{Dec, DecodeError, Enc};
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::model::Model;
 use crate::output::FrameData;
 
@@ -129,7 +129,7 @@ pub struct StageReport {
 }
 
 /// Wall time spent per stage [s].
-#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct StageTimers {
     /// Internal (element) forces; for the static analysis, the assembly and sparse solve.
     pub internal_forces: f64,
@@ -401,5 +401,64 @@ impl SceneSystem {
                 }
             }
         }
+    }
+}
+
+impl crate::checkpoint::pack::Pack for StageTimers {
+    fn pack(&self, e: &mut Enc) {
+        e.put(&[
+            self.internal_forces,
+            self.external_loads,
+            self.mass_damping,
+            self.contributions,
+            self.integration,
+            self.histories,
+            self.output,
+        ]);
+    }
+
+    fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
+        let t: [f64; 7] = d.get()?;
+        Ok(Self {
+            internal_forces: t[0],
+            external_loads: t[1],
+            mass_damping: t[2],
+            contributions: t[3],
+            integration: t[4],
+            histories: t[5],
+            output: t[6],
+        })
+    }
+}
+
+impl SceneSystem {
+    /// Appends the system's own state to a checkpoint: the forces of the last evaluation (the
+    /// reactions, the relaxation's residual and the energy books read them), the counters and
+    /// timers (the stages save themselves: [`ForceContribution::save`]).
+    pub fn save(&self, e: &mut Enc) {
+        e.put(&self.force);
+        e.put(&self.internal_force);
+        e.put(&self.evaluated_at_end);
+        e.put(&self.evaluations);
+        e.put(&self.timers);
+        e.put(&self.contribution_times);
+        e.put(&self.contribution_end_times);
+    }
+
+    /// Takes up what [`SceneSystem::save`] wrote.
+    pub fn restore(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
+        let n = self.force.len();
+        self.force = d.vec_of_len(n, "nodal forces")?;
+        let internal: Vec<[f64; 2]> = d.get()?;
+        if internal.len() != self.internal_force.len() {
+            return Err(d.error("the internal forces do not fit the scene's nodes"));
+        }
+        self.internal_force = internal;
+        self.evaluated_at_end = d.get()?;
+        self.evaluations = d.get()?;
+        self.timers = d.get()?;
+        self.contribution_times = d.get()?;
+        self.contribution_end_times = d.get()?;
+        Ok(())
     }
 }

@@ -39,6 +39,34 @@ pub struct Counters {
     pub gradients: u64,
 }
 
+/// What a scheme carries from one step to the next, as plain data: the cached acceleration
+/// and its time, the counters, and a scheme's own history (Gear PC's scaled derivatives).
+/// [`Integrator::save_state`] gives it; [`Integrator::restore_state`] on a scheme of the same
+/// kind and size continues bit for bit (a checkpoint holds it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SchemeState {
+    /// The acceleration buffer (for FSAL schemes the acceleration at `a_time`; for the others
+    /// the last evaluation's, which the velocity extrapolation of the next step reads).
+    pub a: Vec<f64>,
+    /// Time at which `a` holds the acceleration of the current state, if it does.
+    pub a_time: Option<f64>,
+    /// Whether `a` holds an acceleration of this run.
+    pub a_live: bool,
+    /// The counters.
+    pub counters: Counters,
+    /// The scheme's own arrays (Gear PC: its scaled derivatives `r_2..r_Q`); empty for the
+    /// others.
+    pub history: Vec<f64>,
+    /// The scheme's own numbers (Gear PC: the step `r` is scaled with, and the time at which
+    /// `r` holds the derivatives of the state, NaN for none).
+    pub scalars: Vec<f64>,
+}
+
+/// Why a [`SchemeState`] does not fit a scheme.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the scheme's saved state {0}")]
+pub struct SchemeStateError(pub String);
+
 /// An explicit one-step scheme for a [`SecondOrderSystem`].
 ///
 /// The last acceleration evaluation of a step is at the final state `(t + h, x')` for
@@ -92,6 +120,14 @@ pub trait Integrator: Send {
     /// step starts afresh from `state`.
     fn invalidate(&mut self);
 
+    /// What the scheme carries to its next step ([`SchemeState`]).
+    fn save_state(&self) -> SchemeState;
+
+    /// Takes up a state saved by [`save_state`](Self::save_state) on a scheme of the same
+    /// kind and size: the next step is the one the saved scheme would have taken, bit for
+    /// bit. A state of another size or shape is an error (the scheme is left as it was).
+    fn restore_state(&mut self, s: &SchemeState) -> Result<(), SchemeStateError>;
+
     /// The largest stable `h omega` on the undamped oscillator (computed from the spectral
     /// radius of the one-step operator; see [`crate::stability`]).
     fn stability_limit(&self) -> f64 {
@@ -117,6 +153,45 @@ pub(crate) struct Core {
 }
 
 impl Core {
+    /// The core's part of a [`SchemeState`] (the scheme adds its own history).
+    pub fn save(&self) -> SchemeState {
+        SchemeState {
+            a: self.a.clone(),
+            a_time: self.a_time,
+            a_live: self.a_live,
+            counters: self.counters,
+            history: Vec::new(),
+            scalars: Vec::new(),
+        }
+    }
+
+    /// Checks that `s` fits a scheme with `history` own values and `scalars` own numbers.
+    pub fn check(
+        &self,
+        s: &SchemeState,
+        history: usize,
+        scalars: usize,
+    ) -> Result<(), SchemeStateError> {
+        let n = self.a.len();
+        if s.a.len() != n || s.history.len() != history || s.scalars.len() != scalars {
+            return Err(SchemeStateError(format!(
+                "has {} DOFs, {} history values and {} numbers where this scheme has {n}, {history} and {scalars}",
+                s.a.len(),
+                s.history.len(),
+                s.scalars.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Takes up the core's part of `s` (checked by [`check`](Self::check)).
+    pub fn restore(&mut self, s: &SchemeState) {
+        self.a.copy_from_slice(&s.a);
+        self.a_time = s.a_time;
+        self.a_live = s.a_live;
+        self.counters = s.counters;
+    }
+
     pub fn new(n: usize) -> Self {
         Self {
             a: vec![0.0; n],

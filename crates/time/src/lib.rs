@@ -50,8 +50,10 @@
 //! ```
 
 /// The bookkeeping every scheme delegates to its `Core` (inside `impl Integrator`): the
-/// evaluation counters and, unless the scheme keeps more history of its own (`keep_invalidate`:
-/// it writes its own `invalidate`), dropping the cached force of the last step.
+/// evaluation counters; dropping the cached force of the last step, unless the scheme keeps
+/// more history of its own (`keep_invalidate`: it writes its own `invalidate`); and its saved
+/// state, the core's, unless it has history of its own (`keep_invalidate, keep_state`: it
+/// writes its own `save_state` and `restore_state`).
 macro_rules! core_bookkeeping {
     () => {
         core_bookkeeping!(keep_invalidate);
@@ -61,6 +63,22 @@ macro_rules! core_bookkeeping {
         }
     };
     (keep_invalidate) => {
+        core_bookkeeping!(keep_invalidate, keep_state);
+
+        fn save_state(&self) -> $crate::SchemeState {
+            self.core.save()
+        }
+
+        fn restore_state(
+            &mut self,
+            s: &$crate::SchemeState,
+        ) -> Result<(), $crate::SchemeStateError> {
+            self.core.check(s, 0, 0)?;
+            self.core.restore(s);
+            Ok(())
+        }
+    };
+    (keep_invalidate, keep_state) => {
         fn counters(&self) -> Counters {
             self.core.counters
         }
@@ -89,7 +107,7 @@ pub mod systems;
 pub use central_difference::CentralDifference;
 pub use chin::Chin;
 pub use forest_ruth::{ForestRuth, forest_ruth_coefficients};
-pub use integrator::{Counters, Integrator, StepCost};
+pub use integrator::{Counters, Integrator, SchemeState, SchemeStateError, StepCost};
 pub use kind::{ParseSchemeError, SchemeKind};
 pub use omf30::{Omf30, omf30_lambda};
 pub use omf32::{OMF32_LAMBDA, OMF32_RHO, OMF32_THETA, OMF32_VTH, OMF32_XI, Omf32};

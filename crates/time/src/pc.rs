@@ -319,7 +319,24 @@ impl<const Q: usize> Integrator for GearPc<Q> {
         self.core.finish(system, state, t1, false);
     }
 
-    core_bookkeeping!(keep_invalidate);
+    core_bookkeeping!(keep_invalidate, keep_state);
+
+    fn save_state(&self) -> crate::SchemeState {
+        crate::SchemeState {
+            history: self.r.clone(),
+            scalars: vec![self.h_r, self.r_time.unwrap_or(f64::NAN)],
+            ..self.core.save()
+        }
+    }
+
+    fn restore_state(&mut self, s: &crate::SchemeState) -> Result<(), crate::SchemeStateError> {
+        self.core.check(s, self.r.len(), 2)?;
+        self.core.restore(s);
+        self.r.copy_from_slice(&s.history);
+        self.h_r = s.scalars[0];
+        self.r_time = (!s.scalars[1].is_nan()).then_some(s.scalars[1]);
+        Ok(())
+    }
 
     fn invalidate(&mut self) {
         self.core.a_time = None;

@@ -64,6 +64,7 @@ pub(super) fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,
+        ..Default::default()
     };
     let o = driver::run_outcome(&mut l, &options, &mut |_| {})
         .with_context(|| format!("the active-bound run of {}", scene.display()))?;

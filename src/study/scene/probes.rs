@@ -108,6 +108,7 @@ pub(super) fn probe_start(
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,
+        ..Default::default()
     };
     std::fs::create_dir_all(out)?;
     let o = driver::run_outcome(&mut l, &options, &mut |_| {})
@@ -230,6 +231,7 @@ pub(super) fn stability_probe(
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,
+        ..Default::default()
     };
     match driver::run_outcome(&mut l, &options, &mut |_| {}) {
         Ok(_) => {}

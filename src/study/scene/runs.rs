@@ -107,6 +107,7 @@ pub(super) fn one_run(
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,
+        ..Default::default()
     };
     let start = std::time::Instant::now();
     match driver::run_outcome(&mut l, &options, &mut |_| {}) {

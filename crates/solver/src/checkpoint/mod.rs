@@ -1,6 +1,406 @@
-//! Checkpoints: the whole state of a dynamic or relaxation run in one binary file, from which
-//! `fdem run --resume` continues bit for bit.
+//! Checkpoints: the whole state of a dynamic or relaxation run in one binary file
+//! (`checkpoint.fdem` in the run's folder), from which `fdem run --resume` continues bit for
+//! bit.
+//!
+//! The file: the magic bytes `FDEMCKPT`, the format version ([`FORMAT`], `u32`), a header
+//! ([`Header`]: the fdem version, the hashes of the scene and of the mesh it belongs to, the
+//! step and time), the length of the state, the state (sections written by [`pack`]: the run,
+//! the scheme, the step control, the energy books, the system, each stage, each observer), and
+//! an XXH3 checksum of header and state. It is written whole or not at all
+//! ([`CheckpointWriter`]: a temporary file, fsync, rename, fsync of the folder) on a
+//! background thread, so a run waits only for the encoding into memory.
+//!
+//! What may change between the run that wrote a checkpoint and the run that resumes it: the
+//! end (`duration`), the output (`output`), the history interval (`histories.every`) and the
+//! title ([`scene_hash`] leaves them out); anything else is a different scene and is refused.
 
 pub mod pack;
 
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
 pub use pack::{Dec, DecodeError, Enc, Pack};
+
+/// The checkpoint file's name in a run folder.
+pub const FILE_NAME: &str = "checkpoint.fdem";
+/// The format version this fdem writes; it reads this one and none newer.
+pub const FORMAT: u32 = 1;
+const MAGIC: &[u8; 8] = b"FDEMCKPT";
+
+/// What a checkpoint says of itself before its state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Header {
+    /// The fdem version that wrote it.
+    pub version: String,
+    /// The hash of the scene it belongs to (`crate::run::scene_hash`).
+    pub scene: u64,
+    /// The hash of the mesh it belongs to (`crate::run::mesh_hash`).
+    pub mesh: u64,
+    /// Steps done.
+    pub step: u64,
+    /// Simulated time [s].
+    pub time: f64,
+    /// The scene file (absolute), for `fdem run --resume DIR` without a scene.
+    pub scene_file: PathBuf,
+}
+
+impl Header {
+    fn pack(&self, e: &mut Enc) {
+        e.put(&self.version);
+        e.put(&self.scene);
+        e.put(&self.mesh);
+        e.put(&self.step);
+        e.put(&self.time);
+        e.put(&self.scene_file.to_string_lossy().into_owned());
+    }
+
+    fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
+        Ok(Self {
+            version: d.get()?,
+            scene: d.get()?,
+            mesh: d.get()?,
+            step: d.get()?,
+            time: d.get()?,
+            scene_file: PathBuf::from(d.get::<String>()?),
+        })
+    }
+}
+
+/// A checkpoint read back: its header and its state (the sections, not yet decoded).
+#[derive(Debug)]
+pub struct Checkpoint {
+    /// The header.
+    pub header: Header,
+    /// The state.
+    pub state: Vec<u8>,
+}
+
+/// Why a checkpoint cannot be used; the message says what to do.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CheckpointError {
+    /// The checkpoint file.
+    pub file: PathBuf,
+    /// What is wrong.
+    pub message: String,
+    /// What to do.
+    pub fix: String,
+}
+
+impl CheckpointError {
+    /// An error of `file`: `message`, and what to do.
+    pub fn new(file: &Path, message: impl Into<String>, fix: impl Into<String>) -> Self {
+        Self {
+            file: file.to_path_buf(),
+            message: message.into(),
+            fix: fix.into(),
+        }
+    }
+}
+
+/// The whole file: magic, format, header, state, checksum.
+pub fn encode_file(header: &Header, state: &[u8]) -> Vec<u8> {
+    let mut h = Enc::default();
+    header.pack(&mut h);
+    let mut out = Vec::with_capacity(state.len() + h.buf.len() + 40);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&FORMAT.to_le_bytes());
+    out.extend_from_slice(&(h.buf.len() as u64).to_le_bytes());
+    out.extend_from_slice(&h.buf);
+    out.extend_from_slice(&(state.len() as u64).to_le_bytes());
+    out.extend_from_slice(state);
+    let sum = twox_hash::XxHash3_64::oneshot(&out[MAGIC.len()..]);
+    out.extend_from_slice(&sum.to_le_bytes());
+    out
+}
+
+/// Reads and checks the checkpoint at `file`: an fdem checkpoint, of a format this fdem
+/// reads, whole (its length and checksum).
+pub fn read(file: &Path) -> Result<Checkpoint, CheckpointError> {
+    let bytes = std::fs::read(file).map_err(|e| {
+        CheckpointError::new(
+            file,
+            format!("cannot read the checkpoint: {e}"),
+            "resume a folder that holds a checkpoint (a run writes one every `--checkpoint-every`, when it is interrupted, and at its end after a first one)",
+        )
+    })?;
+    decode_file(file, &bytes)
+}
+
+/// [`read`] on bytes already in memory.
+pub fn decode_file(file: &Path, bytes: &[u8]) -> Result<Checkpoint, CheckpointError> {
+    let damaged = |what: String| {
+        CheckpointError::new(
+            file,
+            format!("the checkpoint is damaged: {what}"),
+            "resume from a complete checkpoint (the file may have been cut short or changed after it was written; an interrupted write leaves the previous checkpoint in place), or start the run afresh",
+        )
+    };
+    if bytes.len() < 12 || &bytes[..8] != MAGIC {
+        return Err(CheckpointError::new(
+            file,
+            "not an fdem checkpoint (it does not begin with FDEMCKPT)",
+            "give the run folder that holds checkpoint.fdem",
+        ));
+    }
+    let format = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes"));
+    if format > FORMAT {
+        return Err(CheckpointError::new(
+            file,
+            format!(
+                "the checkpoint has format {format}, newer than this fdem reads (up to {FORMAT}, fdem {})",
+                env!("CARGO_PKG_VERSION")
+            ),
+            "resume it with the fdem version that wrote it, or a newer one",
+        ));
+    }
+    if bytes.len() < 12 + 8 + 8 {
+        return Err(damaged(format!("{} bytes is too short", bytes.len())));
+    }
+    let body = &bytes[..bytes.len() - 8];
+    let sum = u64::from_le_bytes(bytes[bytes.len() - 8..].try_into().expect("8 bytes"));
+    let mut d = Dec::new(&body[12..]);
+    let header_len = d.get::<u64>().map_err(|e| damaged(e.0))? as usize;
+    let head = d.take(header_len).map_err(|e| damaged(e.0))?;
+    let state_len = d.get::<u64>().map_err(|e| damaged(e.0))? as usize;
+    if d.remaining() != state_len {
+        return Err(damaged(format!(
+            "its state should have {state_len} bytes, the file holds {}",
+            d.remaining()
+        )));
+    }
+    if twox_hash::XxHash3_64::oneshot(&body[8..]) != sum {
+        return Err(damaged("its checksum does not match its contents".into()));
+    }
+    let header = Header::unpack(&mut Dec::new(head)).map_err(|e| damaged(e.0))?;
+    let state = d.take(state_len).map_err(|e| damaged(e.0))?.to_vec();
+    Ok(Checkpoint { header, state })
+}
+
+/// When a run writes its checkpoints.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Every {
+    /// Every this many steps.
+    Steps(u64),
+    /// Every this many seconds of wall-clock time.
+    Seconds(f64),
+    /// Never on its own (only when interrupted).
+    Off,
+}
+
+/// The default interval: ten minutes of wall-clock time.
+pub const DEFAULT_EVERY: Every = Every::Seconds(600.0);
+
+impl Every {
+    /// Parses `5000` (steps), `90s`, `30min`, `2h`, or `off`.
+    pub fn parse(s: &str) -> Result<Every, String> {
+        let t = s.trim();
+        if t == "off" {
+            return Ok(Every::Off);
+        }
+        if let Ok(n) = t.parse::<u64>() {
+            return if n > 0 {
+                Ok(Every::Steps(n))
+            } else {
+                Err(
+                    "0 steps: give a positive number of steps, a time such as `30min`, or `off`"
+                        .into(),
+                )
+            };
+        }
+        let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+        let (num, unit) = t.split_at(split);
+        let scale = match unit.trim() {
+            "s" => 1.0,
+            "min" => 60.0,
+            "h" => 3600.0,
+            _ => {
+                return Err(format!(
+                    "`{s}` is not a number of steps (`5000`), a wall-clock time (`90s`, `30min`, `2h`) or `off`"
+                ));
+            }
+        };
+        match num.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() && x > 0.0 => Ok(Every::Seconds(x * scale)),
+            _ => Err(format!(
+                "`{s}`: the time must be a positive number followed by s, min or h"
+            )),
+        }
+    }
+}
+
+/// In a scene (`output.checkpoint_every`): a number of steps, or a text (`"30min"`, `"off"`).
+impl<'de> serde::Deserialize<'de> for Every {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Steps(u64),
+            Text(String),
+        }
+        let text = match Raw::deserialize(d).map_err(|_| {
+            serde::de::Error::custom(
+                "expected a number of steps (5000), a wall-clock time (\"90s\", \"30min\", \"2h\") or \"off\"",
+            )
+        })? {
+            Raw::Steps(n) => n.to_string(),
+            Raw::Text(t) => t,
+        };
+        Every::parse(&text).map_err(serde::de::Error::custom)
+    }
+}
+
+impl serde::Serialize for Every {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Every::Steps(n) => s.serialize_u64(*n),
+            Every::Seconds(x) => s.serialize_str(&format!("{x}s")),
+            Every::Off => s.serialize_str("off"),
+        }
+    }
+}
+
+/// Writes checkpoints whole or not at all, each on a background thread while the run goes
+/// on; the next one (and the end of the run) first waits for the one before.
+#[derive(Debug)]
+pub struct CheckpointWriter {
+    path: PathBuf,
+    pending: Option<JoinHandle<std::io::Result<f64>>>,
+    /// Checkpoints written.
+    pub written: u64,
+    /// Bytes of the last one.
+    pub bytes: u64,
+    /// Wall time spent in the run's thread (encoding) [s].
+    pub encode_time: f64,
+    /// Wall time of the writes (on the background thread) [s].
+    pub write_time: f64,
+}
+
+impl CheckpointWriter {
+    /// A writer of `dir/checkpoint.fdem`.
+    pub fn new(dir: &Path) -> Self {
+        Self {
+            path: dir.join(FILE_NAME),
+            pending: None,
+            written: 0,
+            bytes: 0,
+            encode_time: 0.0,
+            write_time: 0.0,
+        }
+    }
+
+    /// The checkpoint file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `file` (the whole file: [`encode_file`]) on a background thread, after the
+    /// previous write has finished.
+    pub fn submit(&mut self, file: Vec<u8>) -> std::io::Result<()> {
+        self.wait()?;
+        self.bytes = file.len() as u64;
+        let path = self.path.clone();
+        self.pending = Some(std::thread::spawn(move || {
+            let s = Instant::now();
+            write_durably(&path, &file)?;
+            Ok(s.elapsed().as_secs_f64())
+        }));
+        Ok(())
+    }
+
+    /// Waits for the write in flight, if any.
+    pub fn wait(&mut self) -> std::io::Result<()> {
+        if let Some(h) = self.pending.take() {
+            let secs = h
+                .join()
+                .map_err(|_| std::io::Error::other("the checkpoint writer panicked"))??;
+            self.write_time += secs;
+            self.written += 1;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `bytes` to `path` so that after a crash the file is the old one or the new one:
+/// a temporary file beside it, fsync, rename, fsync of the folder.
+pub fn write_durably(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)?;
+        // the rename itself made durable (a folder opened read-only can be synced on Linux)
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
+        }
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header() -> Header {
+        Header {
+            version: "0.1.0".into(),
+            scene: 1,
+            mesh: 2,
+            step: 300,
+            time: 1.5e-3,
+            scene_file: "/x/scene.json".into(),
+        }
+    }
+
+    #[test]
+    fn a_file_reads_back_and_every_damage_is_named() {
+        let p = Path::new("ck.fdem");
+        let bytes = encode_file(&header(), &[1, 2, 3, 4, 5]);
+        let c = decode_file(p, &bytes).unwrap();
+        assert_eq!((c.header, c.state), (header(), vec![1, 2, 3, 4, 5]));
+        for cut in 0..bytes.len() {
+            let e = decode_file(p, &bytes[..cut]).unwrap_err();
+            assert!(
+                e.message.contains("damaged") || e.message.contains("not an fdem"),
+                "{cut}: {}",
+                e.message
+            );
+        }
+        let mut flipped = bytes.clone();
+        flipped[30] ^= 1;
+        assert!(
+            decode_file(p, &flipped)
+                .unwrap_err()
+                .message
+                .contains("checksum")
+        );
+        let mut newer = bytes.clone();
+        newer[8..12].copy_from_slice(&(FORMAT + 1).to_le_bytes());
+        let e = decode_file(p, &newer).unwrap_err();
+        assert!(
+            e.message.contains("newer than this fdem reads"),
+            "{}",
+            e.message
+        );
+    }
+
+    #[test]
+    fn intervals_parse_in_steps_or_wall_clock_time() {
+        assert_eq!(Every::parse("5000"), Ok(Every::Steps(5000)));
+        assert_eq!(Every::parse("90s"), Ok(Every::Seconds(90.0)));
+        assert_eq!(Every::parse("30min"), Ok(Every::Seconds(1800.0)));
+        assert_eq!(Every::parse("1.5h"), Ok(Every::Seconds(5400.0)));
+        assert_eq!(Every::parse("off"), Ok(Every::Off));
+        for bad in ["0", "-3", "10 days", "min", "0s"] {
+            assert!(Every::parse(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -38,6 +38,21 @@ impl HistoryWriter {
         self.text.push('\n');
     }
 
+    /// The text so far (header and rows).
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// Takes up the text of a run being resumed; it must begin with this writer's header.
+    pub fn restore_text(&mut self, text: String) -> Result<(), String> {
+        let header = self.text.lines().next().unwrap_or_default();
+        if text.lines().next() != Some(header) {
+            return Err("the histories' columns differ from the scene's probes".into());
+        }
+        self.text = text;
+        Ok(())
+    }
+
     /// Writes the file whole.
     pub fn flush(&self) -> std::io::Result<()> {
         write_atomic(&self.path, self.text.as_bytes())

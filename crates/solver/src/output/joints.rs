@@ -132,6 +132,22 @@ impl JointSeries {
         self.pvd.as_ref().map_or(0, Collection::len)
     }
 
+    /// The joint frames so far (time, file), empty before the first.
+    pub fn entries(&self) -> &[(f64, String)] {
+        self.pvd.as_ref().map_or(&[], |c| c.entries())
+    }
+
+    /// The series of a resumed run in `dir` with the frames `entries` (`joints.pvd`
+    /// rewritten; none when empty).
+    pub fn with_entries(dir: &Path, entries: Vec<(f64, String)>) -> std::io::Result<Self> {
+        let pvd = if entries.is_empty() {
+            None
+        } else {
+            Some(Collection::with_entries(&dir.join("joints.pvd"), entries)?)
+        };
+        Ok(Self { pvd })
+    }
+
     /// True before the first joint frame.
     pub fn is_empty(&self) -> bool {
         self.len() == 0

@@ -29,6 +29,21 @@ impl Collection {
         write_atomic(&self.path, self.xml().as_bytes())
     }
 
+    /// The frames so far: (time, file) of each.
+    pub fn entries(&self) -> &[(f64, String)] {
+        &self.entries
+    }
+
+    /// The collection at `path` with the frames `entries` (a resumed run's), rewritten.
+    pub fn with_entries(path: &Path, entries: Vec<(f64, String)>) -> std::io::Result<Self> {
+        let c = Self {
+            path: path.to_path_buf(),
+            entries,
+        };
+        write_atomic(&c.path, c.xml().as_bytes())?;
+        Ok(c)
+    }
+
     /// The collection's XML text.
     pub fn xml(&self) -> String {
         let mut s = String::from(

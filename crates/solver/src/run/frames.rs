@@ -9,6 +9,7 @@ use fdem_time::State;
 
 use super::observer::{Halt, Observer, RunView};
 use super::options::RunOptions;
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::diagnosis::Found;
 use crate::error::RunError;
 use crate::load::Loaded;
@@ -42,6 +43,37 @@ impl FrameWriter {
             frames: 0,
             joints: JointSeries::default(),
         })
+    }
+
+    /// The writer of a run resumed in its folder (which it does not claim: the frames written
+    /// before the checkpoint stay; [`Observer::restore`] removes those after it).
+    pub fn resume(options: &RunOptions, level: u32) -> Self {
+        Self {
+            dir: options.out_dir.clone(),
+            pvd: Collection::new(&options.out_dir.join("results.pvd")),
+            raw: options.raw,
+            level,
+            frames: 0,
+            joints: JointSeries::default(),
+        }
+    }
+
+    /// Removes the frame files numbered `from` and above (written after a checkpoint by the
+    /// run that is being resumed).
+    fn remove_frames_from(&self, from: usize) -> std::io::Result<()> {
+        for entry in std::fs::read_dir(&self.dir)? {
+            let name = entry?.file_name().to_string_lossy().into_owned();
+            let number = ["frame_", "joints_"]
+                .iter()
+                .find_map(|p| name.strip_prefix(p))
+                .and_then(|r| r.strip_suffix(".vtu").or_else(|| r.strip_suffix(".json")))
+                .filter(|d| !d.is_empty() && d.bytes().all(|c| c.is_ascii_digit()))
+                .and_then(|d| d.parse::<usize>().ok());
+            if number.is_some_and(|k| k >= from) {
+                std::fs::remove_file(self.dir.join(&name))?;
+            }
+        }
+        Ok(())
     }
 
     /// Frames written.
@@ -146,6 +178,33 @@ impl Observer for FrameWriter {
     fn stopped(&mut self, summary: &mut Summary) {
         summary.frames = self.frames;
     }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&self.frames);
+        e.put(&self.pvd.entries().to_vec());
+        e.put(&self.joints.entries().to_vec());
+        Ok(())
+    }
+
+    /// The collections as they were at the checkpoint, rewritten; later frames removed.
+    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        self.frames = d.get()?;
+        let entries: Vec<(f64, String)> = d.get()?;
+        let joints: Vec<(f64, String)> = d.get()?;
+        if entries.len() != self.frames {
+            return Err(d.error("the frame count and the collection differ"));
+        }
+        let io = |e: std::io::Error| {
+            d.error(format!(
+                "cannot restore the frames in {}: {e}",
+                self.dir.display()
+            ))
+        };
+        self.remove_frames_from(self.frames).map_err(io)?;
+        self.pvd = Collection::with_entries(&self.dir.join("results.pvd"), entries).map_err(io)?;
+        self.joints = JointSeries::with_entries(&self.dir, joints).map_err(io)?;
+        Ok(())
+    }
 }
 
 /// When the frames of a run are due: `output.frames` frames after the initial one, evenly
@@ -196,6 +255,16 @@ impl FrameClock {
     /// The due frame was written.
     pub fn advance(&mut self) {
         self.next += 1;
+    }
+
+    /// The next frame's number (a checkpoint saves it).
+    pub fn next(&self) -> usize {
+        self.next
+    }
+
+    /// Goes on from frame number `next` (a resumed run).
+    pub fn resume_at(&mut self, next: usize) {
+        self.next = next;
     }
 }
 

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::observer::{Flow, Halt, Observer, RunView};
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
 use crate::ledger::Energies;
 use crate::load::Loaded;
@@ -168,5 +169,18 @@ impl Observer for Histories {
 
     fn finish(&mut self, _run: &mut RunView, _summary: &mut Summary) -> Result<(), RunError> {
         self.flush()
+    }
+
+    /// The rows so far travel in the checkpoint (the file on disk may hold rows of steps
+    /// after it, or fewer), and are written whole at the next flush.
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&self.writer.text().to_string());
+        Ok(())
+    }
+
+    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        let text: String = d.get()?;
+        self.writer.restore_text(text).map_err(|e| d.error(e))?;
+        self.flush().map_err(|e| d.error(e))
     }
 }

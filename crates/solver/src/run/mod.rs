@@ -24,6 +24,7 @@
 //! its checks' sums inside its observers' `after_step`. Every hook gets the same
 //! [`RunView`].
 
+mod checkpoints;
 mod frames;
 mod histories;
 mod observer;
@@ -36,6 +37,7 @@ mod stepping;
 
 use std::time::Instant;
 
+pub use checkpoints::{Checkpointing, check_belongs, header, mesh_hash, scene_hash};
 pub use frames::{FrameClock, FrameWriter, state_frame};
 pub use histories::Histories;
 pub use observer::{Flow, Halt, Observer, RunView};
@@ -46,6 +48,7 @@ pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_gro
 pub use step_control::{AdaptiveStep, StepControl};
 pub use stepping::Run;
 
+use crate::checkpoint::Checkpoint;
 use crate::error::RunError;
 use crate::ledger::Energies;
 use crate::load::Loaded;
@@ -74,8 +77,16 @@ pub fn run_outcome(
     }
     // the stages' own input, checked before the folder is claimed
     crate::fracture_stage::check_initial_state(&l.scene, &l.file)?;
+    if options.resume {
+        // the checkpoint read and checked before anything in the folder changes
+        let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
+        let cp = crate::checkpoint::read(&file)?;
+        check_belongs(l, &file, &cp.header)?;
+        let writer = FrameWriter::resume(options, l.scene.output.compression);
+        return dynamic(l, options, progress, writer, wall, Some(&cp));
+    }
     let writer = FrameWriter::new(options, l.scene.output.compression)?;
-    dynamic(l, options, progress, writer, wall)
+    dynamic(l, options, progress, writer, wall, None)
 }
 
 /// The static solve, written as a run of one frame.
@@ -143,6 +154,7 @@ fn dynamic(
     progress: &mut dyn FnMut(&Progress),
     writer: FrameWriter,
     wall: Instant,
+    resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let alpha = l.scene.damping.mass_proportional;
     let model = std::mem::take(&mut l.model);
@@ -150,7 +162,7 @@ fn dynamic(
     let mut sys = SceneSystem::new(model, elements, alpha);
     sys.contributions = std::mem::take(&mut l.contributions);
     let n_own = sys.contributions.len();
-    let outcome = dynamic_run(l, &mut sys, options, progress, writer, wall);
+    let outcome = dynamic_run(l, &mut sys, options, progress, writer, wall, resume);
     sys.contributions.truncate(n_own);
     l.contributions = std::mem::take(&mut sys.contributions);
     l.model = std::mem::take(&mut sys.model);
@@ -167,18 +179,24 @@ fn dynamic_run(
     progress: &mut dyn FnMut(&Progress),
     mut writer: FrameWriter,
     wall: Instant,
+    resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let mut histories = Histories::new(l, &sys.model, &options.out_dir);
     let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
         .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance));
     let mut guard = StabilityGuard::new();
     let mut progress = ProgressReport::new(progress);
-    let run = Run::start(l, sys, &options.out_dir, wall)?;
-    run.execute(&mut [
+    let observers: &mut [&mut dyn Observer] = &mut [
         &mut guard,
         &mut relaxation,
         &mut writer,
         &mut histories,
         &mut progress,
-    ])
+    ];
+    match resume {
+        Some(cp) => {
+            Run::resume(l, sys, options, &options.out_dir, cp, observers)?.resume_loop(observers)
+        }
+        None => Run::start(l, sys, options, &options.out_dir, wall)?.execute(observers),
+    }
 }

@@ -4,6 +4,7 @@
 use fdem_time::State;
 
 use super::step_control::StepControl;
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::diagnosis::{Found, InversionWatch};
 use crate::error::RunError;
 use crate::ledger::Books;
@@ -81,6 +82,14 @@ pub trait Observer {
 
     /// The run stopped on an instability: adds its part to the partial summary the run writes.
     fn stopped(&mut self, _summary: &mut Summary) {}
+
+    /// Appends what this observer carries from step to step to a checkpoint (flushing its
+    /// files first where a resumed run reads them back).
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError>;
+
+    /// Takes up what [`Observer::save`] wrote, in place of [`Observer::start`], on a run
+    /// resumed from a checkpoint (the run's state is restored; no force was evaluated).
+    fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError>;
 }
 
 /// An observer a scene may lack (no histories, not a relaxation) is an `Option`.
@@ -106,5 +115,17 @@ impl<O: Observer> Observer for Option<O> {
         if let Some(o) = self {
             o.stopped(summary);
         }
+    }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&self.is_some());
+        self.as_mut().map_or(Ok(()), |o| o.save(e))
+    }
+
+    fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        if d.get::<bool>()? != self.is_some() {
+            return Err(d.error("an observer of the run is missing or extra"));
+        }
+        self.as_mut().map_or(Ok(()), |o| o.restore(run, d))
     }
 }

@@ -3,6 +3,8 @@
 use std::time::Instant;
 
 use super::observer::{Flow, Halt, Observer, RunView};
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
+use crate::error::RunError;
 
 /// Progress of a run, passed to the caller's callback.
 #[derive(Debug, Clone, Copy)]
@@ -54,5 +56,14 @@ impl Observer for ProgressReport<'_> {
             });
         }
         Ok(Flow::Continue)
+    }
+
+    /// Nothing to carry: the next report comes after the next step.
+    fn save(&mut self, _e: &mut Enc) -> Result<(), RunError> {
+        Ok(())
+    }
+
+    fn restore(&mut self, _run: &mut RunView, _d: &mut Dec) -> Result<(), DecodeError> {
+        Ok(())
     }
 }

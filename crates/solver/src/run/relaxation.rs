@@ -7,6 +7,7 @@
 
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::stability::CHECK_EVERY;
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
 use crate::summary::Summary;
 
@@ -95,6 +96,25 @@ impl Observer for Relaxation {
     fn finish(&mut self, _run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
         summary.converged = Some(self.converged);
         summary.relative_residual = self.residual;
+        Ok(())
+    }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&[self.load_norm, self.settle]);
+        e.put(&self.loads);
+        e.put(&self.residual);
+        e.put(&self.converged);
+        Ok(())
+    }
+
+    fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        [self.load_norm, self.settle] = d.get()?;
+        self.loads = d.get()?;
+        if !self.loads.is_empty() && self.loads.len() != 2 * run.sys.model.n_nodes() {
+            return Err(d.error("the loads do not fit the scene's nodes"));
+        }
+        self.residual = d.get()?;
+        self.converged = d.get()?;
         Ok(())
     }
 }

@@ -12,7 +12,9 @@
 use fdem_time::SchemeKind;
 
 use super::observer::{Flow, Halt, Observer, RunView};
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::diagnosis::Found;
+use crate::error::RunError;
 use crate::ledger::kinetic_energy;
 use crate::stages::summed_report;
 
@@ -93,6 +95,16 @@ impl Observer for StabilityGuard {
         }
         self.e_prev = e_now;
         Ok(Flow::Continue)
+    }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&[self.e_prev, self.floor]);
+        Ok(())
+    }
+
+    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        [self.e_prev, self.floor] = d.get()?;
+        Ok(())
     }
 }
 

@@ -3,6 +3,7 @@
 
 use fdem_time::{SchemeKind, State};
 
+use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::limits::stable_step;
 use crate::load::Loaded;
 use crate::scene::TimeStep;
@@ -132,5 +133,32 @@ impl StepControl {
     /// An adaptive step: the smallest and the largest step taken [s].
     pub fn range(&self) -> Option<[f64; 2]> {
         self.adaptive.as_ref().map(|a| [a.h_min, a.h_max])
+    }
+}
+
+impl StepControl {
+    /// Appends the step's state to a checkpoint: the step, its limit, the step just taken and
+    /// (adaptive) the range so far. What follows from the scene (the end, the scheme, the
+    /// bounds' inputs) is not saved: a resumed run may have a later end.
+    pub fn save(&self, e: &mut Enc) {
+        e.put(&[self.h, self.h_limit, self.h_step]);
+        e.put(&self.adaptive.as_ref().map(|a| [a.h_min, a.h_max]));
+    }
+
+    /// Takes up what [`StepControl::save`] wrote.
+    pub fn restore(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
+        [self.h, self.h_limit, self.h_step] = d.get()?;
+        let range: Option<[f64; 2]> = d.get()?;
+        match (&mut self.adaptive, range) {
+            (Some(a), Some([lo, hi])) => (a.h_min, a.h_max) = (lo, hi),
+            (None, None) => {}
+            _ => return Err(d.error("fixed and adaptive steps differ")),
+        }
+        Ok(())
+    }
+
+    /// The step the adaptive control chose last (what the stages were told).
+    pub fn adaptive_step(&self) -> Option<f64> {
+        self.adaptive.as_ref().map(|_| self.h)
     }
 }

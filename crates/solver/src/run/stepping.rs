@@ -7,8 +7,10 @@ use std::time::Instant;
 
 use fdem_time::{Integrator, SecondOrderSystem, State};
 
+use super::checkpoints::Checkpointing;
 use super::frames::{FrameClock, state_frame};
 use super::observer::{Flow, Halt, Observer, RunView};
+use super::options::RunOptions;
 use super::step_control::StepControl;
 use crate::diagnosis::{self, InversionWatch};
 use crate::error::RunError;
@@ -21,22 +23,28 @@ use crate::system::SceneSystem;
 
 /// A dynamic or relaxation run of a loaded scene on its system.
 pub struct Run<'a> {
-    loaded: &'a Loaded,
-    sys: &'a mut SceneSystem,
-    state: State,
-    integrator: Box<dyn Integrator>,
-    control: StepControl,
+    pub(super) loaded: &'a Loaded,
+    pub(super) sys: &'a mut SceneSystem,
+    pub(super) state: State,
+    pub(super) integrator: Box<dyn Integrator>,
+    pub(super) control: StepControl,
     /// The energy ledger's running books (`crate::ledger`).
-    ledger: Books,
-    inversions: InversionWatch,
-    frames: FrameClock,
-    out_dir: &'a Path,
+    pub(super) ledger: Books,
+    pub(super) inversions: InversionWatch,
+    pub(super) frames: FrameClock,
+    pub(super) out_dir: &'a Path,
     /// Steps done.
-    steps: u64,
+    pub(super) steps: u64,
     /// Wall time in the scheme's steps [s].
-    step_time: f64,
+    pub(super) step_time: f64,
     /// When the run began (the summary's wall time).
-    wall: Instant,
+    pub(super) wall: Instant,
+    /// Wall time of the parts of the run before the checkpoint it resumed from [s].
+    pub(super) wall_before: f64,
+    /// The run reached its end (its last step, or a relaxation converged).
+    pub(super) ended: bool,
+    /// Checkpoints and stops.
+    pub(super) checkpoints: super::checkpoints::Checkpointing,
 }
 
 impl<'a> Run<'a> {
@@ -46,15 +54,18 @@ impl<'a> Run<'a> {
     pub fn start(
         l: &'a Loaded,
         sys: &'a mut SceneSystem,
+        options: &RunOptions,
         out_dir: &'a Path,
         wall: Instant,
     ) -> Result<Self, RunError> {
-        let every = l
-            .scene
-            .histories
-            .every
-            .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64;
-        crate::stages::attach(&l.scene, &l.file, &mut *sys, l.dt, out_dir, every)?;
+        crate::stages::attach(
+            &l.scene,
+            &l.file,
+            &mut *sys,
+            l.dt,
+            out_dir,
+            history_interval(l),
+        )?;
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -65,14 +76,7 @@ impl<'a> Run<'a> {
         let state = State::new(0.0, x0, v0);
         let integrator = l.scheme.build(2 * n);
         let control = StepControl::new(l, sys);
-        // The residuals of the element law and the contact potential are booked when the run
-        // records the ledger in histories.csv (they cost about a tenth of the step).
-        let book_residuals = l
-            .scene
-            .histories
-            .probes
-            .iter()
-            .any(|p| matches!(p, Probe::Energy));
+        let book_residuals = books_residuals(l);
         Books::prepare(&mut *sys, book_residuals);
         let mut acc = vec![0.0; 2 * n];
         sys.acceleration(0.0, &state.x, &state.v, &mut acc);
@@ -91,6 +95,9 @@ impl<'a> Run<'a> {
             steps: 0,
             step_time: 0.0,
             wall,
+            wall_before: 0.0,
+            ended: false,
+            checkpoints: Checkpointing::new(l, options),
         })
     }
 
@@ -105,7 +112,13 @@ impl<'a> Run<'a> {
         if let Err(halt) = started {
             return Err(self.halt(halt, observers));
         }
-        while !self.control.done(self.steps) {
+        self.resume_loop(observers)
+    }
+
+    /// The loop of [`Run::execute`] from the run's present step (a resumed run enters here);
+    /// checkpoints between steps, and one at the end of a run that wrote one before.
+    pub fn resume_loop(mut self, observers: &mut [&mut dyn Observer]) -> Result<Outcome, RunError> {
+        while !self.ended && !self.control.done(self.steps) {
             let h = self.control.next(self.sys, &self.state, self.steps);
             self.take_step(h);
             self.ledger.step(self.sys, &self.state);
@@ -126,7 +139,19 @@ impl<'a> Run<'a> {
             if end {
                 break;
             }
+            self.between_steps(observers)?;
         }
+        self.ended = true;
+        if self.checkpoints.any {
+            self.write_checkpoint(observers, false)?;
+        }
+        self.checkpoints
+            .writer
+            .wait()
+            .map_err(|e| RunError::Output {
+                file: self.checkpoints.writer.path().to_path_buf(),
+                message: format!("cannot write the checkpoint: {e}"),
+            })?;
         self.finish(observers)
     }
 
@@ -157,7 +182,7 @@ impl<'a> Run<'a> {
         Ok(run.end)
     }
 
-    fn view(&mut self, last: bool, end: bool) -> RunView<'_> {
+    pub(super) fn view(&mut self, last: bool, end: bool) -> RunView<'_> {
         RunView {
             loaded: self.loaded,
             sys: &mut *self.sys,
@@ -234,7 +259,7 @@ impl<'a> Run<'a> {
     }
 
     /// The summary of the run so far, with the ledger `energy` (the observers add their parts).
-    fn summary(&self, energy: Energies) -> Summary {
+    pub(super) fn summary(&self, energy: Energies) -> Summary {
         let (l, sys, state) = (self.loaded, &*self.sys, &self.state);
         let mut timers = sys.timers;
         timers.integration = (self.step_time
@@ -260,7 +285,7 @@ impl<'a> Run<'a> {
             steps: self.steps,
             force_evaluations: sys.evaluations,
             simulated_time: state.t,
-            wall_time: self.wall.elapsed().as_secs_f64(),
+            wall_time: self.wall_before + self.wall.elapsed().as_secs_f64(),
             element_steps_per_second: if self.step_time > 0.0 {
                 sys.elements.len() as f64 * self.steps as f64 / self.step_time
             } else {
@@ -275,6 +300,26 @@ impl<'a> Run<'a> {
             threads: rayon::current_num_threads(),
             stages: serde_json::Value::Null,
             time_step_range: None,
+            interrupted: None,
         }
     }
+}
+
+/// The interval of the histories' rows (and of `walls.csv`): `histories.every`, else a
+/// thousandth of the steps.
+pub fn history_interval(l: &Loaded) -> u64 {
+    l.scene
+        .histories
+        .every
+        .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64
+}
+
+/// The residuals of the element law and the contact potential are booked when the run records
+/// the ledger in histories.csv (they cost about a tenth of the step).
+pub fn books_residuals(l: &Loaded) -> bool {
+    l.scene
+        .histories
+        .probes
+        .iter()
+        .any(|p| matches!(p, Probe::Energy))
 }

@@ -18,6 +18,11 @@ pub struct Output {
     /// zlib compression level 0-9 (default 6).
     #[serde(default = "default_level")]
     pub compression: u32,
+    /// When the run writes a checkpoint (`checkpoint.fdem`): a number of steps, a wall-clock
+    /// time (`"90s"`, `"30min"`, `"2h"`) or `"off"`; default every 10 minutes of wall-clock
+    /// time. `fdem run --checkpoint-every` overrides it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint_every: Option<crate::checkpoint::Every>,
 }
 
 fn default_frames() -> usize {
@@ -32,6 +37,7 @@ impl Default for Output {
         Self {
             frames: default_frames(),
             compression: default_level(),
+            checkpoint_every: None,
         }
     }
 }

@@ -1,0 +1,426 @@
+//! Checkpoints of a run and its graceful stop: when they are due ([`Checkpointing`]), what a
+//! checkpoint holds ([`Run::encode`]: every part of the run in its own section), how a run
+//! is rebuilt from one ([`Run::resume`]), and the stop of a run asked to stop
+//! ([`Run::interrupt`]).
+//!
+//! A resumed run is the run a fresh start builds (stages attached, scheme, step control),
+//! whose every part then takes up its saved state, without a force evaluation: each step
+//! after it is the step the uninterrupted run took, bit for bit.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use fdem_time::{Counters, SchemeState, State};
+
+use super::frames::FrameClock;
+use super::observer::Observer;
+use super::options::RunOptions;
+use super::step_control::StepControl;
+use super::stepping::Run;
+use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
+use crate::checkpoint::{
+    Checkpoint, CheckpointError, CheckpointWriter, DEFAULT_EVERY, Every, Header,
+};
+use crate::diagnosis::{Inversion, InversionWatch};
+use crate::error::RunError;
+use crate::ledger::Books;
+use crate::load::Loaded;
+use crate::model::Model;
+use crate::summary::{Interrupted, write_summary};
+use crate::system::SceneSystem;
+
+/// When a run writes checkpoints and when it stops.
+#[derive(Debug)]
+pub struct Checkpointing {
+    every: Every,
+    /// Wall-clock time of the last checkpoint (or of the start).
+    last: Instant,
+    stop: Option<Arc<AtomicUsize>>,
+    stop_after: Option<u64>,
+    /// A checkpoint was written (or resumed from): the run writes one at its end too, so that
+    /// it can be extended.
+    pub(super) any: bool,
+    /// The checkpoint file's writer.
+    pub writer: CheckpointWriter,
+}
+
+impl Checkpointing {
+    /// The checkpoints of a run of `l` with `options`.
+    pub fn new(l: &Loaded, options: &RunOptions) -> Self {
+        let every = options
+            .checkpoint_every
+            .or(l.scene.output.checkpoint_every)
+            .unwrap_or(DEFAULT_EVERY);
+        Self {
+            every,
+            last: Instant::now(),
+            stop: options.stop.clone(),
+            stop_after: options.stop_after,
+            any: false,
+            writer: CheckpointWriter::new(&options.out_dir),
+        }
+    }
+
+    /// A checkpoint is due after step `step`.
+    fn due(&self, step: u64) -> bool {
+        match self.every {
+            Every::Steps(n) => step.is_multiple_of(n),
+            Every::Seconds(s) => self.last.elapsed().as_secs_f64() >= s,
+            Every::Off => false,
+        }
+    }
+
+    /// Why the run should stop after step `step`, if it should.
+    fn stop_reason(&self, step: u64) -> Option<&'static str> {
+        match self.stop.as_ref().map(|s| s.load(Ordering::Relaxed)) {
+            Some(2) => return Some("SIGINT"),
+            Some(15) => return Some("SIGTERM"),
+            Some(0) | None => {}
+            Some(_) => return Some("signal"),
+        }
+        self.stop_after
+            .is_some_and(|n| step >= n)
+            .then_some("stop_after")
+    }
+}
+
+/// The hash of what a run computes from its scene, leaving out what a resumed run may change:
+/// the title, `duration`, `output` and `histories.every`.
+pub fn scene_hash(l: &Loaded) -> u64 {
+    let mut v = serde_json::to_value(&l.scene).unwrap_or(serde_json::Value::Null);
+    if let Some(o) = v.as_object_mut() {
+        for key in ["title", "duration", "output"] {
+            o.remove(key);
+        }
+        if let Some(h) = o.get_mut("histories").and_then(|h| h.as_object_mut()) {
+            h.remove("every");
+        }
+    }
+    twox_hash::XxHash3_64::oneshot(v.to_string().as_bytes())
+}
+
+/// The hash of a model's mesh: node positions, triangles, bodies and nodal masses.
+pub fn mesh_hash(m: &Model) -> u64 {
+    let mut e = Enc::with_capacity(8 * (3 * m.x0.len() + 2 * m.triangles.len()));
+    e.put(&m.x0);
+    e.put(&m.triangles);
+    e.put(&m.tri_body);
+    e.put(&m.mass);
+    twox_hash::XxHash3_64::oneshot(&e.buf)
+}
+
+/// The header of a checkpoint of `l` (its model `model`: during a run the system holds it)
+/// at `step`, time `time`.
+pub fn header(l: &Loaded, model: &Model, step: u64, time: f64) -> Header {
+    Header {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        scene: scene_hash(l),
+        mesh: mesh_hash(model),
+        step,
+        time,
+        scene_file: std::path::absolute(&l.file).unwrap_or_else(|_| l.file.clone()),
+    }
+}
+
+/// Checks that the checkpoint `file` with `header` belongs to the run of `l`.
+pub fn check_belongs(l: &Loaded, file: &Path, header: &Header) -> Result<(), CheckpointError> {
+    if header.mesh != mesh_hash(&l.model) {
+        return Err(CheckpointError::new(
+            file,
+            format!(
+                "the checkpoint belongs to another mesh: the nodes, triangles or masses that {} gives differ from those of the run that wrote it",
+                l.file.display()
+            ),
+            "resume with the scene and the meshes of the run that wrote the checkpoint",
+        ));
+    }
+    if header.scene != scene_hash(l) {
+        return Err(CheckpointError::new(
+            file,
+            format!(
+                "the checkpoint belongs to another scene: {} differs from the scene of the run that wrote it in more than `duration`, `output`, `histories.every` or `title`",
+                l.file.display()
+            ),
+            "resume with the scene of the run that wrote the checkpoint (only its end and its output may change), or start the run afresh",
+        ));
+    }
+    Ok(())
+}
+
+impl Pack for SchemeState {
+    fn pack(&self, e: &mut Enc) {
+        e.put(&self.a);
+        e.put(&self.a_time);
+        e.put(&self.a_live);
+        let c = self.counters;
+        e.put(&[c.steps, c.forces, c.gradients]);
+        e.put(&self.history);
+        e.put(&self.scalars);
+    }
+
+    fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
+        let a = d.get()?;
+        let a_time = d.get()?;
+        let a_live = d.get()?;
+        let [steps, forces, gradients]: [u64; 3] = d.get()?;
+        Ok(Self {
+            a,
+            a_time,
+            a_live,
+            counters: Counters {
+                steps,
+                forces,
+                gradients,
+            },
+            history: d.get()?,
+            scalars: d.get()?,
+        })
+    }
+}
+
+fn pack_inversion(e: &mut Enc, w: &InversionWatch) {
+    e.put(&w.first.map(|i| (i.step, i.time, (i.tri, i.at))));
+}
+
+fn unpack_inversion(d: &mut Dec) -> Result<InversionWatch, DecodeError> {
+    let first: Option<(u64, f64, (usize, [f64; 2]))> = d.get()?;
+    Ok(InversionWatch {
+        first: first.map(|(step, time, (tri, at))| Inversion {
+            step,
+            time,
+            tri,
+            at,
+        }),
+    })
+}
+
+/// A checkpoint error at `file` from a section that cannot be read.
+fn unreadable(file: &Path, e: DecodeError) -> RunError {
+    RunError::Checkpoint(CheckpointError::new(
+        file,
+        format!("the checkpoint cannot be resumed: {e}"),
+        "resume with the fdem version that wrote it and the same scene, or start the run afresh",
+    ))
+}
+
+/// The run's own numbers in a checkpoint.
+struct RunPart {
+    steps: u64,
+    step_time: f64,
+    wall: f64,
+    next_frame: usize,
+    ended: bool,
+}
+
+impl<'a> Run<'a> {
+    /// Encodes the whole run (and its observers) as a checkpoint's state.
+    pub(super) fn encode(
+        &mut self,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<Vec<u8>, RunError> {
+        let mut e = Enc::with_capacity(64 * self.state.x.len());
+        let wall = self.wall_before + self.wall.elapsed().as_secs_f64();
+        e.section("run", |e| {
+            e.put(&self.steps);
+            e.put(&[self.step_time, wall]);
+            e.put(&self.frames.next());
+            e.put(&self.ended);
+            pack_inversion(e, &self.inversions);
+        });
+        e.section("state", |e| {
+            e.put(&self.state.t);
+            e.put(&self.state.x);
+            e.put(&self.state.v);
+        });
+        e.section("scheme", |e| e.put(&self.integrator.save_state()));
+        e.section("control", |e| self.control.save(e));
+        e.section("ledger", |e| self.ledger.save(e));
+        e.section("system", |e| self.sys.save(e));
+        for c in &mut self.sys.contributions {
+            let name = c.name().to_string();
+            let mut saved = Ok(());
+            e.section(&name, |e| saved = c.save(e));
+            saved.map_err(|err| RunError::Output {
+                file: self.out_dir.to_path_buf(),
+                message: format!("cannot save the {name} stage's files: {err}"),
+            })?;
+        }
+        for o in observers.iter_mut() {
+            let mut saved = Ok(());
+            e.section("observer", |e| saved = o.save(e));
+            saved?;
+        }
+        Ok(e.buf)
+    }
+
+    /// Writes a checkpoint of the run now (on the writer's thread; `wait`: and waits for it).
+    pub(super) fn write_checkpoint(
+        &mut self,
+        observers: &mut [&mut dyn Observer],
+        wait: bool,
+    ) -> Result<(), RunError> {
+        let s = Instant::now();
+        let state = self.encode(observers)?;
+        let file = crate::checkpoint::encode_file(
+            &header(self.loaded, &self.sys.model, self.steps, self.state.t),
+            &state,
+        );
+        let w = &mut self.checkpoints.writer;
+        let path = w.path().to_path_buf();
+        let failed = |e: std::io::Error| RunError::Output {
+            file: path,
+            message: format!("cannot write the checkpoint: {e}"),
+        };
+        let submitted = w.submit(file);
+        let waited = if wait { w.wait() } else { Ok(()) };
+        submitted.and(waited).map_err(failed)?;
+        self.checkpoints.writer.encode_time += s.elapsed().as_secs_f64();
+        self.checkpoints.last = Instant::now();
+        self.checkpoints.any = true;
+        self.sys.timers.output += s.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// After step `steps` of the loop: a stop asked for (a checkpoint, an interrupted
+    /// summary, [`RunError::Interrupted`]), or a checkpoint that is due.
+    pub(super) fn between_steps(
+        &mut self,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<(), RunError> {
+        if let Some(reason) = self.checkpoints.stop_reason(self.steps) {
+            return Err(self.interrupt(reason, observers));
+        }
+        if self.checkpoints.due(self.steps) {
+            self.write_checkpoint(observers, false)?;
+        }
+        Ok(())
+    }
+
+    /// Stops the run for `reason`: a checkpoint (waited for), the summary marked interrupted.
+    fn interrupt(&mut self, reason: &str, observers: &mut [&mut dyn Observer]) -> RunError {
+        if let Err(e) = self.write_checkpoint(observers, true) {
+            return e;
+        }
+        let energy = self.ledger.ledger(
+            self.sys,
+            &self.state,
+            crate::stages::summed_report(self.sys, self.state.x_nodes()).as_ref(),
+        );
+        let mut summary = self.summary(energy);
+        for o in observers.iter_mut() {
+            o.stopped(&mut summary);
+        }
+        let checkpoint = self.checkpoints.writer.path().to_path_buf();
+        summary.interrupted = Some(Interrupted {
+            reason: reason.to_string(),
+            checkpoint: checkpoint.display().to_string(),
+        });
+        if let Err(e) = write_summary(self.out_dir, &summary) {
+            return e;
+        }
+        RunError::Interrupted {
+            reason: reason.to_string(),
+            step: self.steps,
+            time: self.state.t,
+            checkpoint,
+        }
+    }
+
+    /// The run of `l` on `sys` rebuilt from checkpoint `cp` (read from `file`, checked to
+    /// belong to `l`): stages attached to continue their files, every part restored, then the
+    /// observers; no force is evaluated.
+    pub fn resume(
+        l: &'a Loaded,
+        sys: &'a mut SceneSystem,
+        options: &RunOptions,
+        out_dir: &'a Path,
+        cp: &Checkpoint,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<Self, RunError> {
+        let file = out_dir.join(crate::checkpoint::FILE_NAME);
+        let bad = |e: DecodeError| unreadable(&file, e);
+        crate::stages::attach_to(
+            &l.scene,
+            &l.file,
+            &mut *sys,
+            l.dt,
+            Some(out_dir),
+            super::stepping::history_interval(l),
+            true,
+        )?;
+        let n = sys.model.n_nodes();
+        let mut integrator = l.scheme.build(2 * n);
+        let mut control = StepControl::new(l, sys);
+        Books::prepare(&mut *sys, super::stepping::books_residuals(l));
+        let mut d = Dec::new(&cp.state);
+        let (part, inversions) = d
+            .section("run", |d| {
+                let steps = d.get()?;
+                let [step_time, wall]: [f64; 2] = d.get()?;
+                let next_frame = d.get()?;
+                let ended = d.get()?;
+                let part = RunPart {
+                    steps,
+                    step_time,
+                    wall,
+                    next_frame,
+                    ended,
+                };
+                Ok((part, unpack_inversion(d)?))
+            })
+            .map_err(bad)?;
+        let state = d
+            .section("state", |d| {
+                let t = d.get()?;
+                let x = d.vec_of_len(2 * n, "positions")?;
+                let v = d.vec_of_len(2 * n, "velocities")?;
+                Ok(State::new(t, x, v))
+            })
+            .map_err(bad)?;
+        d.section("scheme", |d| {
+            let s: SchemeState = d.get()?;
+            integrator.restore_state(&s).map_err(|e| d.error(e))
+        })
+        .map_err(bad)?;
+        d.section("control", |d| control.restore(d)).map_err(bad)?;
+        let ledger = d.section("ledger", |d| Books::restore(d, n)).map_err(bad)?;
+        d.section("system", |d| sys.restore(d)).map_err(bad)?;
+        for c in &mut sys.contributions {
+            let name = c.name().to_string();
+            d.section(&name, |d| c.restore(d)).map_err(bad)?;
+        }
+        let mut frames = FrameClock::new(l);
+        frames.resume_at(part.next_frame);
+        let mut run = Run {
+            loaded: l,
+            sys,
+            state,
+            integrator,
+            control,
+            ledger,
+            inversions,
+            frames,
+            out_dir,
+            steps: part.steps,
+            step_time: part.step_time,
+            wall: Instant::now(),
+            wall_before: part.wall,
+            ended: part.ended,
+            checkpoints: Checkpointing::new(l, options),
+        };
+        run.checkpoints.any = true;
+        for o in observers.iter_mut() {
+            let mut view = run.view(false, false);
+            d.section("observer", |d| o.restore(&mut view, d))
+                .map_err(bad)?;
+        }
+        if d.remaining() != 0 {
+            return Err(bad(
+                d.error(format!("{} bytes after the last section", d.remaining()))
+            ));
+        }
+        Ok(run)
+    }
+}
