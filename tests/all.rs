@@ -62,6 +62,8 @@ mod malformed_scenes;
 mod parity;
 #[path = "prestressed_joints.rs"]
 mod prestressed_joints;
+#[path = "restart.rs"]
+mod restart;
 #[path = "stable_step_bounds.rs"]
 mod stable_step_bounds;
 #[path = "stress_fields.rs"]

@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use fdem_time::{SchemeKind, State};
 
+use crate::checkpoint::pack::Enc;
 use crate::error::SceneError;
 use crate::limits::{self, stable_step};
 use crate::load::Loaded;
@@ -128,6 +129,18 @@ pub fn check_report(l: &Loaded) -> String {
         "estimated run time {:.3} s (the steps; frames and histories come on top)",
         e.seconds
     );
+    let c = &e.checkpoint;
+    let _ = writeln!(
+        s,
+        "a checkpoint: {:.2} MB ({:.0} bytes per triangle); the run waits {:.3} s to encode it, then it is written on a thread of its own ({:.3} s with fsync in {}); at the default interval ({}) the run waits {:.4} % of its time",
+        c.bytes as f64 / 1e6,
+        c.bytes as f64 / n_tri as f64,
+        c.encode,
+        c.write,
+        std::env::temp_dir().display(),
+        "10 min",
+        100.0 * c.encode / 600.0
+    );
     s
 }
 
@@ -152,6 +165,21 @@ pub struct RunTimeEstimate {
     pub all_released: f64,
     /// The part of the run after the first joint is expected to soften (0 to 1).
     pub softening_part: f64,
+    /// One checkpoint of the run, encoded and written at the end of the sample.
+    pub checkpoint: CheckpointCost,
+}
+
+/// The size and cost of one checkpoint of a run ([`run_time_estimate`]).
+#[derive(Debug, Clone, Default)]
+pub struct CheckpointCost {
+    /// Its size [bytes] (the rows of the histories and the frames' list, which grow over the
+    /// run, not counted).
+    pub bytes: u64,
+    /// Wall time of the encoding, the part a run waits for [s].
+    pub encode: f64,
+    /// Wall time of the write (file, fsync, rename) in the temporary folder, done on a
+    /// thread of its own while a run goes on [s]; 0 when it could not be written.
+    pub write: f64,
 }
 
 /// The part of the bonded pairs counted as released from the first softening of a joint to
@@ -260,7 +288,9 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
         _ => 0.0,
     };
     let per_step = sample.per_step + (RELEASED_FRACTION * after).max(RELEASED_FLOOR) * extra;
+    let checkpoint = stepper.checkpoint_cost(l);
     Ok(RunTimeEstimate {
+        checkpoint,
         seconds: per_step * steps as f64,
         per_step,
         steps,
@@ -379,6 +409,38 @@ impl Stepper {
             left: l.n_steps - warm,
             steps: 0,
         })
+    }
+
+    /// The size and cost of a checkpoint of the system now: the state, the scheme's state,
+    /// the system, the stages and the energy books, encoded as a run encodes them, and
+    /// written (with fsync) to a temporary file that is then removed.
+    fn checkpoint_cost(&mut self, l: &Loaded) -> CheckpointCost {
+        let start = Instant::now();
+        let mut e = Enc::with_capacity(64 * self.state.x.len());
+        e.put(&self.state.x);
+        e.put(&self.state.v);
+        e.put(&self.integ.save_state());
+        self.sys.save(&mut e);
+        for c in &mut self.sys.contributions {
+            // no files: the stages of the sample write none
+            let _ = c.save(&mut e);
+        }
+        let alpha = l.scene.damping.mass_proportional;
+        let residuals = crate::run::books_residuals(l);
+        crate::ledger::Books::new(&mut self.sys, &self.state, alpha, residuals).save(&mut e);
+        let encode = start.elapsed().as_secs_f64();
+        let tmp = std::env::temp_dir().join(format!(".fdem-check-{}.fdem", std::process::id()));
+        let start = Instant::now();
+        let write = match crate::checkpoint::write_durably(&tmp, &e.buf) {
+            Ok(()) => start.elapsed().as_secs_f64(),
+            Err(_) => 0.0,
+        };
+        let _ = std::fs::remove_file(&tmp);
+        CheckpointCost {
+            bytes: e.buf.len() as u64,
+            encode,
+            write,
+        }
     }
 
     /// The largest utilisation of the joints at the current state (`sigma / f_t` in tension,

@@ -87,7 +87,8 @@ impl Checkpointing {
 }
 
 /// The hash of what a run computes from its scene, leaving out what a resumed run may change:
-/// the title, `duration`, `output` and `histories.every`.
+/// the title, `duration`, `output` and `histories.every`; the meshes' paths (their content is
+/// in [`mesh_hash`]).
 pub fn scene_hash(l: &Loaded) -> u64 {
     let mut v = serde_json::to_value(&l.scene).unwrap_or(serde_json::Value::Null);
     if let Some(o) = v.as_object_mut() {
@@ -96,6 +97,12 @@ pub fn scene_hash(l: &Loaded) -> u64 {
         }
         if let Some(h) = o.get_mut("histories").and_then(|h| h.as_object_mut()) {
             h.remove("every");
+        }
+        // the meshes by their content (`mesh_hash`), not by their paths
+        for b in o.get_mut("bodies").and_then(|b| b.as_array_mut()).into_iter().flatten() {
+            if let Some(b) = b.as_object_mut() {
+                b.remove("mesh");
+            }
         }
     }
     twox_hash::XxHash3_64::oneshot(v.to_string().as_bytes())

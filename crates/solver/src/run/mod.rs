@@ -46,7 +46,7 @@ pub use progress::{Progress, ProgressReport};
 pub use relaxation::Relaxation;
 pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth};
 pub use step_control::{AdaptiveStep, StepControl};
-pub use stepping::Run;
+pub use stepping::{Run, books_residuals, history_interval};
 
 use crate::checkpoint::Checkpoint;
 use crate::error::RunError;

@@ -1,0 +1,348 @@
+//! Checkpoints and resume, through the `fdem` program as a user runs it: a run stopped
+//! (`--stop-after`, SIGINT, SIGKILL) and resumed (`--resume`) writes the very same files as
+//! the run that never stopped, byte for byte: every frame, `histories.csv`, `fractures.csv`,
+//! `walls.csv`, `results.pvd`, `joints.pvd`, and `summary.json` but for its wall-clock
+//! timers. Bad checkpoints are refused with a clear message and exit code 2, and nothing in
+//! the folder changes.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+use crate::common;
+
+fn fdem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fdem"))
+}
+
+/// Runs `fdem` with `args`: exit code and standard error.
+fn fdem_run(args: &[&str]) -> (i32, String) {
+    let Output { status, stderr, .. } = fdem().args(args).output().expect("fdem runs");
+    (
+        status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&stderr).into_owned(),
+    )
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// The files of a run folder that hold results, by name, with their bytes (the checkpoint
+/// and the summary apart).
+fn result_files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n != "checkpoint.fdem" && n != "summary.json")
+        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
+        .collect()
+}
+
+/// `summary.json` without what depends on the wall clock (times, throughput).
+fn summary_without_timers(dir: &Path) -> serde_json::Value {
+    fn strip(v: &mut serde_json::Value) {
+        if let Some(o) = v.as_object_mut() {
+            o.retain(|k, _| {
+                !matches!(
+                    k.as_str(),
+                    "wall_time" | "element_steps_per_second" | "timers"
+                ) && !k.ends_with("_s")
+            });
+            o.values_mut().for_each(strip);
+        }
+    }
+    let mut v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    strip(&mut v);
+    v
+}
+
+/// Asserts that run folders `a` and `b` hold the same results, byte for byte; returns how
+/// many files were compared.
+fn assert_same_results(a: &Path, b: &Path) -> usize {
+    let (fa, fb) = (result_files(a), result_files(b));
+    assert_eq!(
+        fa.keys().collect::<Vec<_>>(),
+        fb.keys().collect::<Vec<_>>(),
+        "the two runs wrote different files"
+    );
+    for (name, bytes) in &fa {
+        assert!(bytes == &fb[name], "{name} differs between {a:?} and {b:?}");
+    }
+    assert_eq!(summary_without_timers(a), summary_without_timers(b));
+    fa.len() + 1
+}
+
+/// Runs `scene` straight into `dir/straight`, then stopped after each step of `stops` and
+/// resumed, into `dir/resumed`; asserts both wrote the same results. Returns the folders.
+fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, PathBuf) {
+    let dir = scene.parent().unwrap();
+    let (a, b) = (dir.join("straight"), dir.join("resumed"));
+    let (code, err) = fdem_run(&["run", s(scene), "--out", s(&a)]);
+    assert_eq!(code, 0, "{err}");
+    for (i, stop) in stops.iter().enumerate() {
+        let stop = stop.to_string();
+        let (code, err) = if i == 0 {
+            fdem_run(&["run", s(scene), "--out", s(&b), "--stop-after", &stop])
+        } else {
+            fdem_run(&["run", "--resume", s(&b), "--stop-after", &stop])
+        };
+        assert_eq!(code, 4, "stopped after {stop} steps: exit code 4\n{err}");
+        assert!(err.contains("fdem run --resume"), "{err}");
+        let summary = std::fs::read_to_string(b.join("summary.json")).unwrap();
+        assert!(summary.contains("\"interrupted\""), "{summary}");
+        assert!(summary.contains(&format!("\"steps\": {stop}")), "{summary}");
+    }
+    let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
+    assert_eq!(code, 0, "{err}");
+    let n = assert_same_results(&a, &b);
+    eprintln!("{}: {n} files identical after {} stops", scene.display(), stops.len());
+    (a, b)
+}
+
+fn steps_of(dir: &Path) -> u64 {
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
+    v["steps"].as_u64().unwrap()
+}
+
+/// The fracturing Brazilian disc, loaded four times faster than the example so that it
+/// fractures within 0.5 ms (15 454 steps; the first joint breaks at t = 0.467 ms): stopped
+/// before any damage (a third of the steps) and again after the first breaks (step 14 600),
+/// resumed to the end; and a run killed with SIGKILL after a checkpoint, resumed from it.
+#[test]
+fn the_fracturing_disc_resumes_bit_for_bit_after_a_stop_and_after_sigkill() {
+    let scene = common::edited_example("brazilian-disc-fracture.json", "restart-disc", |v| {
+        for w in v["contact"]["walls"].as_array_mut().unwrap() {
+            let vy = w["velocity"][1].as_f64().unwrap();
+            w["velocity"] = serde_json::json!([0.0, 4.0 * vy]);
+        }
+        v["duration"] = serde_json::json!(0.5e-3);
+        v["output"]["frames"] = serde_json::json!(10);
+    });
+    let (a, _) = straight_and_resumed(&scene, &[15454 / 3, 14600]);
+    assert_eq!(steps_of(&a), 15454);
+    let events = std::fs::read_to_string(a.join("fractures.csv")).unwrap();
+    let before_stop = events
+        .lines()
+        .skip(1)
+        .filter(|l| l.split(',').next().unwrap().parse::<f64>().unwrap() < 4.72e-4)
+        .count();
+    assert!(
+        before_stop >= 1 && events.lines().count() > before_stop + 2,
+        "joints break before and after the second stop:\n{events}"
+    );
+
+    // SIGKILL after a checkpoint: the run resumes from it (the rows and frames written
+    // after it are dropped and written again)
+    let c = scene.parent().unwrap().join("killed");
+    let mut child = fdem()
+        .args(["run", s(&scene), "--out", s(&c), "--checkpoint-every", "3000"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let ck = c.join("checkpoint.fdem");
+    let at_step = |p: &Path| {
+        fdem_solver::checkpoint::read(p)
+            .map(|c| c.header.step)
+            .unwrap_or(0)
+    };
+    while at_step(&ck) < 12000 {
+        assert!(start.elapsed() < Duration::from_secs(120), "no checkpoint");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        !c.join("summary.json").exists(),
+        "the run was killed before its end"
+    );
+    let (code, err) = fdem_run(&["run", "--resume", s(&c)]);
+    assert_eq!(code, 0, "{err}");
+    assert_same_results(&a, &c);
+}
+
+/// Two discs colliding off-centre with Coulomb friction (they slip, then stick and roll
+/// apart), stopped in the middle of the contact and resumed; with central difference and
+/// with OMF32 (whose velocity extrapolation reads the last step's force).
+#[test]
+fn a_frictional_collision_resumes_bit_for_bit() {
+    for scheme in ["central-difference", "omf32"] {
+        let scene = common::edited_example("disc-collision.json", "restart-collision", |v| {
+            v["bodies"][1]["offset"] = serde_json::json!([0.0255, 0.02]);
+            v["contact"] = serde_json::json!({ "default": { "friction": 0.5 } });
+            v["integrator"]["scheme"] = serde_json::json!(scheme);
+        });
+        let (a, _) = straight_and_resumed(&scene, &[2000, 4500]);
+        let h = std::fs::read_to_string(a.join("histories.csv")).unwrap();
+        let head: Vec<&str> = h.lines().next().unwrap().split(',').collect();
+        let k = head.iter().position(|c| *c == "friction").unwrap();
+        let last: f64 = h.lines().last().unwrap().split(',').nth(k).unwrap().parse().unwrap();
+        assert!(last > 1e-6, "{scheme}: friction dissipated {last} J");
+    }
+}
+
+/// Gear PC-5 (its scaled derivatives are history) on the vibrating cantilever, stopped
+/// three times.
+#[test]
+fn a_pc5_run_resumes_bit_for_bit() {
+    let scene = common::edited_example("cantilever-vibration.json", "restart-pc5", |v| {
+        v["integrator"]["scheme"] = serde_json::json!("pc5");
+        v["duration"] = serde_json::json!(1.0);
+    });
+    straight_and_resumed(&scene, &[1000, 1001, 3000]);
+}
+
+/// Relaxations: the cantilever (converges before its end: the resumed run converges at the
+/// same step) and the elastic Brazilian disc under pressure with mass damping.
+#[test]
+fn relaxations_resume_bit_for_bit() {
+    let scene = common::edited_example("cantilever-relaxation.json", "restart-relax", |_| {});
+    let (a, _) = straight_and_resumed(&scene, &[3000]);
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(a.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(v["converged"], serde_json::json!(true));
+    let scene = common::edited_example("brazilian-disc-relaxation.json", "restart-relax", |_| {});
+    straight_and_resumed(&scene, &[1800]);
+}
+
+/// SIGINT in the middle of a run (as Ctrl-C sends it): the run ends its step, writes a
+/// checkpoint and a summary marked interrupted, and exits with code 4; `--resume` completes
+/// it identically to a run that was never interrupted.
+#[test]
+fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
+    let scene = common::edited_example("disc-collision.json", "restart-sigint", |v| {
+        v["bodies"][1]["offset"] = serde_json::json!([0.0255, 0.02]);
+        v["contact"] = serde_json::json!({ "default": { "friction": 0.5 } });
+        v["duration"] = serde_json::json!(4.8e-3);
+        v["output"]["frames"] = serde_json::json!(40);
+    });
+    let dir = scene.parent().unwrap();
+    let (a, b) = (dir.join("straight"), dir.join("interrupted"));
+    let (code, err) = fdem_run(&["run", s(&scene), "--out", s(&a)]);
+    assert_eq!(code, 0, "{err}");
+    let child = fdem()
+        .args(["run", s(&scene), "--out", s(&b)])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !b.join("frame_0004.vtu").exists() {
+        assert!(start.elapsed() < Duration::from_secs(60), "the run did not start");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let pid = child.id().to_string();
+    let killed = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(4), "{err}");
+    assert!(err.contains("interrupted (SIGINT)"), "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(b.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["interrupted"]["reason"], "SIGINT");
+    let stopped_at = summary["steps"].as_u64().unwrap();
+    assert!(stopped_at < steps_of(&a), "stopped at step {stopped_at}");
+    let header = fdem_solver::checkpoint::read(&b.join("checkpoint.fdem"))
+        .unwrap()
+        .header;
+    assert_eq!(header.step, stopped_at);
+    let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
+    assert_eq!(code, 0, "{err}");
+    assert_same_results(&a, &b);
+}
+
+/// Every file of a folder with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
+        .collect()
+}
+
+/// Resuming `dir` (with `scene`, if given) fails with exit code 2, a message that contains
+/// `what`, and leaves every file of the folder as it was.
+fn refused(dir: &Path, scene: Option<&Path>, what: &str) {
+    let before = snapshot(dir);
+    let mut args = vec!["run"];
+    if let Some(sc) = scene {
+        args.push(s(sc));
+    }
+    args.extend(["--resume", s(dir)]);
+    let (code, err) = fdem_run(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(what), "expected `{what}` in: {err}");
+    assert!(err.contains("fix:"), "{err}");
+    assert!(before == snapshot(dir), "the refused resume changed {dir:?}");
+}
+
+/// A checkpoint cut short, of a newer format, damaged, of another scene or another mesh, or
+/// missing: refused with its reason, nothing written. A scene that changes only its end and
+/// its output is accepted: the longer run equals a straight run of the longer scene.
+#[test]
+fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
+    let scene = common::edited_example("disc-collision.json", "restart-bad", |v| {
+        v["duration"] = serde_json::json!(0.3e-3);
+    });
+    let dir = scene.parent().unwrap();
+    let b = dir.join("run");
+    let (code, err) = fdem_run(&["run", s(&scene), "--out", s(&b), "--stop-after", "1000"]);
+    assert_eq!(code, 4, "{err}");
+    let ck = b.join("checkpoint.fdem");
+    let good = std::fs::read(&ck).unwrap();
+
+    std::fs::write(&ck, &good[..good.len() / 2]).unwrap();
+    refused(&b, None, "the checkpoint is damaged");
+    let mut newer = good.clone();
+    newer[8..12].copy_from_slice(&(fdem_solver::checkpoint::FORMAT + 1).to_le_bytes());
+    std::fs::write(&ck, &newer).unwrap();
+    refused(&b, None, "newer than this fdem reads");
+    let mut flipped = good.clone();
+    let k = good.len() - 100;
+    flipped[k] ^= 0x10;
+    std::fs::write(&ck, &flipped).unwrap();
+    refused(&b, None, "checksum");
+    std::fs::write(&ck, &good).unwrap();
+
+    let other = common::edited_example("disc-collision.json", "restart-bad-other", |v| {
+        v["duration"] = serde_json::json!(0.3e-3);
+        v["bodies"][0]["materials"]["*"]["young"] = serde_json::json!(11e9);
+    });
+    refused(&b, Some(&other), "belongs to another scene");
+    let moved = common::edited_example("disc-collision.json", "restart-bad-mesh", |v| {
+        v["duration"] = serde_json::json!(0.3e-3);
+        v["bodies"][1]["mesh"] = serde_json::json!(common::root()
+            .join("meshes/brazilian-disc.msh")
+            .display()
+            .to_string());
+    });
+    refused(&b, Some(&moved), "belongs to another mesh");
+    std::fs::remove_file(&ck).unwrap();
+    refused(&b, None, "cannot read the checkpoint");
+    std::fs::write(&ck, &good).unwrap();
+
+    // a run extended: run to its end (with a checkpoint there), then resumed with twice the
+    // duration and twice the frames, it equals the straight run of the longer scene
+    let half = common::edited_example("disc-collision.json", "restart-half", |v| {
+        v["duration"] = serde_json::json!(0.6e-3);
+        v["output"]["frames"] = serde_json::json!(12);
+        v["histories"]["every"] = serde_json::json!(20);
+    });
+    let whole = common::edited_example("disc-collision.json", "restart-whole", |v| {
+        v["duration"] = serde_json::json!(1.2e-3);
+        v["output"]["frames"] = serde_json::json!(24);
+        v["histories"]["every"] = serde_json::json!(20);
+    });
+    let (a, e) = (dir.join("whole"), dir.join("extended"));
+    let (code, err) = fdem_run(&["run", s(&whole), "--out", s(&a)]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = fdem_run(&["run", s(&half), "--out", s(&e), "--checkpoint-every", "5000"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = fdem_run(&["run", s(&whole), "--resume", s(&e)]);
+    assert_eq!(code, 0, "{err}");
+    assert_same_results(&a, &e);
+}
