@@ -346,3 +346,39 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
     assert_eq!(code, 0, "{err}");
     assert_same_results(&a, &e);
 }
+
+/// `output.checkpoint_every` in a scene: steps or a wall-clock time; anything else refused at
+/// its JSON path with the forms it takes. A fresh run in a folder removes an old checkpoint.
+#[test]
+fn the_checkpoint_interval_of_a_scene_is_checked() {
+    for (value, ok) in [
+        (serde_json::json!(5000), true),
+        (serde_json::json!("30min"), true),
+        (serde_json::json!("off"), true),
+        (serde_json::json!(0), false),
+        (serde_json::json!(-5), false),
+        (serde_json::json!("3 days"), false),
+        (serde_json::json!([1]), false),
+    ] {
+        let scene = common::edited_example("disc-collision.json", "restart-every", |v| {
+            v["output"]["checkpoint_every"] = value.clone();
+        });
+        match fdem_solver::load(&scene) {
+            Ok(_) => assert!(ok, "{value} accepted"),
+            Err(e) => {
+                let m = e.to_string();
+                assert!(!ok, "{value}: {m}");
+                assert!(m.contains("output.checkpoint_every"), "{m}");
+                assert!(m.contains("30min") || m.contains("positive"), "{m}");
+            }
+        }
+    }
+    let dir = common::temp_dir("restart-claim");
+    std::fs::write(dir.join("checkpoint.fdem"), b"old").unwrap();
+    let scene = common::edited_example("cantilever-vibration.json", "restart-claim", |v| {
+        v["duration"] = serde_json::json!(0.01);
+    });
+    let (code, err) = fdem_run(&["run", s(&scene), "--out", s(&dir)]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!dir.join("checkpoint.fdem").exists());
+}

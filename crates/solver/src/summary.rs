@@ -126,6 +126,8 @@ pub struct Outcome {
     /// The joints' committed history at the end (scenes with joints): a later run starts
     /// from it through `scene.fracture.initial_state`.
     pub joint_state: Option<fdem_fracture::JointState>,
+    /// What the run's checkpoints cost (none written: zeros).
+    pub checkpoints: crate::checkpoint::Stats,
 }
 
 /// Writes `summary` as `summary.json` in the output folder `dir`.

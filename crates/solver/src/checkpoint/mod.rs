@@ -261,6 +261,19 @@ impl serde::Serialize for Every {
     }
 }
 
+/// What a run's checkpoints cost.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Stats {
+    /// Checkpoints written.
+    pub written: u64,
+    /// Bytes of the last one.
+    pub bytes: u64,
+    /// Wall time the run waited for them (encoding) [s].
+    pub encode_time: f64,
+    /// Wall time of their writes, on the writer's thread [s].
+    pub write_time: f64,
+}
+
 /// Writes checkpoints whole or not at all, each on a background thread while the run goes
 /// on; the next one (and the end of the run) first waits for the one before.
 #[derive(Debug)]
@@ -287,6 +300,16 @@ impl CheckpointWriter {
             bytes: 0,
             encode_time: 0.0,
             write_time: 0.0,
+        }
+    }
+
+    /// What the checkpoints written so far cost.
+    pub fn stats(&self) -> Stats {
+        Stats {
+            written: self.written,
+            bytes: self.bytes,
+            encode_time: self.encode_time,
+            write_time: self.write_time,
         }
     }
 

@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 
 /// The fixed names of the files a run writes (with [`NUMBERED`] and the temporaries of
 /// [`is_run_file`]). A new output file must be added here.
-pub const FIXED: [&str; 8] = [
+pub const FIXED: [&str; 9] = [
     "results.pvd",
+    "checkpoint.fdem",
     "summary.json",
     "histories.csv",
     "joints.pvd",

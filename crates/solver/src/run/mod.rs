@@ -140,6 +140,7 @@ fn static_run(
         summary,
         last_frame: frame,
         joint_state: None,
+        checkpoints: Default::default(),
     })
 }
 

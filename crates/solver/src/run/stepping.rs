@@ -250,6 +250,7 @@ impl<'a> Run<'a> {
             summary,
             last_frame,
             joint_state,
+            checkpoints: self.checkpoints.writer.stats(),
         })
     }
 
