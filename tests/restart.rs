@@ -321,6 +321,8 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
             .to_string());
     });
     refused(&b, Some(&moved), "belongs to another mesh");
+    let stat = common::root().join("examples/cantilever-static.json");
+    refused(&b, Some(&stat), "a static analysis has no checkpoint");
     std::fs::remove_file(&ck).unwrap();
     refused(&b, None, "cannot read the checkpoint");
     std::fs::write(&ck, &good).unwrap();

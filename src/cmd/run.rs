@@ -88,7 +88,12 @@ pub fn run(args: RunArgs) -> Result<()> {
         out_dir: out.clone(),
         raw,
         checkpoint_every,
-        stop: Some(stop_on_signals()?),
+        // a static solve is one step: a signal stops it at once, as by default
+        stop: if loaded.scene.analysis == fdem_solver::scene::Analysis::Static {
+            None
+        } else {
+            Some(stop_on_signals()?)
+        },
         stop_after,
         resume: resume.is_some(),
     };

@@ -73,6 +73,15 @@ pub fn run_outcome(
 ) -> Result<Outcome, RunError> {
     let wall = Instant::now();
     if l.scene.analysis == Analysis::Static {
+        if options.resume {
+            let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
+            return Err(crate::checkpoint::CheckpointError::new(
+                &file,
+                "a static analysis has no checkpoint to resume (it is one solve)",
+                "run the scene afresh: fdem run SCENE --out DIR",
+            )
+            .into());
+        }
         return static_run(l, options, progress, wall);
     }
     // the stages' own input, checked before the folder is claimed
