@@ -73,5 +73,5 @@ pub use material::{JointConsts, JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
-pub use state::{JointEnergy, JointHistory, JointState};
+pub use state::{JointEnergy, JointHistory, JointState, JointStateSnapshot};
 pub use timestep::joint_omega_sq_bound;
