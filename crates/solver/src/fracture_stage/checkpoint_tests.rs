@@ -243,7 +243,7 @@ impl Tee {
         let (ra, rb) = (self.a.report(x), self.b.report(x));
         self.note(report_diff(&ra, &rb, false));
         let frames =
-            step.is_multiple_of(10) || !self.b.joint_state().is_some_and(|s| s.n_broken == 0);
+            step.is_multiple_of(10) || self.b.joint_state().is_none_or(|s| s.n_broken != 0);
         self.note(state_diff(&*self.a, &*self.b, x, frames));
         self.note(shared_diff(&self.bonded, &self.reports));
     }
