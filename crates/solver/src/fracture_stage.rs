@@ -20,6 +20,11 @@
 //! penalty allows (the joints carry the compression there; docs/fracture.md). Each break is a
 //! row of `fractures.csv` (time, position, mode, energy released).
 //!
+//! A checkpoint (`ForceContribution::save`, section `fracture`) holds the joints' committed
+//! state, the stars' flags, the released pairs the contact stage has not taken yet, the
+//! release counters, the shared report with its events and the length of `fractures.csv`;
+//! a stage attached afresh for the same scene continues from it bit for bit.
+//!
 //! Time step: `omega^2 += omega_j^2` with the fracture crate's Gershgorin bound
 //! (`joint_omega_sq_bound`, about `3 (p/h) l (1/A_1 + 1/A_2)/rho`).
 
@@ -43,11 +48,11 @@ use crate::model::Model;
 use crate::resolve::Resolved;
 use crate::scene::Scene;
 pub use crate::scene::fracture::{FractureSection, Region};
+use crate::star_bonds::StarBonds;
+use crate::system::{ForceContribution, StageReport};
 
 #[cfg(test)]
 mod checkpoint_tests;
-use crate::star_bonds::StarBonds;
-use crate::system::{ForceContribution, StageReport};
 
 /// Explodes body `bi`'s mesh when fracture regions name the body (as
 /// [`crate::resolve::resolve`] found them in `refs`): the union of their groups (the whole
@@ -640,7 +645,8 @@ impl ForceContribution for FractureStage {
     /// Reads what [`FractureStage::save`] wrote, checks it against the scene (joint and star
     /// counts, the bonded list at set-up, flags that agree with each other), then cuts
     /// `fractures.csv` back to its length at the checkpoint (shorter is an error) and takes
-    /// the state over. Nothing of the stage changes on an error before the file is cut.
+    /// the state over. Every check of the checkpoint's content comes before any change; after
+    /// an error (a short or missing file included) the stage is not to be used.
     fn restore(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
         let saved = d.section("fracture", |d| self.read_saved(d))?;
         let err = |m: String| DecodeError(format!("section `fracture`: {m}"));
