@@ -125,6 +125,10 @@ pub enum FractureError {
     /// The thickness is not a positive finite number.
     #[error("thickness = {0} m must be finite and > 0 (use 1 for plane strain)")]
     BadThickness(f64),
+    /// A saved joint state ([`crate::JointStateSnapshot`]) that no run of this joint set can
+    /// have reached (flags that disagree, a damage outside `[0, 1]`).
+    #[error("saved joint state: {0}")]
+    InvalidState(String),
     /// Two arrays that must have one entry per node or per joint differ in length.
     #[error("`{what}` has {got} entries, expected {expected}")]
     LengthMismatch {

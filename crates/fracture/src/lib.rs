@@ -21,6 +21,9 @@
 //!   [`commit_joints`] (damage, energy books, breaking when fully damaged and open (or slid by
 //!   `h/10`), events); at the positions of the last pass the commit swaps the trial arrays
 //!   in (structure of arrays, [`state`]) instead of evaluating again.
+//! - [`state`]: the committed history of every joint and the energy books;
+//!   [`JointStateSnapshot`] is a state as plain data (a checkpoint's), checked against the
+//!   joint set by [`JointState::from_snapshot`].
 //! - [`set`]: the joints as plain arrays; [`JointSet::set_initial_tractions`] prestresses them
 //!   (an in-situ stress): constant offsets of the opening and sliding at which the undamaged
 //!   law gives the initial traction, so the joint carries it at zero deformation.
@@ -73,5 +76,5 @@ pub use material::{JointConsts, JointMaterial, JointMaterialInput};
 pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
-pub use state::{JointEnergy, JointHistory, JointState};
+pub use state::{JointEnergy, JointHistory, JointState, JointStateSnapshot};
 pub use timestep::joint_omega_sq_bound;

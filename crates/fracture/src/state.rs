@@ -9,6 +9,7 @@
 
 use rayon::prelude::*;
 
+use crate::error::FractureError;
 use crate::joint::{PointHistory, evaluate, evaluate_offset};
 use crate::set::JointSet;
 
@@ -64,6 +65,27 @@ pub struct JointEnergy {
     pub dissipated: f64,
     /// Energy still stored in joints when they broke (handed over with the break).
     pub released_at_break: f64,
+}
+
+/// A [`JointState`] as plain data, for checkpoints: its public fields and its
+/// [`JointState::generation`]; [`JointState::from_snapshot`] checks it against the joint set
+/// and gives the state back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointStateSnapshot {
+    /// [`JointState::history`].
+    pub history: Vec<JointHistory>,
+    /// [`JointState::intact`].
+    pub intact: Vec<bool>,
+    /// [`JointState::broken_at`].
+    pub broken_at: Vec<Option<f64>>,
+    /// [`JointState::stored_initial`].
+    pub stored_initial: f64,
+    /// [`JointState::released_at_break`].
+    pub released_at_break: f64,
+    /// [`JointState::n_broken`].
+    pub n_broken: usize,
+    /// [`JointState::generation`].
+    pub generation: u64,
 }
 
 /// The history of every joint of a [`JointSet`].
@@ -133,6 +155,64 @@ impl JointState {
         }
     }
 
+    /// Number of commits so far (saved with the state: [`JointStateSnapshot::generation`]).
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The state a [`JointStateSnapshot`] saved (from the public fields of a state and its
+    /// [`JointState::generation`]), for `set`: every array must have one entry per joint of
+    /// `set`, an intact joint has no time of failure, `n_broken` counts the broken joints and
+    /// every damage lies in `[0, 1]`. Continues bit for bit where the saved
+    /// state left off.
+    pub fn from_snapshot(set: &JointSet, s: JointStateSnapshot) -> Result<Self, FractureError> {
+        let n = set.len();
+        for (what, got) in [
+            ("history", s.history.len()),
+            ("intact", s.intact.len()),
+            ("broken_at", s.broken_at.len()),
+        ] {
+            if got != n {
+                return Err(FractureError::LengthMismatch {
+                    what,
+                    got,
+                    expected: n,
+                });
+            }
+        }
+        let bad = |m: String| Err(FractureError::InvalidState(m));
+        // a broken joint may have no time of failure (broken before the run)
+        if let Some(j) = (0..n).find(|&j| s.intact[j] && s.broken_at[j].is_some()) {
+            return bad(format!("joint {j} is intact but has a time of failure"));
+        }
+        let broken = s.intact.iter().filter(|i| !**i).count();
+        if broken != s.n_broken {
+            return bad(format!(
+                "{} broken joints counted, {broken} flagged",
+                s.n_broken
+            ));
+        }
+        if let Some(j) = s
+            .history
+            .iter()
+            .position(|h| !h.damage.iter().all(|d| (0.0..=1.0).contains(d)))
+        {
+            return bad(format!(
+                "joint {j} has damage {:?} outside [0, 1]",
+                s.history[j].damage
+            ));
+        }
+        Ok(JointState {
+            history: s.history,
+            intact: s.intact,
+            broken_at: s.broken_at,
+            stored_initial: s.stored_initial,
+            released_at_break: s.released_at_break,
+            n_broken: s.n_broken,
+            generation: s.generation,
+        })
+    }
+
     /// Number of joints.
     pub fn len(&self) -> usize {
         self.history.len()
@@ -173,5 +253,81 @@ impl JointState {
             e.dissipated += h.dissipated;
         }
         e
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::JointMaterialInput;
+    use crate::set::Joint;
+
+    /// Two joints of length 1 cm, fresh at their reference positions.
+    fn two() -> (JointSet, JointState) {
+        let m = JointMaterialInput {
+            tensile_strength: 5e6,
+            cohesion: 10e6,
+            friction_angle_deg: 30.0,
+            fracture_energy_i: 50.0,
+            fracture_energy_ii: 250.0,
+            penalty_normal: 3e12,
+            penalty_tangential: 3e12,
+        };
+        let j = |k: u32| Joint {
+            nodes: [4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3],
+            triangles: [2 * k, 2 * k + 1],
+            ref_length: 0.01,
+            material: 0,
+        };
+        let x = [[0.0, 0.0], [0.01, 0.0], [0.01, 0.0], [0.0, 0.0]].repeat(2);
+        let set = JointSet::new(&[j(0), j(1)], &[m], 8, 1.0).unwrap();
+        let state = JointState::new(&set, &x);
+        (set, state)
+    }
+
+    fn snapshot(s: &JointState) -> JointStateSnapshot {
+        JointStateSnapshot {
+            history: s.history.clone(),
+            intact: s.intact.clone(),
+            broken_at: s.broken_at.clone(),
+            stored_initial: s.stored_initial,
+            released_at_break: s.released_at_break,
+            n_broken: s.n_broken,
+            generation: s.generation(),
+        }
+    }
+
+    /// A snapshot gives the state back field for field (the commit count included); one of
+    /// another length, an intact joint with a time of failure, a wrong count or a damage outside [0, 1] is refused
+    /// with a message naming it.
+    #[test]
+    fn a_snapshot_restores_the_state_and_a_damaged_one_is_refused() {
+        let (set, mut state) = two();
+        state.history[1].damage = [0.25, 1.0];
+        state.intact[1] = false;
+        state.broken_at[1] = Some(2e-6);
+        state.n_broken = 1;
+        state.generation = 17;
+        let back = JointState::from_snapshot(&set, snapshot(&state)).unwrap();
+        assert_eq!(back.history, state.history);
+        assert_eq!(back.intact, state.intact);
+        assert_eq!(back.broken_at, state.broken_at);
+        assert_eq!(back.n_broken, 1);
+        assert_eq!(back.generation(), 17);
+        let err = |edit: &dyn Fn(&mut JointStateSnapshot)| {
+            let mut s = snapshot(&state);
+            edit(&mut s);
+            JointState::from_snapshot(&set, s).unwrap_err().to_string()
+        };
+        assert!(err(&|s| s.history.truncate(1)).contains("`history` has 1 entries"));
+        assert!(err(&|s| s.intact.push(true)).contains("`intact` has 3"));
+        assert!(err(&|s| s.broken_at[0] = Some(0.0)).contains("joint 0 is intact"));
+        // a joint broken before the run has no time of failure
+        let mut pre = snapshot(&state);
+        pre.broken_at[1] = None;
+        assert!(JointState::from_snapshot(&set, pre).is_ok());
+        assert!(err(&|s| s.n_broken = 2).contains("2 broken joints counted, 1 flagged"));
+        assert!(err(&|s| s.history[0].damage[1] = f64::NAN).contains("outside [0, 1]"));
+        assert!(err(&|s| s.history[0].damage[0] = -1e-300).contains("joint 0 has damage"));
     }
 }

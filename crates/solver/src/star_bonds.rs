@@ -244,6 +244,52 @@ impl StarBonds {
         self.n_bonded
     }
 
+    /// What a run changes (a checkpoint saves it): per star, still intact; per joint, its own
+    /// pair released; the number of bonded pairs. The rest is the reference topology, rebuilt
+    /// from the joints.
+    pub fn bond_flags(&self) -> (&[bool], &[bool], usize) {
+        (&self.star_intact, &self.joint_released, self.n_bonded)
+    }
+
+    /// Sets what [`Self::bond_flags`] gave (a checkpoint's) on stars built from the same
+    /// joints. Refused (nothing changed): flags of another length, a broken joint with an
+    /// intact end star, or a count that is not that of the bonded set the flags give.
+    pub fn set_bond_flags(
+        &mut self,
+        star_intact: Vec<bool>,
+        joint_released: Vec<bool>,
+        n_bonded: usize,
+    ) -> Result<(), String> {
+        let (ns, nj) = (self.star_intact.len(), self.joint_released.len());
+        if star_intact.len() != ns || joint_released.len() != nj {
+            return Err(format!(
+                "{} stars and {} joints where the scene has {ns} and {nj}",
+                star_intact.len(),
+                joint_released.len()
+            ));
+        }
+        if let Some(j) = (0..nj).find(|&j| {
+            joint_released[j] && self.joint_stars[j].iter().any(|&s| star_intact[s as usize])
+        }) {
+            return Err(format!(
+                "joint {j} is released but one of its stars is intact"
+            ));
+        }
+        let old = (
+            std::mem::replace(&mut self.star_intact, star_intact),
+            std::mem::replace(&mut self.joint_released, joint_released),
+        );
+        let count = self.bonded().count();
+        if count != n_bonded {
+            (self.star_intact, self.joint_released) = old;
+            return Err(format!(
+                "{n_bonded} bonded pairs recorded, the flags give {count}"
+            ));
+        }
+        self.n_bonded = n_bonded;
+        Ok(())
+    }
+
     /// True when an intact star other than `except` holds both triangles `a` and `b`.
     fn held_by_star(&self, a: u32, b: u32, except: u32) -> bool {
         let sb = &self.tri_stars[b as usize];
@@ -505,6 +551,63 @@ mod tests {
         assert!(held.is_empty() && sb.n_bonded() == 0);
         assert!(checked >= 12, "only {checked} states checked");
         assert!(n_released > 150, "only {n_released} pairs released");
+    }
+
+    /// The flags of stars part-way through a run, set on stars built afresh from the same
+    /// joints, give the same bonded set and count, and the same released pairs in the same
+    /// order for every later event; flags that do not fit are refused and change nothing.
+    #[test]
+    fn bond_flags_set_on_fresh_stars_continue_the_releases_identically() {
+        let mesh = square(6);
+        let ex = explode(&mesh, None).expect("explode");
+        let (jn, jt) = joint_arrays(&ex);
+        let n_nodes = ex.mesh.nodes.len();
+        let mut sb = StarBonds::new(&jn, &jt, n_nodes);
+        let n = jn.len();
+        let mut released = Vec::new();
+        for k in 0..n / 4 {
+            let j = (k * 29 + 5) % n;
+            if k % 3 == 0 {
+                sb.break_joint(j, &mut released);
+            } else {
+                sb.release_stars(j, &mut released);
+            }
+        }
+        let (si, jr, nb) = sb.bond_flags();
+        let (si, jr) = (si.to_vec(), jr.to_vec());
+        assert!(nb > 0 && !released.is_empty());
+        let mut fresh = StarBonds::new(&jn, &jt, n_nodes);
+        let before = fresh.n_bonded();
+        let mut bad = jr.clone();
+        bad.pop();
+        assert!(fresh.set_bond_flags(si.clone(), bad, nb).is_err());
+        let e = fresh
+            .set_bond_flags(si.clone(), jr.clone(), nb + 1)
+            .unwrap_err();
+        assert!(e.contains("bonded pairs recorded"), "{e}");
+        let (si0, jr0, nb0) = fresh.bond_flags();
+        assert!(si0.iter().all(|&b| b) && !jr0.iter().any(|&b| b) && nb0 == before);
+        fresh.set_bond_flags(si, jr, nb).unwrap();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        sb.pairs(&mut a);
+        fresh.pairs(&mut b);
+        assert_eq!(a, b);
+        assert_eq!(fresh.n_bonded(), sb.n_bonded());
+        let (mut ra, mut rb) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            let j = (k * 17 + 3) % n;
+            if k % 2 == 0 {
+                sb.break_joint(j, &mut ra);
+                fresh.break_joint(j, &mut rb);
+            } else {
+                sb.release_stars(j, &mut ra);
+                fresh.release_stars(j, &mut rb);
+            }
+        }
+        // 75 pairs measured
+        assert!(ra.len() > 50, "only {} pairs released", ra.len());
+        assert_eq!(ra, rb, "released pairs or their order differ");
+        assert_eq!(fresh.n_bonded(), sb.n_bonded());
     }
 
     #[test]

@@ -19,7 +19,7 @@ impl Enc {
     }
 
     /// Appends `v`.
-    pub fn put<T: Pack + ?Sized>(&mut self, v: &T) {
+    pub fn put<T: Pack>(&mut self, v: &T) {
         v.pack(self);
     }
 
