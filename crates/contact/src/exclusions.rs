@@ -189,6 +189,18 @@ mod tests {
         assert!(!e.unbond(0, 1), "already released");
         assert!(!e.unbond(7, 1), "out of range");
         assert_eq!(e.len(), 2);
+        // The live rows rebuild the same exclusions (a checkpoint's copy).
+        let (lens, nbrs) = e.rows();
+        let r = Exclusions::from_rows(&lens, &nbrs).unwrap();
+        assert_eq!((r.len(), r.rows()), (e.len(), (lens.clone(), nbrs.clone())));
+        for (i, j) in [(0, 1), (1, 2), (0, 3), (2, 3)] {
+            assert_eq!(r.is_bonded(i, j), e.is_bonded(i, j), "({i}, {j})");
+        }
+        assert!(Exclusions::from_rows(&lens, &nbrs[1..]).is_err(), "lengths");
+        assert!(
+            Exclusions::from_rows(&[1, 0, 0, 1], &[3, 2]).is_err(),
+            "one-sided"
+        );
         assert!(e.is_bonded(1, 2) && e.is_bonded(0, 3) && e.is_bonded(3, 0));
         assert!(e.unbond(3, 0) && e.unbond(2, 1));
         assert!(e.is_empty());
