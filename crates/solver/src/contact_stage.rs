@@ -350,14 +350,14 @@ impl ContactStage {
 
 impl ForceContribution for ContactStage {
     /// The contact model's state and the stage's books ([`snapshot`]).
-    fn save(&mut self, e: &mut crate::checkpoint::Enc) -> std::io::Result<()> {
+    fn save(&mut self, e: &mut crate::checkpoint::pack::Enc) -> std::io::Result<()> {
         self.save_state(e)
     }
 
     fn restore(
         &mut self,
-        d: &mut crate::checkpoint::Dec,
-    ) -> Result<(), crate::checkpoint::DecodeError> {
+        d: &mut crate::checkpoint::pack::Dec,
+    ) -> Result<(), crate::checkpoint::pack::DecodeError> {
         self.restore_state(d)
     }
 

@@ -20,7 +20,7 @@
 use fdem_contact::{ContactSnapshot, ContactStats, CoupleForce, WallForce};
 
 use super::{ContactReport, ContactStage};
-use crate::checkpoint::{Dec, DecodeError, Enc, Pack};
+use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
 
 impl Pack for CoupleForce {
     fn pack(&self, e: &mut Enc) {

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 
 use fdem_time::{CentralDifference, Integrator, State};
 
-use crate::checkpoint::{Dec, Enc};
+use crate::checkpoint::pack::{Dec, Enc};
 use crate::output::FrameData;
 use crate::system::{ForceContribution, SceneSystem, StageReport};
 
@@ -168,7 +168,7 @@ impl ForceContribution for Twin {
     fn save(&mut self, _e: &mut Enc) -> std::io::Result<()> {
         Ok(())
     }
-    fn restore(&mut self, _d: &mut Dec) -> Result<(), crate::checkpoint::DecodeError> {
+    fn restore(&mut self, _d: &mut Dec) -> Result<(), crate::checkpoint::pack::DecodeError> {
         Ok(())
     }
 }
