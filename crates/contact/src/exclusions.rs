@@ -87,6 +87,66 @@ impl Exclusions {
         self.live == 0
     }
 
+    /// The live rows: per triangle the number of its bonded partners, and the partners row
+    /// after row (each pair appears in both of its rows; copies of a pair set twice stay).
+    /// Empty when no list was ever set. [`Self::from_rows`] rebuilds the same exclusions.
+    pub fn rows(&self) -> (Vec<u32>, Vec<u32>) {
+        let lens = self.rows.iter().map(|r| r[1]).collect();
+        let mut nbrs = Vec::with_capacity(self.live);
+        for &[start, len] in &self.rows {
+            nbrs.extend_from_slice(&self.nbrs[start as usize..(start + len) as usize]);
+        }
+        (lens, nbrs)
+    }
+
+    /// The exclusions whose live rows are `lens` and `nbrs` ([`Self::rows`]); an error when
+    /// they do not fit together (the lengths do not add up to the partners, a partner is not
+    /// a triangle, or a pair is missing from its partner's row as often as it is in its own).
+    pub fn from_rows(lens: &[u32], nbrs: &[u32]) -> Result<Self, String> {
+        let total: u64 = lens.iter().map(|&l| u64::from(l)).sum();
+        if total != nbrs.len() as u64 {
+            return Err(format!(
+                "bonded pairs: the rows hold {total} partners, the list {}",
+                nbrs.len()
+            ));
+        }
+        if total > u64::from(u32::MAX) {
+            return Err(format!("bonded pairs: {total} partners"));
+        }
+        let n = lens.len();
+        if let Some(j) = nbrs.iter().find(|&&j| j as usize >= n) {
+            return Err(format!(
+                "bonded pairs: partner {j} of a mesh of {n} triangles"
+            ));
+        }
+        let mut rows = Vec::with_capacity(n);
+        let mut start = 0u32;
+        for &l in lens {
+            rows.push([start, l]);
+            start += l;
+        }
+        let e = Exclusions {
+            rows,
+            nbrs: nbrs.to_vec(),
+            live: nbrs.len(),
+        };
+        // Each pair in both of its rows, as often: the count of (i, j) in row i equals that
+        // of (j, i) in row j (a pair (i, i) lies twice in row i per copy).
+        let mut keys: Vec<(u32, u32)> = Vec::with_capacity(nbrs.len());
+        for (i, &[s, l]) in e.rows.iter().enumerate() {
+            for &j in &e.nbrs[s as usize..(s + l) as usize] {
+                keys.push((i as u32, j));
+            }
+        }
+        let mut swapped: Vec<(u32, u32)> = keys.iter().map(|&(i, j)| (j, i)).collect();
+        keys.sort_unstable();
+        swapped.sort_unstable();
+        if keys != swapped {
+            return Err("bonded pairs: a pair is not in both of its rows".into());
+        }
+        Ok(e)
+    }
+
     /// True when triangles `i` and `j` are bonded.
     #[inline]
     pub fn is_bonded(&self, i: u32, j: u32) -> bool {
@@ -129,6 +189,18 @@ mod tests {
         assert!(!e.unbond(0, 1), "already released");
         assert!(!e.unbond(7, 1), "out of range");
         assert_eq!(e.len(), 2);
+        // The live rows rebuild the same exclusions (a checkpoint's copy).
+        let (lens, nbrs) = e.rows();
+        let r = Exclusions::from_rows(&lens, &nbrs).unwrap();
+        assert_eq!((r.len(), r.rows()), (e.len(), (lens.clone(), nbrs.clone())));
+        for (i, j) in [(0, 1), (1, 2), (0, 3), (2, 3)] {
+            assert_eq!(r.is_bonded(i, j), e.is_bonded(i, j), "({i}, {j})");
+        }
+        assert!(Exclusions::from_rows(&lens, &nbrs[1..]).is_err(), "lengths");
+        assert!(
+            Exclusions::from_rows(&[1, 0, 0, 1], &[3, 2]).is_err(),
+            "one-sided"
+        );
         assert!(e.is_bonded(1, 2) && e.is_bonded(0, 3) && e.is_bonded(3, 0));
         assert!(e.unbond(3, 0) && e.unbond(2, 1));
         assert!(e.is_empty());

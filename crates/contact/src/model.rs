@@ -38,6 +38,9 @@ use crate::nbs::Nbs;
 use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
 
+mod snapshot;
+pub use snapshot::ContactSnapshot;
+
 /// The exact refresh test on one chunk: some node moved `|x - x_det|^2 >= h2`, or is NaN.
 fn moved_exact(xa: &[V2], xb: &[V2], h2: f64) -> bool {
     xa.iter().zip(xb).fold(false, |moved, (a, b)| {
@@ -272,6 +275,10 @@ impl Contact {
     /// the number of couples added ([`Self::added_couples`] lists them).
     pub fn release_pairs(&mut self, pairs: &[[u32; 2]], tris: &[[u32; 3]]) -> usize {
         let n = tris.len();
+        if !self.stale && n == self.n_tris_det && self.circles.len() != n {
+            // Restored from a snapshot: the circles of the last detection, from its positions.
+            self.circles.update(&self.x_det, tris);
+        }
         let current = !self.stale && n == self.n_tris_det && self.circles.len() == n;
         self.added.clear();
         for p in pairs {

@@ -37,6 +37,8 @@ pub use crate::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
 use crate::system::{ForceContribution, StageReport};
 use crate::time_history::{self, History};
 
+mod snapshot;
+
 /// The law of `spec` per unit thickness times `thickness`, with Young's modulus `e` for the
 /// defaults.
 fn contact_law(spec: &LawSpec, e: f64, thickness: f64) -> ContactLaw {
@@ -347,15 +349,16 @@ impl ContactStage {
 }
 
 impl ForceContribution for ContactStage {
-    fn save(&mut self, _e: &mut crate::checkpoint::pack::Enc) -> std::io::Result<()> {
-        todo!("checkpoint of this stage")
+    /// The contact model's state and the stage's books ([`snapshot`]).
+    fn save(&mut self, e: &mut crate::checkpoint::pack::Enc) -> std::io::Result<()> {
+        self.save_state(e)
     }
 
     fn restore(
         &mut self,
-        _d: &mut crate::checkpoint::pack::Dec,
+        d: &mut crate::checkpoint::pack::Dec,
     ) -> Result<(), crate::checkpoint::pack::DecodeError> {
-        todo!("checkpoint of this stage")
+        self.restore_state(d)
     }
 
     fn name(&self) -> &str {
