@@ -79,7 +79,8 @@ fn assert_same_results(a: &Path, b: &Path) -> usize {
 /// resumed, into `dir/resumed`; asserts both wrote the same results. Returns the folders.
 fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, PathBuf) {
     let dir = scene.parent().unwrap();
-    let (a, b) = (dir.join("straight"), dir.join("resumed"));
+    // the same folder name (a plot's legend shows it)
+    let (a, b) = (dir.join("straight/run"), dir.join("resumed/run"));
     let (code, err) = fdem_run(&["run", s(scene), "--out", s(&a)]);
     assert_eq!(code, 0, "{err}");
     for (i, stop) in stops.iter().enumerate() {
@@ -98,7 +99,11 @@ fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, PathBuf) {
     let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
     assert_eq!(code, 0, "{err}");
     let n = assert_same_results(&a, &b);
-    eprintln!("{}: {n} files identical after {} stops", scene.display(), stops.len());
+    eprintln!(
+        "{}: {n} files identical after {} stops",
+        scene.display(),
+        stops.len()
+    );
     (a, b)
 }
 
@@ -137,9 +142,16 @@ fn the_fracturing_disc_resumes_bit_for_bit_after_a_stop_and_after_sigkill() {
 
     // SIGKILL after a checkpoint: the run resumes from it (the rows and frames written
     // after it are dropped and written again)
-    let c = scene.parent().unwrap().join("killed");
+    let c = scene.parent().unwrap().join("killed/run");
     let mut child = fdem()
-        .args(["run", s(&scene), "--out", s(&c), "--checkpoint-every", "3000"])
+        .args([
+            "run",
+            s(&scene),
+            "--out",
+            s(&c),
+            "--checkpoint-every",
+            "3000",
+        ])
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
@@ -165,22 +177,43 @@ fn the_fracturing_disc_resumes_bit_for_bit_after_a_stop_and_after_sigkill() {
     assert_same_results(&a, &c);
 }
 
-/// Two discs colliding off-centre with Coulomb friction (they slip, then stick and roll
-/// apart), stopped in the middle of the contact and resumed; with central difference and
-/// with OMF32 (whose velocity extrapolation reads the last step's force).
+/// The two discs of the collision example, off-centre (10 mm) and at 4 m/s, with Coulomb
+/// friction: they touch at about 0.5 ms (step 5600) and rub past each other; stopped during
+/// the contact and resumed; with central difference and with OMF32 (whose velocity
+/// extrapolation reads the last step's force).
+fn oblique_collision(v: &mut serde_json::Value) {
+    v["bodies"][0]["initial_velocity"] = serde_json::json!([4.0, 0.0]);
+    v["bodies"][1]["offset"] = serde_json::json!([0.0255, 0.01]);
+    v["contact"] = serde_json::json!({ "default": { "friction": 0.5 } });
+}
+
 #[test]
 fn a_frictional_collision_resumes_bit_for_bit() {
     for scheme in ["central-difference", "omf32"] {
         let scene = common::edited_example("disc-collision.json", "restart-collision", |v| {
-            v["bodies"][1]["offset"] = serde_json::json!([0.0255, 0.02]);
-            v["contact"] = serde_json::json!({ "default": { "friction": 0.5 } });
+            oblique_collision(v);
             v["integrator"]["scheme"] = serde_json::json!(scheme);
         });
-        let (a, _) = straight_and_resumed(&scene, &[2000, 4500]);
+        // during the contact: steps 6000 and 9000 of central difference's 13 385, and the
+        // same times of OMF32's 8574 larger steps
+        let n = if scheme == "omf32" {
+            6000 * 8574 / 13385
+        } else {
+            6000
+        };
+        let (a, _) = straight_and_resumed(&scene, &[n, n * 3 / 2]);
         let h = std::fs::read_to_string(a.join("histories.csv")).unwrap();
         let head: Vec<&str> = h.lines().next().unwrap().split(',').collect();
         let k = head.iter().position(|c| *c == "friction").unwrap();
-        let last: f64 = h.lines().last().unwrap().split(',').nth(k).unwrap().parse().unwrap();
+        let last: f64 = h
+            .lines()
+            .last()
+            .unwrap()
+            .split(',')
+            .nth(k)
+            .unwrap()
+            .parse()
+            .unwrap();
         assert!(last > 1e-6, "{scheme}: friction dissipated {last} J");
     }
 }
@@ -215,13 +248,12 @@ fn relaxations_resume_bit_for_bit() {
 #[test]
 fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
     let scene = common::edited_example("disc-collision.json", "restart-sigint", |v| {
-        v["bodies"][1]["offset"] = serde_json::json!([0.0255, 0.02]);
-        v["contact"] = serde_json::json!({ "default": { "friction": 0.5 } });
+        oblique_collision(v);
         v["duration"] = serde_json::json!(4.8e-3);
         v["output"]["frames"] = serde_json::json!(40);
     });
     let dir = scene.parent().unwrap();
-    let (a, b) = (dir.join("straight"), dir.join("interrupted"));
+    let (a, b) = (dir.join("straight/run"), dir.join("interrupted/run"));
     let (code, err) = fdem_run(&["run", s(&scene), "--out", s(&a)]);
     assert_eq!(code, 0, "{err}");
     let child = fdem()
@@ -231,7 +263,10 @@ fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
         .unwrap();
     let start = Instant::now();
     while !b.join("frame_0004.vtu").exists() {
-        assert!(start.elapsed() < Duration::from_secs(60), "the run did not start");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the run did not start"
+        );
         std::thread::sleep(Duration::from_millis(2));
     }
     let pid = child.id().to_string();
@@ -277,7 +312,10 @@ fn refused(dir: &Path, scene: Option<&Path>, what: &str) {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains(what), "expected `{what}` in: {err}");
     assert!(err.contains("fix:"), "{err}");
-    assert!(before == snapshot(dir), "the refused resume changed {dir:?}");
+    assert!(
+        before == snapshot(dir),
+        "the refused resume changed {dir:?}"
+    );
 }
 
 /// A checkpoint cut short, of a newer format, damaged, of another scene or another mesh, or
@@ -315,10 +353,12 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
     refused(&b, Some(&other), "belongs to another scene");
     let moved = common::edited_example("disc-collision.json", "restart-bad-mesh", |v| {
         v["duration"] = serde_json::json!(0.3e-3);
-        v["bodies"][1]["mesh"] = serde_json::json!(common::root()
-            .join("meshes/brazilian-disc.msh")
-            .display()
-            .to_string());
+        v["bodies"][1]["mesh"] = serde_json::json!(
+            common::root()
+                .join("meshes/brazilian-disc.msh")
+                .display()
+                .to_string()
+        );
     });
     refused(&b, Some(&moved), "belongs to another mesh");
     let stat = common::root().join("examples/cantilever-static.json");
@@ -328,25 +368,67 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
     std::fs::write(&ck, &good).unwrap();
 
     // a run extended: run to its end (with a checkpoint there), then resumed with twice the
-    // duration and twice the frames, it equals the straight run of the longer scene
+    // duration and twice the frames, it equals the straight run of the longer scene (a given
+    // step, so that both durations have the same one: 7500 and 15 000 steps of 8e-8 s)
     let half = common::edited_example("disc-collision.json", "restart-half", |v| {
+        v["integrator"]["time_step"] = serde_json::json!(8e-8);
         v["duration"] = serde_json::json!(0.6e-3);
         v["output"]["frames"] = serde_json::json!(12);
         v["histories"]["every"] = serde_json::json!(20);
     });
     let whole = common::edited_example("disc-collision.json", "restart-whole", |v| {
+        v["integrator"]["time_step"] = serde_json::json!(8e-8);
         v["duration"] = serde_json::json!(1.2e-3);
         v["output"]["frames"] = serde_json::json!(24);
         v["histories"]["every"] = serde_json::json!(20);
     });
-    let (a, e) = (dir.join("whole"), dir.join("extended"));
+    let (a, e) = (dir.join("whole/run"), dir.join("extended/run"));
     let (code, err) = fdem_run(&["run", s(&whole), "--out", s(&a)]);
     assert_eq!(code, 0, "{err}");
-    let (code, err) = fdem_run(&["run", s(&half), "--out", s(&e), "--checkpoint-every", "5000"]);
+    let (code, err) = fdem_run(&[
+        "run",
+        s(&half),
+        "--out",
+        s(&e),
+        "--checkpoint-every",
+        "5000",
+    ]);
     assert_eq!(code, 0, "{err}");
     let (code, err) = fdem_run(&["run", s(&whole), "--resume", s(&e)]);
     assert_eq!(code, 0, "{err}");
     assert_same_results(&a, &e);
+    assert_eq!(steps_of(&e), 15000);
+
+    // with the step fitted to the duration ("auto"), the extended run keeps its step and
+    // ends at the first step at or after the new end
+    let auto_half = common::edited_example("disc-collision.json", "restart-auto", |v| {
+        v["duration"] = serde_json::json!(0.6e-3);
+    });
+    let auto_whole = common::edited_example("disc-collision.json", "restart-auto", |_| {});
+    let f = dir.join("auto/run");
+    let (code, err) = fdem_run(&[
+        "run",
+        s(&auto_half),
+        "--out",
+        s(&f),
+        "--checkpoint-every",
+        "off",
+        "--stop-after",
+        "100",
+    ]);
+    assert_eq!(code, 4, "{err}");
+    let (code, err) = fdem_run(&["run", s(&auto_whole), "--resume", s(&f)]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(f.join("summary.json")).unwrap()).unwrap();
+    let (t, h) = (
+        v["simulated_time"].as_f64().unwrap(),
+        v["time_step"].as_f64().unwrap(),
+    );
+    assert!(
+        t >= 1.2e-3 * (1.0 - 1e-12) && t < 1.2e-3 + h,
+        "ends at {t} s, step {h} s"
+    );
 }
 
 /// `output.checkpoint_every` in a scene: steps or a wall-clock time; anything else refused at

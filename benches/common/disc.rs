@@ -95,4 +95,3 @@ pub fn scene_dir() -> PathBuf {
     std::fs::write(dir.join("disc.scene.json"), scene.to_string()).unwrap();
     dir
 }
-

@@ -42,6 +42,9 @@ pub struct Header {
     pub step: u64,
     /// Simulated time [s].
     pub time: f64,
+    /// The run's time step [s] (a fixed step; the loaded one for an adaptive step): a
+    /// resumed run keeps it, whatever its new duration.
+    pub time_step: f64,
     /// The scene file (absolute), for `fdem run --resume DIR` without a scene.
     pub scene_file: PathBuf,
 }
@@ -53,6 +56,7 @@ impl Header {
         e.put(&self.mesh);
         e.put(&self.step);
         e.put(&self.time);
+        e.put(&self.time_step);
         e.put(&self.scene_file.to_string_lossy().into_owned());
     }
 
@@ -63,6 +67,7 @@ impl Header {
             mesh: d.get()?,
             step: d.get()?,
             time: d.get()?,
+            time_step: d.get()?,
             scene_file: PathBuf::from(d.get::<String>()?),
         })
     }
@@ -379,6 +384,7 @@ mod tests {
             mesh: 2,
             step: 300,
             time: 1.5e-3,
+            time_step: 1e-7,
             scene_file: "/x/scene.json".into(),
         }
     }

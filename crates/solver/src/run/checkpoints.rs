@@ -99,7 +99,12 @@ pub fn scene_hash(l: &Loaded) -> u64 {
             h.remove("every");
         }
         // the meshes by their content (`mesh_hash`), not by their paths
-        for b in o.get_mut("bodies").and_then(|b| b.as_array_mut()).into_iter().flatten() {
+        for b in o
+            .get_mut("bodies")
+            .and_then(|b| b.as_array_mut())
+            .into_iter()
+            .flatten()
+        {
             if let Some(b) = b.as_object_mut() {
                 b.remove("mesh");
             }
@@ -127,7 +132,19 @@ pub fn header(l: &Loaded, model: &Model, step: u64, time: f64) -> Header {
         mesh: mesh_hash(model),
         step,
         time,
+        time_step: l.dt,
         scene_file: std::path::absolute(&l.file).unwrap_or_else(|_| l.file.clone()),
+    }
+}
+
+/// A resumed run keeps the time step of the run that wrote its checkpoint: with another
+/// `duration` the loaded step (fitted to the duration) differs, so the step count is that of
+/// the checkpoint's step up to the new end (the first step at or after it).
+pub fn keep_time_step(l: &mut Loaded, header: &Header) {
+    if l.dt != header.time_step {
+        l.dt = header.time_step;
+        let duration = l.scene.duration.unwrap_or(0.0);
+        l.n_steps = crate::limits::step_count(duration, l.dt) as u64;
     }
 }
 
@@ -398,6 +415,8 @@ impl<'a> Run<'a> {
             let name = c.name().to_string();
             d.section(&name, |d| c.restore(d)).map_err(bad)?;
         }
+        // a run that had reached its last step ends at once, unless its end is later now
+        let at_end = part.steps > 0 && control.is_last(part.steps, &state);
         let mut frames = FrameClock::new(l);
         frames.resume_at(part.next_frame);
         let mut run = Run {
@@ -414,7 +433,7 @@ impl<'a> Run<'a> {
             step_time: part.step_time,
             wall: Instant::now(),
             wall_before: part.wall,
-            ended: part.ended,
+            ended: part.ended || at_end,
             checkpoints: Checkpointing::new(l, options),
         };
         run.checkpoints.any = true;

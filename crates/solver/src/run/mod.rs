@@ -91,6 +91,7 @@ pub fn run_outcome(
         let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
         let cp = crate::checkpoint::read(&file)?;
         check_belongs(l, &file, &cp.header)?;
+        checkpoints::keep_time_step(l, &cp.header);
         let writer = FrameWriter::resume(options, l.scene.output.compression);
         return dynamic(l, options, progress, writer, wall, Some(&cp));
     }

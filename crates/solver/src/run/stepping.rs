@@ -137,11 +137,13 @@ impl<'a> Run<'a> {
                 self.frames.advance();
             }
             if end {
+                // an observer's goal reached before the last step (a relaxation converged):
+                // a resumed run does not go on, even with a later end
+                self.ended = !last;
                 break;
             }
             self.between_steps(observers)?;
         }
-        self.ended = true;
         if self.checkpoints.any {
             self.write_checkpoint(observers, false)?;
         }
