@@ -132,13 +132,12 @@ pub fn check_report(l: &Loaded) -> String {
     let c = &e.checkpoint;
     let _ = writeln!(
         s,
-        "a checkpoint: {:.2} MB ({:.0} bytes per triangle); the run waits {:.3} s to encode it, then it is written on a thread of its own ({:.3} s with fsync in {}); at the default interval ({}) the run waits {:.4} % of its time",
+        "a checkpoint: {:.2} MB ({:.0} bytes per triangle); the run waits {:.3} s to encode it, then it is written on a thread of its own ({:.3} s with fsync in {}); at the default interval (10 min) the run waits {:.4} % of its time",
         c.bytes as f64 / 1e6,
         c.bytes as f64 / n_tri as f64,
         c.encode,
         c.write,
         std::env::temp_dir().display(),
-        "10 min",
         100.0 * c.encode / 600.0
     );
     s

@@ -525,65 +525,6 @@ fn external_loads(m: &Model, loaded_dofs: &[usize], t: f64, buf: &mut [f64]) {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The names of the numbers of `summary.json`'s `energy` object are the ledger's column
-    /// names (those of the console and of `histories.csv`), one for one; the one other field
-    /// is the flag `residuals_booked`.
-    #[test]
-    fn summary_names_are_the_column_names() {
-        let v = serde_json::to_value(Energies::default()).unwrap();
-        let o = v.as_object().unwrap();
-        assert_eq!(o["residuals_booked"], serde_json::json!(false));
-        let mut keys: Vec<&str> = o
-            .iter()
-            .filter(|(_, v)| v.is_number())
-            .map(|(k, _)| k.as_str())
-            .collect();
-        assert_eq!(keys.len() + 1, o.len());
-        let mut names = Energies::column_names().to_vec();
-        keys.sort_unstable();
-        names.sort_unstable();
-        assert_eq!(keys, names);
-    }
-
-    /// `close` sets the totals and the error: initial + supplied - present - dissipated.
-    #[test]
-    fn close_balances_the_books() {
-        let mut e = Energies {
-            initial_kinetic: 10.0,
-            initial_stored: 1.0,
-            external_work: 3.0,
-            support_work: -2.0,
-            wall_work: 4.0,
-            kinetic: 5.0,
-            strain: 2.0,
-            stored: 1.5,
-            mass_damping: 1.0,
-            viscosity: 0.5,
-            friction: 2.0,
-            fracture: 3.0,
-            switch_loss: -0.25,
-            ..Energies::default()
-        };
-        e.close();
-        assert_eq!(e.initial, 11.0);
-        assert_eq!(e.supplied, 5.0);
-        assert_eq!(e.present, 8.5);
-        assert_eq!(e.dissipated, 6.25);
-        assert_eq!(e.error, 11.0 + 5.0 - 8.5 - 6.25);
-        assert_eq!(e.in_play, 11.0 + 3.0 + 2.0 + 4.0);
-        let d = e.describe();
-        for n in Energies::column_names() {
-            if n != "in_play" && n != "error" {
-                assert!(d.contains(&format!("{n} ")), "{n} missing from {d}");
-            }
-        }
-    }
-}
-
 impl Pack for Energies {
     fn pack(&self, e: &mut Enc) {
         e.put(&self.initial_kinetic);
@@ -712,5 +653,64 @@ impl Books {
             return Err(d.error("the energy books do not fit the scene's nodes"));
         }
         Ok(b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names of the numbers of `summary.json`'s `energy` object are the ledger's column
+    /// names (those of the console and of `histories.csv`), one for one; the one other field
+    /// is the flag `residuals_booked`.
+    #[test]
+    fn summary_names_are_the_column_names() {
+        let v = serde_json::to_value(Energies::default()).unwrap();
+        let o = v.as_object().unwrap();
+        assert_eq!(o["residuals_booked"], serde_json::json!(false));
+        let mut keys: Vec<&str> = o
+            .iter()
+            .filter(|(_, v)| v.is_number())
+            .map(|(k, _)| k.as_str())
+            .collect();
+        assert_eq!(keys.len() + 1, o.len());
+        let mut names = Energies::column_names().to_vec();
+        keys.sort_unstable();
+        names.sort_unstable();
+        assert_eq!(keys, names);
+    }
+
+    /// `close` sets the totals and the error: initial + supplied - present - dissipated.
+    #[test]
+    fn close_balances_the_books() {
+        let mut e = Energies {
+            initial_kinetic: 10.0,
+            initial_stored: 1.0,
+            external_work: 3.0,
+            support_work: -2.0,
+            wall_work: 4.0,
+            kinetic: 5.0,
+            strain: 2.0,
+            stored: 1.5,
+            mass_damping: 1.0,
+            viscosity: 0.5,
+            friction: 2.0,
+            fracture: 3.0,
+            switch_loss: -0.25,
+            ..Energies::default()
+        };
+        e.close();
+        assert_eq!(e.initial, 11.0);
+        assert_eq!(e.supplied, 5.0);
+        assert_eq!(e.present, 8.5);
+        assert_eq!(e.dissipated, 6.25);
+        assert_eq!(e.error, 11.0 + 5.0 - 8.5 - 6.25);
+        assert_eq!(e.in_play, 11.0 + 3.0 + 2.0 + 4.0);
+        let d = e.describe();
+        for n in Energies::column_names() {
+            if n != "in_play" && n != "error" {
+                assert!(d.contains(&format!("{n} ")), "{n} missing from {d}");
+            }
+        }
     }
 }
