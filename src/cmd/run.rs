@@ -97,7 +97,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         stop_after,
         resume: resume.is_some(),
     };
-    let summary = if std::io::stderr().is_terminal() {
+    let outcome = if std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(1000);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
@@ -105,7 +105,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             )
             .expect("valid template"),
         );
-        let s = driver::run(&mut loaded, &options, &mut |p: &Progress| {
+        let s = driver::run_outcome(&mut loaded, &options, &mut |p: &Progress| {
             bar.set_position((1000.0 * p.fraction()) as u64);
             bar.set_message(format!("{:.4e} s, step {}", p.time, p.step));
         });
@@ -114,7 +114,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     } else {
         let start = Instant::now();
         let mut last = -1.0f64;
-        driver::run(&mut loaded, &options, &mut |p: &Progress| {
+        driver::run_outcome(&mut loaded, &options, &mut |p: &Progress| {
             let f = p.fraction();
             if f - last >= 0.1 || f >= 1.0 && last < 1.0 {
                 last = f;
@@ -128,7 +128,19 @@ pub fn run(args: RunArgs) -> Result<()> {
             }
         })?
     };
+    let summary = &outcome.summary;
     println!("{}", summary.describe());
+    let c = &outcome.checkpoints;
+    if c.written > 0 {
+        println!(
+            "checkpoint: {} ({:.1} MB, written {} times; the run waited {:.3} s for each, the writes took {:.3} s each on their own thread)",
+            out.join(fdem_solver::checkpoint::FILE_NAME).display(),
+            c.bytes as f64 / 1e6,
+            c.written,
+            c.encode_time / c.written as f64,
+            c.write_time / c.written as f64
+        );
+    }
     // Fracturing scenes: the load-displacement curve, when the run has one (platens, or a
     // group with reaction and displacement probes).
     if out.join("fractures.csv").exists() {
@@ -140,7 +152,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     println!("results in {}", out.display());
     // A relaxation that did not reach its tolerance: its output is written, and the exit
     // code (3) says the goal was not reached.
-    if let Some(e) = fdem_solver::diagnosis::not_converged(&loaded.scene, &summary) {
+    if let Some(e) = fdem_solver::diagnosis::not_converged(&loaded.scene, summary) {
         return Err(e.into());
     }
     Ok(())

@@ -588,7 +588,8 @@ impl Pack for Energies {
 }
 
 impl Books {
-    /// Appends the books to a checkpoint (all of them: the sums and the last booked state).
+    /// Appends the books to a checkpoint: the sums and the last booked state (the masses
+    /// per DOF are the model's).
     pub fn save(&self, e: &mut Enc) {
         e.put(&self.sums);
         e.put(&self.loaded_dofs);
@@ -599,7 +600,6 @@ impl Books {
         e.put(&self.prev_r_pres);
         e.put(&self.prev_x_pres);
         e.put(&self.k_prescribed0);
-        e.put(&self.mass_dof);
         e.put(&self.alpha);
         e.put(&self.p_mass);
         e.put(&self.p_visc);
@@ -612,8 +612,9 @@ impl Books {
         e.put(&self.book_residuals);
     }
 
-    /// The books [`Books::save`] wrote, for a system of `n` nodes.
-    pub fn restore(d: &mut Dec, n: usize) -> Result<Self, DecodeError> {
+    /// The books [`Books::save`] wrote, for the system of `model`.
+    pub fn restore(d: &mut Dec, model: &Model) -> Result<Self, DecodeError> {
+        let n = model.n_nodes();
         let b = Books {
             sums: d.get()?,
             loaded_dofs: d.get()?,
@@ -624,7 +625,7 @@ impl Books {
             prev_r_pres: d.get()?,
             prev_x_pres: d.get()?,
             k_prescribed0: d.get()?,
-            mass_dof: d.vec_of_len(2 * n, "mass per DOF")?,
+            mass_dof: model.mass.iter().flat_map(|m| [*m, *m]).collect(),
             alpha: d.get()?,
             p_mass: d.get()?,
             p_visc: d.get()?,

@@ -409,7 +409,9 @@ impl<'a> Run<'a> {
         })
         .map_err(bad)?;
         d.section("control", |d| control.restore(d)).map_err(bad)?;
-        let ledger = d.section("ledger", |d| Books::restore(d, n)).map_err(bad)?;
+        let ledger = d
+            .section("ledger", |d| Books::restore(d, &sys.model))
+            .map_err(bad)?;
         d.section("system", |d| sys.restore(d)).map_err(bad)?;
         for c in &mut sys.contributions {
             let name = c.name().to_string();
