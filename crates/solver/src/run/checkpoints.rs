@@ -8,21 +8,18 @@
 //! after it is the step the uninterrupted run took, bit for bit.
 
 use std::path::Path;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use fdem_time::{Counters, SchemeState, State};
 
+use super::checkpoint_policy::Checkpointing;
 use super::frames::FrameClock;
 use super::observer::Observer;
 use super::options::RunOptions;
 use super::step_control::StepControl;
 use super::stepping::Run;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
-use crate::checkpoint::{
-    Checkpoint, CheckpointError, CheckpointWriter, DEFAULT_EVERY, Every, Header,
-};
+use crate::checkpoint::{Checkpoint, CheckpointError, Header};
 use crate::diagnosis::{Inversion, InversionWatch};
 use crate::error::RunError;
 use crate::ledger::Books;
@@ -30,61 +27,6 @@ use crate::load::Loaded;
 use crate::model::Model;
 use crate::summary::{Interrupted, write_summary};
 use crate::system::SceneSystem;
-
-/// When a run writes checkpoints and when it stops.
-#[derive(Debug)]
-pub struct Checkpointing {
-    every: Every,
-    /// Wall-clock time of the last checkpoint (or of the start).
-    last: Instant,
-    stop: Option<Arc<AtomicUsize>>,
-    stop_after: Option<u64>,
-    /// A checkpoint was written (or resumed from): the run writes one at its end too, so that
-    /// it can be extended.
-    pub(super) any: bool,
-    /// The checkpoint file's writer.
-    pub writer: CheckpointWriter,
-}
-
-impl Checkpointing {
-    /// The checkpoints of a run of `l` with `options`.
-    pub fn new(l: &Loaded, options: &RunOptions) -> Self {
-        let every = options
-            .checkpoint_every
-            .or(l.scene.output.checkpoint_every)
-            .unwrap_or(DEFAULT_EVERY);
-        Self {
-            every,
-            last: Instant::now(),
-            stop: options.stop.clone(),
-            stop_after: options.stop_after,
-            any: false,
-            writer: CheckpointWriter::new(&options.out_dir),
-        }
-    }
-
-    /// A checkpoint is due after step `step`.
-    fn due(&self, step: u64) -> bool {
-        match self.every {
-            Every::Steps(n) => step.is_multiple_of(n),
-            Every::Seconds(s) => self.last.elapsed().as_secs_f64() >= s,
-            Every::Off => false,
-        }
-    }
-
-    /// Why the run should stop after step `step`, if it should.
-    fn stop_reason(&self, step: u64) -> Option<&'static str> {
-        match self.stop.as_ref().map(|s| s.load(Ordering::Relaxed)) {
-            Some(2) => return Some("SIGINT"),
-            Some(15) => return Some("SIGTERM"),
-            Some(0) | None => {}
-            Some(_) => return Some("signal"),
-        }
-        self.stop_after
-            .is_some_and(|n| step >= n)
-            .then_some("stop_after")
-    }
-}
 
 /// The hash of what a run computes from its scene, leaving out what a resumed run may change:
 /// the title, `duration`, `output` and `histories.every`; the meshes' paths (their content is

@@ -24,6 +24,7 @@
 //! its checks' sums inside its observers' `after_step`. Every hook gets the same
 //! [`RunView`].
 
+mod checkpoint_policy;
 mod checkpoints;
 mod frames;
 mod histories;
@@ -37,7 +38,8 @@ mod stepping;
 
 use std::time::Instant;
 
-pub use checkpoints::{Checkpointing, check_belongs, header, mesh_hash, scene_hash};
+pub use checkpoint_policy::Checkpointing;
+pub use checkpoints::{check_belongs, header, mesh_hash, scene_hash};
 pub use frames::{FrameClock, FrameWriter, state_frame};
 pub use histories::Histories;
 pub use observer::{Flow, Halt, Observer, RunView};

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use fdem_time::{Integrator, SecondOrderSystem, State};
 
-use super::checkpoints::Checkpointing;
+use super::checkpoint_policy::Checkpointing;
 use super::frames::{FrameClock, state_frame};
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::options::RunOptions;
@@ -44,7 +44,7 @@ pub struct Run<'a> {
     /// The run reached its end (its last step, or a relaxation converged).
     pub(super) ended: bool,
     /// Checkpoints and stops.
-    pub(super) checkpoints: super::checkpoints::Checkpointing,
+    pub(super) checkpoints: Checkpointing,
 }
 
 impl<'a> Run<'a> {
