@@ -12,7 +12,8 @@
 //!
 //! What may change between the run that wrote a checkpoint and the run that resumes it: the
 //! end (`duration`), the output (`output`), the history interval (`histories.every`) and the
-//! title ([`scene_hash`] leaves them out); anything else is a different scene and is refused.
+//! title (`crate::run::scene_hash` leaves them out); anything else is a different scene and
+//! is refused.
 
 pub mod pack;
 

@@ -18,11 +18,12 @@
 //! observers), and the summary (`summary.json`, written by the run after the observers have
 //! added their parts).
 //!
-//! Entry points for what builds on the loop: a checkpoint is an observer that saves at
-//! `at_frame` what the view shows (state, step, books, system); a restart would build the
-//! `Run` from it in place of [`Run::start`] and call the same loop; a distributed run reduces
-//! its checks' sums inside its observers' `after_step`. Every hook gets the same
-//! [`RunView`].
+//! Checkpoints (`checkpoints.rs`, `checkpoint_policy.rs`): between two steps the run may
+//! write a checkpoint (its interval, a signal's stop, `--stop-after`): every part of the run
+//! and every observer saves itself (`Observer::save`); [`Run::resume`] builds the run from a
+//! checkpoint in place of [`Run::start`] (each part restored, no force evaluated) and enters
+//! the same loop ([`Run::resume_loop`]). A distributed run would reduce its checks' sums
+//! inside its observers' `after_step`. Every hook gets the same [`RunView`].
 
 mod checkpoint_policy;
 mod checkpoints;

@@ -55,9 +55,10 @@ pub enum Halt {
 }
 
 /// Something that follows a run: called at the start, after every step, at every frame and at
-/// the end, in the order of the run's observer list. The hooks are where a run can be
-/// entered from outside the loop: a checkpoint writer would save the state at `at_frame`,
-/// a distributed run would reduce its checks' sums at `after_step`.
+/// the end, in the order of the run's observer list, and asked to save and restore what it
+/// carries from step to step when the run writes or resumes a checkpoint. The hooks are where
+/// a run can be entered from outside the loop: a distributed run would reduce its checks'
+/// sums at `after_step`.
 pub trait Observer {
     /// Once, at the initial state: stages attached, the force at t = 0 evaluated, books open.
     fn start(&mut self, _run: &mut RunView) -> Result<(), Halt> {
