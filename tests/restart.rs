@@ -242,9 +242,10 @@ fn relaxations_resume_bit_for_bit() {
     straight_and_resumed(&scene, &[1800]);
 }
 
-/// SIGINT in the middle of a run (as Ctrl-C sends it): the run ends its step, writes a
-/// checkpoint and a summary marked interrupted, and exits with code 4; `--resume` completes
-/// it identically to a run that was never interrupted.
+/// SIGINT in the middle of a run (as Ctrl-C sends it), and SIGTERM (as a batch system sends
+/// it): the run ends its step, writes a checkpoint and a summary marked interrupted with the
+/// signal's name, and exits with code 4; `--resume` completes it identically to a run that
+/// was never interrupted.
 #[test]
 fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
     let scene = common::edited_example("disc-collision.json", "restart-sigint", |v| {
@@ -253,41 +254,48 @@ fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
         v["output"]["frames"] = serde_json::json!(40);
     });
     let dir = scene.parent().unwrap();
-    let (a, b) = (dir.join("straight/run"), dir.join("interrupted/run"));
+    let a = dir.join("straight/run");
     let (code, err) = fdem_run(&["run", s(&scene), "--out", s(&a)]);
     assert_eq!(code, 0, "{err}");
-    let child = fdem()
-        .args(["run", s(&scene), "--out", s(&b)])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while !b.join("frame_0004.vtu").exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "the run did not start"
-        );
-        std::thread::sleep(Duration::from_millis(2));
+    for signal in ["INT", "TERM"] {
+        let b = dir.join(format!("{signal}/run"));
+        let child = fdem()
+            .args(["run", s(&scene), "--out", s(&b)])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        while !b.join("frame_0004.vtu").exists() {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "the run did not start"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        let pid = child.id().to_string();
+        let sent = Command::new("kill")
+            .args([&format!("-{signal}"), &pid])
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(4), "{err}");
+        let name = format!("SIG{signal}");
+        assert!(err.contains(&format!("interrupted ({name})")), "{err}");
+        let summary: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(b.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(summary["interrupted"]["reason"], serde_json::json!(name));
+        let stopped_at = summary["steps"].as_u64().unwrap();
+        assert!(stopped_at < steps_of(&a), "stopped at step {stopped_at}");
+        let header = fdem_solver::checkpoint::read(&b.join("checkpoint.fdem"))
+            .unwrap()
+            .header;
+        assert_eq!(header.step, stopped_at);
+        let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
+        assert_eq!(code, 0, "{err}");
+        assert_same_results(&a, &b);
     }
-    let pid = child.id().to_string();
-    let killed = Command::new("kill").args(["-INT", &pid]).status().unwrap();
-    assert!(killed.success());
-    let out = child.wait_with_output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(4), "{err}");
-    assert!(err.contains("interrupted (SIGINT)"), "{err}");
-    let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(b.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["interrupted"]["reason"], "SIGINT");
-    let stopped_at = summary["steps"].as_u64().unwrap();
-    assert!(stopped_at < steps_of(&a), "stopped at step {stopped_at}");
-    let header = fdem_solver::checkpoint::read(&b.join("checkpoint.fdem"))
-        .unwrap()
-        .header;
-    assert_eq!(header.step, stopped_at);
-    let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
-    assert_eq!(code, 0, "{err}");
-    assert_same_results(&a, &b);
 }
 
 /// Every file of a folder with its bytes.
