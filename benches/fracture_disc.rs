@@ -42,10 +42,10 @@ fn bench(c: &mut Criterion) {
     let o = run_outcome(&mut l, &opts, &mut |_| {}).unwrap();
     let s = &o.summary;
     eprintln!(
-        "fracturing disc: {n_tri} triangles, dt = {:.3e} s, {STEPS} steps; wall {:.4} s (stepping {:.4e} element-steps/s); timers {}; stages {}",
+        "fracturing disc: {n_tri} triangles, dt = {:.3e} s, {STEPS} steps; wall {:.4} s (stepping {:.4e} triangle-steps/s); timers {}; stages {}",
         s.time_step,
         s.wall_time,
-        s.element_steps_per_second,
+        s.triangle_steps_per_second,
         serde_json::to_string(&s.timers).unwrap(),
         s.stages
     );

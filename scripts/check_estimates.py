@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """`fdem check`'s run-time estimate against the real run, for every shipped example
 (examples/*.json without .study.json), one at a time: the estimate of the scene's scheme
-(the `<- scene` row), the run's stepping time (triangles x steps / element_steps_per_second
+(the `<- scene` row), the run's stepping time (triangles x steps / triangle_steps_per_second
 of summary.json) and its wall time less the frame output, and their ratio. Static analyses
 have no estimate (one sparse Cholesky solve) and are listed as such.
 
@@ -33,6 +33,6 @@ for scene in sorted(glob.glob("examples/*.json")):
     subprocess.run([fdem, "run", scene, "--out", os.path.join(out, name)],
                    capture_output=True, check=True)
     s = json.load(open(os.path.join(out, name, "summary.json")))
-    stepping = s["triangles"] * s["steps"] / s["element_steps_per_second"]
+    stepping = s["triangles"] * s["steps"] / s["triangle_steps_per_second"]
     wall = s["wall_time"] - s["timers"]["output"]
     print(f"| {name} | {est:.3f} | {stepping:.3f} | {wall:.3f} | {est / stepping:.2f} |")

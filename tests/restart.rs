@@ -47,7 +47,7 @@ fn summary_without_timers(dir: &Path) -> serde_json::Value {
             o.retain(|k, _| {
                 !matches!(
                     k.as_str(),
-                    "wall_time" | "element_steps_per_second" | "timers"
+                    "wall_time" | "triangle_steps_per_second" | "timers"
                 ) && !k.ends_with("_s")
             });
             o.values_mut().for_each(strip);

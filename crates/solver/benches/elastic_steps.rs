@@ -101,8 +101,8 @@ fn bench(c: &mut Criterion) {
         let o = pool.install(|| run_outcome(&mut l, &opts, &mut |_| {}).unwrap());
         let t = o.summary.timers;
         eprintln!(
-            "{threads} thread(s): {:.3e} element-steps/s; per step: internal forces {:.2} ms, loads {:.3} ms, integration {:.2} ms",
-            o.summary.element_steps_per_second,
+            "{threads} thread(s): {:.3e} triangle-steps/s; per step: internal forces {:.2} ms, loads {:.3} ms, integration {:.2} ms",
+            o.summary.triangle_steps_per_second,
             1e3 * t.internal_forces / STEPS as f64,
             1e3 * t.external_loads / STEPS as f64,
             1e3 * t.integration / STEPS as f64

@@ -211,7 +211,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         force_evaluations: 0,
         simulated_time: 0.0,
         wall_time: 0.0,
-        element_steps_per_second: 0.0,
+        triangle_steps_per_second: 0.0,
         timers: StageTimers {
             internal_forces: solve_time,
             ..Default::default()

@@ -37,7 +37,7 @@ pub struct Summary {
     /// Wall time of the whole run [s].
     pub wall_time: f64,
     /// Triangles times steps per second of stepping wall time.
-    pub element_steps_per_second: f64,
+    pub triangle_steps_per_second: f64,
     /// Per-stage wall times [s].
     pub timers: StageTimers,
     /// The energy ledger at the end (`crate::ledger`).
@@ -83,13 +83,13 @@ impl Summary {
             )
         } else {
             format!(
-                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} element-steps/s\n",
+                "{} steps of {:.4e} s ({}), {} force evaluations, {:.2} s wall, {:.3e} triangle-steps/s\n",
                 self.steps,
                 self.time_step,
                 self.scheme,
                 self.force_evaluations,
                 self.wall_time,
-                self.element_steps_per_second
+                self.triangle_steps_per_second
             )
         };
         let t = &self.timers;

@@ -99,7 +99,7 @@ pub(super) fn print_table(stem: &str, report: &Report, out: &Path) {
             r.fraction,
             r.wall_time,
             r.force_evaluations,
-            r.element_steps_per_second / 1e6,
+            r.triangle_steps_per_second / 1e6,
             o(r.error_vs_reference),
             o(r.error_analytical),
             if r.stable { "" } else { "  UNSTABLE" }
@@ -115,7 +115,7 @@ pub(super) fn print_table(stem: &str, report: &Report, out: &Path) {
 /// `runs.csv`: one line a run.
 fn csv(runs: &[Run]) -> String {
     let mut s = String::from(
-        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,element_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error,measured2,error_measure,error_measure2\n",
+        "scheme,fraction,dt,dt_predicted,steps,stable,force_evaluations,wall_time,triangle_steps_per_second,energy_ratio,error_vs_reference,error_analytical,measured,error,measured2,error_measure,error_measure2\n",
     );
     let o = |v: Option<f64>| v.map(|v| format!("{v:e}")).unwrap_or_default();
     for r in runs {
@@ -130,7 +130,7 @@ fn csv(runs: &[Run]) -> String {
             r.stable,
             r.force_evaluations,
             r.wall_time,
-            r.element_steps_per_second,
+            r.triangle_steps_per_second,
             o(r.energy_ratio),
             o(r.error_vs_reference),
             o(r.error_analytical),

@@ -11,7 +11,7 @@
 //! 1e-5), while a growing mode shows first as a gain (OMF32 in its weak unstable band
 //! `h omega` in [3.122, 3.160], spectral radius 1.019, gains 0.35 % in 240 steps before it
 //! would blow up in a longer run). Cost: wall time of the run, force evaluations,
-//! element-steps per second.
+//! triangle-steps per second.
 
 use std::path::Path;
 
@@ -38,7 +38,7 @@ pub(super) struct Run {
     pub(super) stable: bool,
     pub(super) force_evaluations: u64,
     pub(super) wall_time: f64,
-    pub(super) element_steps_per_second: f64,
+    pub(super) triangle_steps_per_second: f64,
     /// Final K + U over the energy put in.
     pub(super) energy_ratio: Option<f64>,
     pub(super) error_vs_reference: Option<f64>,
@@ -94,7 +94,7 @@ pub(super) fn one_run(
         stable: false,
         force_evaluations: 0,
         wall_time: 0.0,
-        element_steps_per_second: 0.0,
+        triangle_steps_per_second: 0.0,
         energy_ratio: None,
         error_vs_reference: None,
         error_analytical: None,
@@ -115,7 +115,7 @@ pub(super) fn one_run(
             let s = &o.summary;
             run.wall_time = s.wall_time;
             run.force_evaluations = s.force_evaluations;
-            run.element_steps_per_second = s.element_steps_per_second;
+            run.triangle_steps_per_second = s.triangle_steps_per_second;
             let input = (s.energy.external_work + s.energy.gravity_work + s.energy.support_work)
                 .abs()
                 + s.energy.wall_work.abs()

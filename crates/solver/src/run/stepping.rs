@@ -289,7 +289,7 @@ impl<'a> Run<'a> {
             force_evaluations: sys.evaluations,
             simulated_time: state.t,
             wall_time: self.wall_before + self.wall.elapsed().as_secs_f64(),
-            element_steps_per_second: if self.step_time > 0.0 {
+            triangle_steps_per_second: if self.step_time > 0.0 {
                 sys.elements.len() as f64 * self.steps as f64 / self.step_time
             } else {
                 0.0
