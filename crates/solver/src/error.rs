@@ -123,7 +123,7 @@ pub enum RunError {
     /// The run was asked to stop (a signal, or its `stop_after` step): it wrote a checkpoint
     /// and its summary, marked interrupted.
     #[error(
-        "the run was interrupted ({reason}) at step {step} (t = {time:e} s); its checkpoint is {}\n  to continue: fdem run --resume {}",
+        "the run was interrupted ({reason}) at step {step} (t = {time:.4e} s); its checkpoint is {}\n  to continue: fdem run --resume {}",
         checkpoint.display(),
         checkpoint.parent().map_or_else(|| ".".into(), |p| p.display().to_string())
     )]
