@@ -61,7 +61,7 @@ fn f64s(v: &Value) -> Vec<f64> {
 }
 
 /// Checks the joint series of a fracturing run against the solver's raw dump, the
-/// `.vtu` files (vtkio) and fractures.csv; returns (joints, broken at the end).
+/// `.vtu` files (read back by `fdem_solver::output::vtu::read`) and fractures.csv; returns (joints, broken at the end).
 fn check_joint_series(out: &Path, o: &Outcome) -> (usize, usize) {
     let n_joints = o.summary.stages["fracture"]["joints"].as_u64().unwrap() as usize;
     let frames = pvd(&out.join("results.pvd"));

@@ -1,5 +1,5 @@
 //! The joints of a fracturing scene as a second ParaView series: `joints_NNNN.vtu` (line
-//! cells, zlib compressed, the only other module that uses vtkio) collected in `joints.pvd`,
+//! cells, written by [`super::vtu::Grid`]) collected in `joints.pvd`,
 //! written at the same frames as the triangles' `frame_NNNN.vtu`.
 //!
 //! One line cell per joint, cell `j` is joint `j` (the `joint` column of `fractures.csv`),

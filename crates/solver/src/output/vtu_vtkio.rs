@@ -306,7 +306,7 @@ mod tests {
             -1e-300,
             1.0 / 3.0,
         ];
-        if k % 7 == 0 {
+        if k.is_multiple_of(7) {
             specials[(k / 7) % specials.len()]
         } else {
             ((k as f64) * 0.618_033_988_7).sin() * 10f64.powi((k % 23) as i32 - 11)
