@@ -61,7 +61,7 @@ fn f64s(v: &Value) -> Vec<f64> {
 }
 
 /// Checks the joint series of a fracturing run against the solver's raw dump, the
-/// `.vtu` files (vtkio) and fractures.csv; returns (joints, broken at the end).
+/// `.vtu` files (read back by `fdem_solver::output::vtu::read`) and fractures.csv; returns (joints, broken at the end).
 fn check_joint_series(out: &Path, o: &Outcome) -> (usize, usize) {
     let n_joints = o.summary.stages["fracture"]["joints"].as_u64().unwrap() as usize;
     let frames = pvd(&out.join("results.pvd"));
@@ -105,27 +105,18 @@ fn check_joint_series(out: &Path, o: &Outcome) -> (usize, usize) {
             assert!(damage.iter().zip(p).all(|(a, b)| a >= b), "damage healed");
         }
         prev_damage = Some(damage.clone());
-        // The .vtu: line cells, the same damage (read back by vtkio).
-        let vtk = vtkio::Vtk::import(out.join(jf)).unwrap();
-        let vtkio::model::DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-            panic!("not an unstructured grid")
-        };
-        let vtkio::model::Piece::Inline(p) = &pieces[0] else {
-            panic!("not inline")
-        };
-        assert_eq!(p.cells.types.len(), n_joints);
+        // The .vtu: line cells, the same damage (read back by the writer's reader).
+        let arrays = fdem_solver::output::vtu::read(&std::fs::read(out.join(jf)).unwrap()).unwrap();
+        let types = arrays.iter().find(|a| a.name == "types").unwrap();
+        assert_eq!(types.bytes.len(), n_joints);
         assert!(
-            p.cells
-                .types
+            types
+                .bytes
                 .iter()
-                .all(|c| *c == vtkio::model::CellType::Line)
+                .all(|c| *c == fdem_solver::output::vtu::VTK_LINE)
         );
-        let vtkio::model::Attribute::DataArray(d) = &p.data.cell[0] else {
-            panic!()
-        };
-        assert_eq!(d.name, "damage");
-        let d: Vec<f64> = d.data.clone().cast_into().unwrap();
-        assert_eq!(d, damage);
+        assert_eq!(arrays[0].name, "damage");
+        assert_eq!(arrays[0].to_f64(), damage);
         last = Some((broken, tof));
     }
     // The last frame (end of the run) against fractures.csv: the same joints, same times.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reads fdem's ParaView output (.pvd + zlib-compressed .vtu) with meshio and with VTK's own
+# Reads fdem's ParaView output (.pvd + .vtu, raw appended zlib blocks) with meshio and with VTK's own
 # XML reader, and compares every array with the raw JSON dump the solver wrote beside each
 # frame (fdem run --raw): values must be equal bit for bit; the fracturing notched beam adds
 # the joint series (joints.pvd, line cells) and its agreement with fractures.csv.

@@ -4,7 +4,7 @@
 //! Every file is written whole or not at all ([`atomic::write_atomic`]: a temporary file in
 //! the same folder, then a rename), and the `.pvd` collection is rewritten after each frame,
 //! so an interrupted run leaves a readable result. A run owns its folder: it first removes
-//! every file an earlier run wrote there ([`folder::claim`]). vtkio is used only in [`vtu`].
+//! every file an earlier run wrote there ([`folder::claim`]).
 
 pub mod atomic;
 pub mod csv;
@@ -15,6 +15,8 @@ pub mod joint_frame;
 pub mod joints;
 pub mod pvd;
 pub mod vtu;
+#[cfg(test)]
+mod vtu_vtkio;
 
 pub use atomic::write_atomic;
 pub use csv::{csv_length, open_csv, truncate_csv};

@@ -15,7 +15,7 @@ pub struct Output {
     /// off except the summary).
     #[serde(default = "default_frames")]
     pub frames: usize,
-    /// zlib compression level 0-9 (default 6).
+    /// zlib level 0-9 of the `.vtu` files' blocks (default 1; 0 writes them uncompressed).
     #[serde(default = "default_level")]
     pub compression: u32,
     /// When the run writes a checkpoint (`checkpoint.fdem`): a number of steps, a wall-clock
@@ -29,7 +29,7 @@ fn default_frames() -> usize {
     20
 }
 fn default_level() -> u32 {
-    6
+    1
 }
 
 impl Default for Output {
