@@ -38,12 +38,11 @@ fn main() {
         c.write_time / c.written as f64
     );
     let mut times = [Vec::new(), Vec::new()];
-    for round in 0..6 {
+    for _ in 0..6 {
         for (k, every) in [Every::Off, Every::Steps(100)].into_iter().enumerate() {
             let s = Instant::now();
             run_outcome(&mut l, &with(every), &mut |_| {}).unwrap();
             times[k].push(s.elapsed().as_secs_f64());
-            let _ = round;
         }
     }
     for t in &mut times {

@@ -20,6 +20,8 @@ pub struct Checkpointing {
     /// A checkpoint was written (or resumed from): the run writes one at its end too, so that
     /// it can be extended.
     pub(super) any: bool,
+    /// The scene's and the mesh's hashes, computed at the first checkpoint.
+    pub(super) hashes: Option<(u64, u64)>,
     /// The checkpoint file's writer.
     pub writer: CheckpointWriter,
 }
@@ -37,6 +39,7 @@ impl Checkpointing {
             stop: options.stop.clone(),
             stop_after: options.stop_after,
             any: false,
+            hashes: None,
             writer: CheckpointWriter::new(&options.out_dir),
         }
     }

@@ -68,10 +68,15 @@ pub fn mesh_hash(m: &Model) -> u64 {
 /// The header of a checkpoint of `l` (its model `model`: during a run the system holds it)
 /// at `step`, time `time`.
 pub fn header(l: &Loaded, model: &Model, step: u64, time: f64) -> Header {
+    header_with(l, (scene_hash(l), mesh_hash(model)), step, time)
+}
+
+/// [`header`] with the scene's and the mesh's hashes already computed.
+fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64) -> Header {
     Header {
         version: env!("CARGO_PKG_VERSION").to_string(),
-        scene: scene_hash(l),
-        mesh: mesh_hash(model),
+        scene,
+        mesh,
         step,
         time,
         time_step: l.dt,
@@ -229,8 +234,13 @@ impl<'a> Run<'a> {
     ) -> Result<(), RunError> {
         let s = Instant::now();
         let state = self.encode(observers)?;
+        let (l, model) = (self.loaded, &self.sys.model);
+        let hashes = *self
+            .checkpoints
+            .hashes
+            .get_or_insert_with(|| (scene_hash(l), mesh_hash(model)));
         let file = crate::checkpoint::encode_file(
-            &header(self.loaded, &self.sys.model, self.steps, self.state.t),
+            &header_with(self.loaded, hashes, self.steps, self.state.t),
             &state,
         );
         let w = &mut self.checkpoints.writer;
