@@ -1,14 +1,15 @@
 //! The joint-force pass over all joints and the end-of-step commit.
 //!
 //! One fused pass ([`accumulate_joint_forces`]) evaluates every intact joint at the given
-//! positions with the committed history: its four nodal forces go into a per-joint buffer,
-//! and everything the commit needs (trial damage, mode indicator and shear secant, the work
+//! positions with the committed history: its four nodal forces go to their slots in the
+//! node-to-joint list (a buffer in the list's order, so the gather below reads it in order
+//! instead of jumping between joints), and everything the commit needs (trial damage, mode indicator and shear secant, the work
 //! conjugates `[A sigma, A tau, o, s]`, the stored energy, and the work and dissipation books
 //! advanced by the trapezoidal rule) goes into the trial arrays of the caller's
 //! [`JointScratch`], one array per field. The pass runs in parallel over fixed chunks of
 //! [`CHUNK`] joints; each chunk also records whether one of its joints softened for the
 //! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
-//! the [`JointSet`]) and adds the sum to the node force.
+//! the [`JointSet`], increasing joint order) and adds the sum to the node force.
 //!
 //! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
 //! central-difference step) swaps the trial arrays with the committed ones (no copy, no
@@ -22,10 +23,13 @@
 //! that joint only, the chunks are fixed, and the node sums run in a fixed order), and nothing
 //! is allocated per step (except when an event is pushed to the caller's vector).
 
+use std::sync::atomic::AtomicU64;
+use std::sync::atomic::Ordering::Relaxed;
+
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, evaluate_into};
+use crate::joint::{EvalOut, JointNodes, evaluate_into};
 use crate::set::{JointId, JointSet};
 use crate::state::{JointHistory, JointState};
 
@@ -52,7 +56,13 @@ const BREAKS: u8 = 2;
 /// Per-joint scratch of the pass, owned by the stepping code.
 #[derive(Debug, Clone, Default)]
 pub struct JointScratch {
-    forces: Vec<[[f64; 2]; 4]>,
+    /// The nodal forces of the last pass by node slot, in the order of the set's node-slot
+    /// list ([`JointSet::node_slots`]): the pass scatters each joint's four forces to their
+    /// slots, and the per-node gather then reads this array in order.
+    slot_forces: SlotBuf,
+    /// Per slot `4 j + k` (node k of joint j), its index in the node-slot list (the inverse
+    /// permutation of [`JointSet::node_slots`]).
+    slot_pos: Vec<u32>,
     /// Trial history of the last pass (the committed one after a commit swapped them).
     trial: Vec<JointHistory>,
     /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
@@ -83,15 +93,13 @@ impl JointScratch {
 
     /// Sizes the buffers for `n` joints (no-op when they already are).
     fn fit(&mut self, n: usize) {
-        if self.trial.is_empty() && self.forces.is_empty() {
+        if self.trial.is_empty() {
             // first sizing: filled in parallel (the pages are touched by both threads)
             self.trial
                 .par_extend(rayon::iter::repeat_n(JointHistory::FRESH, n));
-            self.forces
-                .par_extend(rayon::iter::repeat_n([[0.0; 2]; 4], n));
         }
         self.trial.resize(n, JointHistory::FRESH);
-        self.forces.resize(n, [[0.0; 2]; 4]);
+        self.slot_forces.fit(4 * n);
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
             self.softened.reserve(256);
@@ -109,9 +117,29 @@ impl JointScratch {
         }
     }
 
-    /// The nodal forces (P, Q, R, S) of the last pass (zero for broken joints).
-    pub fn forces(&self) -> &[[[f64; 2]; 4]] {
-        &self.forces
+    /// The nodal forces (P, Q, R, S) of joint `j` at the last pass of `set` (zero for a broken
+    /// joint).
+    pub fn joint_forces(&self, set: &JointSet, j: usize) -> [[f64; 2]; 4] {
+        let pos = if self.slot_pos.len() == 4 * set.len() {
+            &self.slot_pos[4 * j..4 * j + 4]
+        } else {
+            &[][..]
+        };
+        std::array::from_fn(|k| {
+            pos.get(k)
+                .map_or([0.0; 2], |&p| self.slot_forces.get(p as usize))
+        })
+    }
+
+    /// Builds the slot positions of `set` (once: a scratch serves one joint set).
+    fn fit_slots(&mut self, set: &JointSet) {
+        if self.slot_pos.len() == set.node_slots.len() {
+            return;
+        }
+        self.slot_pos = vec![0; set.node_slots.len()];
+        for (p, &slot) in set.node_slots.iter().enumerate() {
+            self.slot_pos[slot as usize] = p as u32;
+        }
     }
 
     /// The joints whose damage became positive (at either point, from zero at both) at the
@@ -149,20 +177,23 @@ fn trial_pass_impl<const OFF: bool>(
 ) {
     let n = set.len();
     scratch.fit(n);
+    scratch.fit_slots(set);
     let th = set.thickness;
+    let slot_pos = &scratch.slot_pos;
+    let out = &scratch.slot_forces;
     (
-        scratch.forces.par_chunks_mut(CHUNK),
         scratch.trial.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(|(c, (f, h, flag))| {
+        .for_each(|(c, (h, flag))| {
             let j0 = c * CHUNK;
             // the committed history and the joint data of this chunk, cut to its length
-            let n = f.len().min(h.len());
+            let n = h.len();
             let r = j0..j0 + n;
+            let pos = &slot_pos[4 * j0..4 * (j0 + n)];
             let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
             let (nodes, consts, material) = (
                 &set.nodes[r.clone()],
@@ -174,38 +205,42 @@ fn trial_pass_impl<const OFF: bool>(
             } else {
                 &[][..]
             };
-            let mut fl = 0u8;
-            for i in 0..n {
-                let ho = &old[i];
-                if !intact[i] {
-                    // a broken joint keeps its books; no force
-                    f[i] = [[0.0; 2]; 4];
-                    h[i] = *ho;
-                    continue;
-                }
+            let gather = |i: usize| -> JointNodes {
                 let [np, nq, nr, ns] = nodes[i];
-                let xs = [
+                [
                     x[np as usize],
                     x[nq as usize],
                     x[nr as usize],
                     x[ns as usize],
-                ];
-                let hn = &mut h[i];
+                ]
+            };
+            let slots = |i: usize| [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
+            // one joint on the general path: its forces and trial history; returns its flags
+            let one = |i: usize, hn: &mut JointHistory| -> u8 {
+                let ho = &old[i];
+                if !intact[i] {
+                    // a broken joint keeps its books; no force
+                    out.put(slots(i), [[0.0; 2]; 4]);
+                    *hn = *ho;
+                    return 0;
+                }
+                let mut fj = [[0.0; 2]; 4];
                 let stored = evaluate_into::<true, OFF>(
                     &set.materials[material[i] as usize],
                     &consts[i],
-                    &xs,
+                    &gather(i),
                     [ho.damage, ho.mode_mix, ho.shear_secant],
                     th,
                     if OFF { offsets[i] } else { [0.0; 2] },
                     EvalOut {
-                        forces: &mut f[i],
+                        forces: &mut fj,
                         damage: &mut hn.damage,
                         mode_mix: &mut hn.mode_mix,
                         shear_secant: &mut hn.shear_secant,
                         local: &mut hn.last,
                     },
                 );
+                out.put(slots(i), fj);
                 // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
                 let (a, b) = (&ho.last, &hn.last);
                 let mut dw = 0.0;
@@ -217,15 +252,73 @@ fn trial_pass_impl<const OFF: bool>(
                 hn.work = ho.work + dw;
                 hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
                 hn.stored = stored;
+                let mut fl = 0;
                 if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
                     fl |= SOFTENED;
                 }
                 if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
                     fl |= BREAKS;
                 }
+                fl
+            };
+            let mut fl = 0u8;
+            for (i, hn) in h.iter_mut().enumerate() {
+                fl |= one(i, hn);
             }
             *flag = fl;
         });
+}
+
+/// The nodal forces of a pass by node slot, written by the parallel pass: each joint writes
+/// its own four slots (the slot positions are a permutation, so no two joints write the same
+/// entry). The `f64` bits are held in relaxed atomics: plain loads and stores on the machine,
+/// and safe to write from the pass's chunks.
+#[derive(Debug, Default)]
+struct SlotBuf(Vec<[AtomicU64; 2]>);
+
+impl Clone for SlotBuf {
+    fn clone(&self) -> Self {
+        SlotBuf(
+            self.0
+                .iter()
+                .map(|e| [0, 1].map(|d| AtomicU64::new(e[d].load(Relaxed))))
+                .collect(),
+        )
+    }
+}
+
+impl SlotBuf {
+    /// Sizes the buffer for `n` slots (the pages touched in parallel on the first sizing).
+    fn fit(&mut self, n: usize) {
+        if self.0.len() != n {
+            self.0 = Vec::new();
+            self.0.par_extend(
+                (0..n)
+                    .into_par_iter()
+                    .map(|_| [AtomicU64::new(0), AtomicU64::new(0)]),
+            );
+        }
+    }
+
+    /// Writes a joint's four nodal forces to its slots.
+    #[inline(always)]
+    fn put(&self, slots: [u32; 4], f: [[f64; 2]; 4]) {
+        for k in 0..4 {
+            let e = &self.0[slots[k] as usize];
+            e[0].store(f[k][0].to_bits(), Relaxed);
+            e[1].store(f[k][1].to_bits(), Relaxed);
+        }
+    }
+
+    /// The force in slot `p`.
+    #[inline(always)]
+    fn get(&self, p: usize) -> [f64; 2] {
+        let e = &self.0[p];
+        [
+            f64::from_bits(e[0].load(Relaxed)),
+            f64::from_bits(e[1].load(Relaxed)),
+        ]
+    }
 }
 
 /// Fully damaged (z(1) = 0: no tension, no shear) and open at both points: the joint carries
@@ -258,14 +351,14 @@ pub fn accumulate_joint_forces(
     // deterministic); the positions are kept for the commit on the way, unless the caller
     // turned the check off
     // slot 4 j + k of the flat list is node k of joint j
-    let forces = scratch.forces.as_flattened();
-    let (offsets, slots) = (&set.node_offsets, &set.node_slots);
+    let forces = &scratch.slot_forces;
+    let offsets = &set.node_offsets;
     let gather = |c: usize, fc: &mut [[f64; 2]]| {
         let i0 = c * NODE_CHUNK;
         let off = &offsets[i0..i0 + fc.len() + 1];
         for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
-            for &js in &slots[w[0] as usize..w[1] as usize] {
-                let fe = forces[js as usize];
+            for p in w[0] as usize..w[1] as usize {
+                let fe = forces.get(p);
                 fi[0] += fe[0];
                 fi[1] += fe[1];
             }

@@ -54,7 +54,7 @@ impl Rig {
         let x = positions(o, s);
         let mut f = [[0.0; 2]; 4];
         accumulate_joint_forces(&self.set, &self.state, &x, &mut self.scratch, &mut f);
-        let trial_forces = self.scratch.forces()[0];
+        let trial_forces = self.scratch.joint_forces(&self.set, 0);
         let area = 0.5 * H * T;
         self.time += 1.0;
         commit_joints(
