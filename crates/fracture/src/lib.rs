@@ -73,7 +73,10 @@ pub use joint::{
     evaluate_offset, kinematics, point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput};
-pub use pass::{JointScratch, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass};
+pub use pass::{
+    JointScratch, accumulate_joint_forces, accumulate_joint_forces_committing, commit_joints,
+    commit_joints_at_last_pass,
+};
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
 pub use state::{JointEnergy, JointHistory, JointState, JointStateSnapshot};

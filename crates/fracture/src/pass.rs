@@ -16,8 +16,13 @@
 //! re-evaluation); at other positions it runs the pass first. The positions are compared
 //! bit for bit with a copy the pass keeps; a caller that knows the commit is at the last
 //! pass's positions (the solver, told by the time crate's FSAL schemes) turns that copy off
-//! ([`JointScratch::set_position_check`]) and commits with [`commit_joints_at_last_pass`]. Breaking and the list of newly
-//! softened joints then visit only the flagged chunks, in joint order.
+//! ([`JointScratch::set_position_check`]) and commits with [`commit_joints_at_last_pass`]. A
+//! caller that knows, before a pass, that the commit at its positions follows with no other
+//! pass in between (central difference, told by the time crate) calls
+//! [`accumulate_joint_forces_committing`]: the pass then writes each joint's new history over
+//! its committed one (no trial array to fill and swap: a third less memory traffic for the
+//! histories) and marks the joints that soften. Breaking and the list of newly softened
+//! joints then visit only the flagged chunks, in joint order.
 //!
 //! Results are bit-identical whatever the number of threads (each joint's values depend on
 //! that joint only, the chunks are fixed, and the node sums run in a fixed order), and nothing
@@ -29,7 +34,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, JointNodes, evaluate_into};
+use crate::joint::{EvalOut, evaluate_into};
 use crate::set::{JointId, JointSet};
 use crate::state::{JointHistory, JointState};
 
@@ -76,6 +81,11 @@ pub struct JointScratch {
     valid: Option<u64>,
     /// Joints whose damage became positive at the last commit.
     softened: Vec<u32>,
+    /// Per joint: 1 when an in-place pass saw its damage become positive (cleared by the
+    /// commit).
+    marks: Vec<u8>,
+    /// The generation of the state whose history an in-place pass advanced, until the commit.
+    in_place: Option<u64>,
 }
 
 /// Minimum number of chunks per rayon task: everything on the calling thread for small sets.
@@ -178,9 +188,13 @@ fn trial_pass_impl<const OFF: bool>(
     let n = set.len();
     scratch.fit(n);
     scratch.fit_slots(set);
-    let th = set.thickness;
-    let slot_pos = &scratch.slot_pos;
-    let out = &scratch.slot_forces;
+    let inp = PassIn {
+        set,
+        intact: &state.intact,
+        x,
+        slot_pos: &scratch.slot_pos,
+        out: &scratch.slot_forces,
+    };
     (
         scratch.trial.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
@@ -190,83 +204,141 @@ fn trial_pass_impl<const OFF: bool>(
         .enumerate()
         .for_each(|(c, (h, flag))| {
             let j0 = c * CHUNK;
-            // the committed history and the joint data of this chunk, cut to its length
-            let n = h.len();
-            let r = j0..j0 + n;
-            let pos = &slot_pos[4 * j0..4 * (j0 + n)];
-            let (old, intact) = (&state.history[r.clone()], &state.intact[r.clone()]);
-            let (nodes, consts, material) = (
-                &set.nodes[r.clone()],
-                &set.consts[r.clone()],
-                &set.material[r.clone()],
-            );
-            let offsets = if OFF {
-                &set.initial_offsets[r]
-            } else {
-                &[][..]
-            };
-            let gather = |i: usize| -> JointNodes {
-                let [np, nq, nr, ns] = nodes[i];
-                [
-                    x[np as usize],
-                    x[nq as usize],
-                    x[nr as usize],
-                    x[ns as usize],
-                ]
-            };
-            let slots = |i: usize| [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
-            // one joint on the general path: its forces and trial history; returns its flags
-            let one = |i: usize, hn: &mut JointHistory| -> u8 {
-                let ho = &old[i];
-                if !intact[i] {
-                    // a broken joint keeps its books; no force
-                    out.put(slots(i), [[0.0; 2]; 4]);
-                    *hn = *ho;
-                    return 0;
-                }
-                let mut fj = [[0.0; 2]; 4];
-                let stored = evaluate_into::<true, OFF>(
-                    &set.materials[material[i] as usize],
-                    &consts[i],
-                    &gather(i),
-                    [ho.damage, ho.mode_mix, ho.shear_secant],
-                    th,
-                    if OFF { offsets[i] } else { [0.0; 2] },
-                    EvalOut {
-                        forces: &mut fj,
-                        damage: &mut hn.damage,
-                        mode_mix: &mut hn.mode_mix,
-                        shear_secant: &mut hn.shear_secant,
-                        local: &mut hn.last,
-                    },
-                );
-                out.put(slots(i), fj);
-                // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
-                let (a, b) = (&ho.last, &hn.last);
-                let mut dw = 0.0;
-                for p in 0..2 {
-                    let q = 4 * p;
-                    dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
-                        + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
-                }
-                hn.work = ho.work + dw;
-                hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
-                hn.stored = stored;
-                let mut fl = 0;
-                if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
-                    fl |= SOFTENED;
-                }
-                if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
-                    fl |= BREAKS;
-                }
-                fl
-            };
-            let mut fl = 0u8;
-            for (i, hn) in h.iter_mut().enumerate() {
-                fl |= one(i, hn);
-            }
-            *flag = fl;
+            let old = &state.history[j0..j0 + h.len()];
+            *flag = chunk_pass::<OFF, false>(&inp, j0, old, h, &mut []);
         });
+}
+
+/// The pass of [`accumulate_joint_forces_committing`]: every joint's new history written over
+/// its committed one, the joints that soften marked in `scratch.marks`.
+fn in_place_pass<const OFF: bool>(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+) {
+    let n = set.len();
+    scratch.fit_slots(set);
+    scratch.slot_forces.fit(4 * n);
+    scratch.flags.resize(n.div_ceil(CHUNK), 0);
+    scratch.marks.resize(n, 0);
+    let inp = PassIn {
+        set,
+        intact: &state.intact,
+        x,
+        slot_pos: &scratch.slot_pos,
+        out: &scratch.slot_forces,
+    };
+    (
+        state.history.par_chunks_mut(CHUNK),
+        scratch.marks.par_chunks_mut(CHUNK),
+        scratch.flags.par_iter_mut(),
+    )
+        .into_par_iter()
+        .with_min_len(min_chunks(n))
+        .enumerate()
+        .for_each(|(c, (h, marks, flag))| {
+            *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, &[], h, marks);
+        });
+}
+
+/// What a pass reads besides the histories, and where it puts the forces.
+struct PassIn<'a> {
+    set: &'a JointSet,
+    intact: &'a [bool],
+    x: &'a [[f64; 2]],
+    slot_pos: &'a [u32],
+    out: &'a SlotBuf,
+}
+
+/// One chunk of a pass, joints `j0..j0 + h.len()`: each joint's forces to its slots and its new
+/// history to `h`, from its committed history in `old` (or, `IN_PLACE`, in `h` itself, where
+/// the new one replaces it and a joint that softens gets a mark in `marks`). With `OFF` the
+/// law sees the joints' initial offsets. Returns the chunk's flags.
+#[inline(always)]
+fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
+    inp: &PassIn<'_>,
+    j0: usize,
+    old: &[JointHistory],
+    h: &mut [JointHistory],
+    marks: &mut [u8],
+) -> u8 {
+    let (set, x, out) = (inp.set, inp.x, inp.out);
+    let th = set.thickness;
+    let n = h.len();
+    let r = j0..j0 + n;
+    let pos = &inp.slot_pos[4 * j0..4 * (j0 + n)];
+    let intact = &inp.intact[r.clone()];
+    let (nodes, consts, material) = (
+        &set.nodes[r.clone()],
+        &set.consts[r.clone()],
+        &set.material[r.clone()],
+    );
+    let offsets = if OFF {
+        &set.initial_offsets[r]
+    } else {
+        &[][..]
+    };
+    let mut fl = 0u8;
+    for i in 0..n {
+        let slots = [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
+        // the committed history: a copy when it is about to be overwritten
+        let ho = if IN_PLACE { h[i] } else { old[i] };
+        let hn = &mut h[i];
+        if !intact[i] {
+            // a broken joint keeps its books (in place: untouched); no force
+            out.put(slots, [[0.0; 2]; 4]);
+            if !IN_PLACE {
+                *hn = ho;
+            }
+            continue;
+        }
+        let [np, nq, nr, ns] = nodes[i];
+        let xs = [
+            x[np as usize],
+            x[nq as usize],
+            x[nr as usize],
+            x[ns as usize],
+        ];
+        let mut fj = [[0.0; 2]; 4];
+        let stored = evaluate_into::<true, OFF>(
+            &set.materials[material[i] as usize],
+            &consts[i],
+            &xs,
+            [ho.damage, ho.mode_mix, ho.shear_secant],
+            th,
+            if OFF { offsets[i] } else { [0.0; 2] },
+            EvalOut {
+                forces: &mut fj,
+                damage: &mut hn.damage,
+                mode_mix: &mut hn.mode_mix,
+                shear_secant: &mut hn.shear_secant,
+                local: &mut hn.last,
+            },
+        );
+        out.put(slots, fj);
+        // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
+        let (a, b) = (&ho.last, &hn.last);
+        let mut dw = 0.0;
+        for p in 0..2 {
+            let q = 4 * p;
+            dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
+                + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
+        }
+        hn.work = ho.work + dw;
+        hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
+        hn.stored = stored;
+        if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
+            fl |= SOFTENED;
+            if IN_PLACE {
+                marks[i] = 1;
+            }
+        }
+        if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
+            fl |= BREAKS;
+        }
+    }
+    fl
 }
 
 /// The nodal forces of a pass by node slot, written by the parallel pass: each joint writes
@@ -346,7 +418,48 @@ pub fn accumulate_joint_forces(
 ) {
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
     check_sizes(set, state, x);
+    assert!(
+        scratch.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
     trial_pass(set, state, x, scratch);
+    gather(set, x, scratch, f);
+    scratch.valid = Some(state.generation);
+}
+
+/// [`accumulate_joint_forces`] for the last force evaluation of a step that ends with
+/// [`commit_joints_at_last_pass`] at these positions `x`, with no other joint pass in between
+/// (the caller knows it: the time crate's central difference says so before its evaluation).
+/// Each joint's new history is written over its committed one instead of into the scratch's
+/// trial arrays, and the commit then only books the breaks and the newly softened joints: the
+/// same forces, histories and events bit for bit, with one history array less to read and
+/// write per step.
+pub fn accumulate_joint_forces_committing(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+    f: &mut [[f64; 2]],
+) {
+    assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
+    check_sizes(set, state, x);
+    assert!(
+        scratch.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
+    if set.initial_offsets.is_empty() {
+        in_place_pass::<false>(set, state, x, scratch);
+    } else {
+        in_place_pass::<true>(set, state, x, scratch);
+    }
+    gather(set, x, scratch, f);
+    scratch.valid = None;
+    scratch.in_place = Some(state.generation);
+}
+
+/// The per-node gather of the last pass's slot forces into `f`; the positions are kept for the
+/// commit on the way, unless the caller turned the check off.
+fn gather(set: &JointSet, x: &[[f64; 2]], scratch: &mut JointScratch, f: &mut [[f64; 2]]) {
     // gather per node over its (joint, slot) list in joint order (parallel and
     // deterministic); the positions are kept for the commit on the way, unless the caller
     // turned the check off
@@ -381,7 +494,6 @@ pub fn accumulate_joint_forces(
                 gather(c, fc);
             });
     }
-    scratch.valid = Some(state.generation);
 }
 
 /// True when `a` and `b` hold the same positions (`==` on every coordinate).
@@ -452,12 +564,21 @@ fn commit(
     at_last_pass: bool,
 ) -> usize {
     let n = set.len();
-    let reuse = at_last_pass && scratch.valid == Some(state.generation);
-    scratch.valid = None;
-    if !reuse {
-        trial_pass(set, state, x, scratch);
+    let in_place = scratch.in_place.take().is_some();
+    if in_place {
+        // the pass wrote the new history over the committed one
+        assert!(
+            at_last_pass,
+            "an in-place joint pass must be committed at its positions"
+        );
+    } else {
+        let reuse = at_last_pass && scratch.valid == Some(state.generation);
+        if !reuse {
+            trial_pass(set, state, x, scratch);
+        }
+        std::mem::swap(&mut state.history, &mut scratch.trial);
     }
-    std::mem::swap(&mut state.history, &mut scratch.trial);
+    scratch.valid = None;
     state.generation += 1;
     scratch.softened.clear();
     let mut n_new = 0;
@@ -470,9 +591,17 @@ fn commit(
                 continue;
             }
             let h = &mut state.history[j];
-            // the arrays swapped: the scratch holds the history before the step
-            if fl & SOFTENED != 0 && scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2] {
-                scratch.softened.push(j as u32);
+            // the arrays swapped: the scratch holds the history before the step (in place:
+            // the pass marked the joints that softened)
+            if fl & SOFTENED != 0 {
+                let softened = if in_place {
+                    std::mem::take(&mut scratch.marks[j]) != 0
+                } else {
+                    scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2]
+                };
+                if softened {
+                    scratch.softened.push(j as u32);
+                }
             }
             if fl & BREAKS != 0
                 && h.damage[0] >= 1.0

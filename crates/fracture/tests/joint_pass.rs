@@ -291,3 +291,89 @@ fn commit_at_last_pass_without_position_copy_matches_the_checked_commit() {
     assert_eq!(e1, e2, "energies differ");
     assert_eq!(ev1, ev2, "events differ");
 }
+
+#[test]
+fn in_place_pass_matches_the_trial_pass_and_its_commit() {
+    // 30 load steps of a 60 x 40 exploded grid, each a pass and a commit at its positions:
+    // the pass into the scratch's trial arrays (then swapped) against the pass that writes the
+    // new history over the committed one, on 2 threads; plain joints and prestressed ones
+    // (initial offsets). Forces, the newly softened lists, histories, energies and events
+    // equal bit for bit, and joints soften and break on the way.
+    let mesh = exploded_grid(60, 40, 0.005, 0.005);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for prestressed in [false, true] {
+        let mut set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+        if prestressed {
+            let t0: Vec<[f64; 2]> = (0..set.len())
+                .map(|j| [-1e6, 0.5e6 * ((j % 3) as f64 - 1.0)])
+                .collect();
+            set.set_initial_tractions(&t0).unwrap();
+        }
+        let run = |in_place: bool| {
+            pool.install(|| {
+                let mut state = JointState::new(&set, &mesh.x);
+                let mut scratch = JointScratch::new(set.len());
+                scratch.set_position_check(false);
+                let mut events = Vec::new();
+                let mut forces = Vec::new();
+                let mut softened = Vec::new();
+                let dx = perturbed(&mesh, 1e-6, 11);
+                for step in 1..=30 {
+                    let s = step as f64;
+                    let x: Vec<[f64; 2]> = mesh
+                        .x
+                        .iter()
+                        .zip(&dx)
+                        .map(|(p, d)| [p[0] + s * (d[0] + 1e-4 * p[0]), p[1] + s * d[1]])
+                        .collect();
+                    let mut f = vec![[0.0; 2]; mesh.x.len()];
+                    if in_place {
+                        accumulate_joint_forces_committing(
+                            &set,
+                            &mut state,
+                            &x,
+                            &mut scratch,
+                            &mut f,
+                        );
+                    } else {
+                        accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
+                    }
+                    commit_joints_at_last_pass(
+                        &set,
+                        &mut state,
+                        &x,
+                        s * 1e-6,
+                        &mut scratch,
+                        &mut events,
+                    );
+                    forces.push(
+                        f.iter()
+                            .flat_map(|p| p.map(f64::to_bits))
+                            .collect::<Vec<_>>(),
+                    );
+                    softened.push(scratch.newly_softened().to_vec());
+                }
+                (forces, softened, state.energy(), state.history, events)
+            })
+        };
+        let (f1, s1, e1, h1, ev1) = run(false);
+        let (f2, s2, e2, h2, ev2) = run(true);
+        let n_softened: usize = s1.iter().map(Vec::len).sum();
+        assert!(
+            n_softened > 0 && !ev1.is_empty(),
+            "prestressed {prestressed}: {n_softened} softened, {} broken",
+            ev1.len()
+        );
+        assert!(f1 == f2, "prestressed {prestressed}: forces differ");
+        assert_eq!(
+            s1, s2,
+            "prestressed {prestressed}: newly softened joints differ"
+        );
+        assert_eq!(h1, h2, "prestressed {prestressed}: histories differ");
+        assert_eq!(e1, e2, "prestressed {prestressed}: energies differ");
+        assert_eq!(ev1, ev2, "prestressed {prestressed}: events differ");
+    }
+}

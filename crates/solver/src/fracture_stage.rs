@@ -34,8 +34,8 @@ use std::sync::{Arc, Mutex};
 
 use fdem_fracture::{
     FractureError, FractureEvent, Joint, JointHistory, JointScratch, JointSet, JointState,
-    JointStateSnapshot, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass,
-    joint_omega_sq_bound,
+    JointStateSnapshot, accumulate_joint_forces, accumulate_joint_forces_committing, commit_joints,
+    commit_joints_at_last_pass, joint_omega_sq_bound,
 };
 use fdem_mesh::Mesh;
 use serde::Serialize;
@@ -301,6 +301,10 @@ pub struct FractureStage {
     /// True when the joint series carries each joint's strengths and fracture energies (a
     /// scene of several joint materials or drawn ones: `FractureSection::varied_joints`).
     pub(crate) write_properties: bool,
+    /// The next force evaluation is the step's last, committed at its positions (set by
+    /// [`ForceContribution::next_evaluation_ends_step`], cleared by that evaluation; never
+    /// set between steps, so not in checkpoints).
+    ends_step: bool,
 }
 
 impl FractureStage {
@@ -389,6 +393,7 @@ impl FractureStage {
                 csv,
                 csv_wanted: out_dir.is_some(),
                 write_properties: false,
+                ends_step: false,
             },
             bonded,
             report,
@@ -693,7 +698,17 @@ impl ForceContribution for FractureStage {
     }
 
     fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
-        accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
+        if std::mem::take(&mut self.ends_step) {
+            // the step's commit follows at these positions: the new histories go straight
+            // into the state (no trial copy to write and swap)
+            accumulate_joint_forces_committing(&self.set, &mut self.state, x, &mut self.scratch, f);
+        } else {
+            accumulate_joint_forces(&self.set, &self.state, x, &mut self.scratch, f);
+        }
+    }
+
+    fn next_evaluation_ends_step(&mut self) {
+        self.ends_step = true;
     }
 
     /// The joints' forces depend on the positions and the committed history only.

@@ -35,6 +35,12 @@ pub trait ForceContribution: Send {
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]);
     /// Commits history at the end of an accepted step (default: nothing).
     fn end_of_step(&mut self, _t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {}
+    /// The next [`ForceContribution::add_forces`] call is the last of the step, and
+    /// [`ForceContribution::end_of_step_at_last_evaluation`] follows at its positions with no
+    /// other call in between (the time crate's
+    /// [`SecondOrderSystem::next_evaluation_ends_step`]): a term may advance its history in
+    /// that call. Default: nothing.
+    fn next_evaluation_ends_step(&mut self) {}
     /// Called instead of [`ForceContribution::end_of_step`] when the step's last
     /// [`ForceContribution::add_forces`] call was at these positions `x`, bit for bit (the
     /// time crate's [`SecondOrderSystem::end_of_step_at_last_evaluation`]): a term may reuse
@@ -352,6 +358,12 @@ impl SecondOrderSystem for SceneSystem {
             let (u, vel) = p.motion(t);
             x[d] = self.x0[d] + u;
             v[d] = vel;
+        }
+    }
+
+    fn next_evaluation_ends_step(&mut self) {
+        for c in &mut self.contributions {
+            c.next_evaluation_ends_step();
         }
     }
 

@@ -66,6 +66,7 @@ impl Integrator for CentralDifference {
         let State { x, v, .. } = state;
         kernels::kick_drift(v, x, &c.a, 0.5 * h, h);
         c.constrain(system, t1, x, v);
+        system.next_evaluation_ends_step();
         c.eval_lead(system, t1, x, v, 0.5 * h);
         kernels::kick(v, &c.a, 0.5 * h);
         c.constrain(system, t1, x, v);

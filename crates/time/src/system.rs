@@ -92,6 +92,13 @@ pub trait SecondOrderSystem {
         let _ = (t, x, v);
     }
 
+    /// Says that the next [`acceleration`](Self::acceleration) call is the last of the step:
+    /// the step then ends with [`end_of_step_at_last_evaluation`](Self::end_of_step_at_last_evaluation)
+    /// at that call's positions and time, with no other call in between (central difference
+    /// says so before its one evaluation per step). A system may then advance its history in
+    /// that evaluation instead of keeping a trial copy for the commit. Default: nothing.
+    fn next_evaluation_ends_step(&mut self) {}
+
     /// Called instead of [`end_of_step`](Self::end_of_step) when the step's last
     /// [`acceleration`](Self::acceleration) call was at these positions `x` and time `t`,
     /// bit for bit (the velocities may have changed since): central difference, CHIN, OMF30
