@@ -1,4 +1,4 @@
-//! Element-steps per second of a fracturing Brazilian disc of about 10^5 triangles, whole
+//! Triangle-steps per second of a fracturing Brazilian disc of about 10^5 triangles, whole
 //! solver (`driver::run_outcome`: elements, joints, contact with the platens and between the
 //! exploded triangles, central difference, energy books), output off, on 1 and 2 threads.
 //!

@@ -12,7 +12,9 @@
 //! program and thread count; `THREADS` (default `1,2`) the thread counts. The lines give the
 //! whole job's time, the stepping rate from `summary.json` (triangle-steps per second of the
 //! stepping loop, frames excluded) and the ratios base / this. With `KEEP=1` the folder with
-//! the mesh and the job's scene (`disc-job.scene.json`) is kept, for profiling.
+//! the mesh and the job's scene (`disc-job.scene.json`) is kept, for profiling. `RINGS`
+//! (default 129) sets the rings of the disc's mesh, 6 RINGS^2 triangles: a smaller disc shows
+//! how the thread scaling depends on whether the run's data fit the processor's caches.
 //!
 //! ```text
 //! cargo bench --bench whole_run
@@ -94,7 +96,11 @@ fn job_scene(dir: &Path) -> PathBuf {
 
 fn main() {
     // `cargo bench` passes `--bench`; nothing else is read from the arguments
-    let dir = disc::scene_dir();
+    let rings: usize = std::env::var("RINGS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(disc::RINGS);
+    let dir = disc::scene_dir_rings(rings);
     let scene = job_scene(&dir);
     let this = PathBuf::from(env!("CARGO_BIN_EXE_fdem"));
     let base = std::env::var_os("FDEM_BASE").map(PathBuf::from);

@@ -61,10 +61,17 @@ fn disc(r: f64, n: usize) -> (Vec<[f64; 2]>, Vec<[u32; 3]>) {
 }
 
 /// A folder with the disc's mesh (`disc.json`) and scene (`disc.scene.json`).
+#[allow(dead_code)]
 pub fn scene_dir() -> PathBuf {
+    scene_dir_rings(RINGS)
+}
+
+/// [`scene_dir`] for a ring mesh of `rings` rings (6 rings^2 triangles; the bench disc has
+/// [`RINGS`]).
+pub fn scene_dir_rings(rings: usize) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("fdem-bench-fracture-disc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (nodes, tris) = disc(0.025, RINGS);
+    let (nodes, tris) = disc(0.025, rings);
     let mesh = serde_json::json!({ "nodes": nodes, "triangles": tris });
     std::fs::write(dir.join("disc.json"), mesh.to_string()).unwrap();
     let scene = serde_json::json!({
