@@ -1,4 +1,4 @@
-//! Element-steps per second of a whole elastic scene with central difference, output off:
+//! Triangle-steps per second of a whole elastic scene with central difference, output off:
 //! a 708 x 708 grid of squares cut into 1 002 528 triangles (plane strain, E = 10 GPa), bottom
 //! fixed in y, left in x, a pressure on the top. Runs the solver's own dynamic loop
 //! (`driver::run_outcome`: composition, integrator, load-work bookkeeping, stability checks)
