@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use fdem_solver::driver::{RunOptions, load, run_outcome};
-use fdem_solver::output::{ArraySet, FrameData, JointFrame, write_atomic, write_atomic_with};
+use fdem_solver::output::{ArraySet, FrameData, JointFrame, write_atomic};
 
 #[path = "common/disc.rs"]
 mod disc;
@@ -105,24 +105,25 @@ fn time(
     (t[repeat / 2], te[repeat / 2], size)
 }
 
-/// Writes the frame and its joints with the raw appended writer (every array): the encoded
-/// pieces streamed to the files, as a run writes them; the encoding time and the bytes.
+/// Writes the frame and its joints with the raw appended writer (every array) as a run
+/// writes them: their blocks compressed together, the encoded pieces streamed to the two
+/// files at the same time; the encoding time and the bytes.
 fn write_raw(frame: &FrameData, dir: &Path, level: u32) -> (f64, usize) {
     let all = ArraySet::all();
-    let j = frame.joints.as_ref().unwrap();
-    let mut enc = 0.0;
-    let mut size = 0;
-    for (grid, file) in [
-        (vtu::frame_grid(frame, &all), "frame.vtu"),
-        (joints::grid(j, &all), "joints.vtu"),
-    ] {
-        let s = Instant::now();
-        let e = grid.encode(level).unwrap();
-        enc += s.elapsed().as_secs_f64();
-        write_atomic_with(&dir.join(file), &mut |w| e.write_to(w)).unwrap();
-        size += e.len();
-    }
-    (enc, size)
+    let grids = [
+        vtu::frame_grid(frame, &all),
+        joints::grid(frame.joints.as_ref().unwrap(), &all),
+    ];
+    let s = Instant::now();
+    let encoded = vtu::encode_all(&[&grids[0], &grids[1]], level).unwrap();
+    let enc = s.elapsed().as_secs_f64();
+    let paths = [dir.join("frame.vtu"), dir.join("joints.vtu")];
+    let files: Vec<_> = encoded
+        .iter()
+        .zip(paths.iter().map(|p| p.as_path()))
+        .collect();
+    vtu::write_encoded(&files).unwrap();
+    (enc, encoded.iter().map(|e| e.len()).sum())
 }
 
 /// Writes the frame and its joints with vtkio's encoder at `level`.

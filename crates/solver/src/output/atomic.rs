@@ -11,8 +11,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     write_atomic_with(path, &mut |w| w.write_all(bytes))
 }
 
-/// Writes the bytes that `write` gives (through a buffer) to `path` atomically, as
-/// [`write_atomic`].
+/// Writes the bytes that `write` gives to `path` atomically, as [`write_atomic`]; pieces of
+/// 8 KiB and more go to the file directly, smaller ones through a buffer.
 pub fn write_atomic_with(
     path: &Path,
     write: &mut dyn FnMut(&mut dyn Write) -> std::io::Result<()>,
@@ -29,7 +29,7 @@ pub fn write_atomic_with(
         None => tmp_name.into(),
     };
     let result = (|| {
-        let mut f = std::io::BufWriter::with_capacity(1 << 16, std::fs::File::create(&tmp)?);
+        let mut f = std::io::BufWriter::with_capacity(1 << 13, std::fs::File::create(&tmp)?);
         write(&mut f)?;
         f.into_inner().map_err(|e| e.into_error())?;
         std::fs::rename(&tmp, path)

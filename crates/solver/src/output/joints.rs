@@ -72,22 +72,18 @@ pub struct JointSeries {
 }
 
 impl JointSeries {
-    /// Writes the joints `j` of frame `index` with the arrays of `arrays` into `dir` (not
-    /// yet in `joints.pvd`: [`JointSeries::push`]); the file's name, or on failure the file
-    /// and the message.
-    pub fn write_file(
+    /// The file of the joints `j` of frame `index` (`joints_NNNN.vtu`), or the file and the
+    /// message when a value is not finite (the frame is not written).
+    pub fn file_name(
         dir: &Path,
         index: usize,
         j: &JointFrame,
-        level: u32,
-        arrays: &ArraySet,
     ) -> Result<String, (PathBuf, String)> {
         let name = format!("joints_{index:04}.vtu");
-        let path = dir.join(&name);
         if !j.is_finite() {
-            return Err((path, "non-finite joint values (frame not written)".into()));
+            let message = "non-finite joint values (frame not written)".into();
+            return Err((dir.join(name), message));
         }
-        super::vtu::write_file(&grid(j, arrays), level, &path).map_err(|e| (path, e))?;
         Ok(name)
     }
 

@@ -22,7 +22,7 @@
 use flate2::{Compress, Compression, FlushCompress, Status};
 use rayon::prelude::*;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::arrays::ArraySet;
 use super::atomic::write_atomic_with;
@@ -336,27 +336,18 @@ impl<'a> Grid<'a> {
 
     /// The grid encoded at zlib level `level` (0: uncompressed; at most 9).
     pub fn encode(&self, level: u32) -> Result<Encoded<'a>, String> {
-        if level > 9 {
-            return Err(format!("zlib level {level} is above 9"));
-        }
-        let arrays: Vec<Values<'a>> = self
-            .point_data
+        Ok(encode_all(&[self], level)?.remove(0))
+    }
+
+    /// The values of the arrays in the file's order: point data, cell data, points,
+    /// connectivity, offsets, types.
+    fn values(&self) -> Vec<Values<'a>> {
+        self.point_data
             .iter()
             .chain(&self.cell_data)
             .chain([&self.points, &self.connectivity, &self.offsets, &self.types])
             .map(|c| c.values)
-            .collect();
-        let encoded = encode_arrays(&arrays, level)?;
-        let mut offsets = Vec::with_capacity(encoded.len());
-        let mut at = 0usize;
-        for e in &encoded {
-            offsets.push(at);
-            at += e.iter().map(Part::len).sum::<usize>();
-        }
-        Ok(Encoded {
-            head: self.xml(&offsets, level),
-            parts: encoded.into_iter().flatten().collect(),
-        })
+            .collect()
     }
 
     /// The bytes of the `.vtu` file at zlib level `level` (0: uncompressed; at most 9).
@@ -425,6 +416,71 @@ impl<'a> Grid<'a> {
         );
         s
     }
+}
+
+/// The grids `grids` encoded at zlib level `level` (0: uncompressed; at most 9), their
+/// blocks compressed together (one parallel pass, no pause between the files).
+pub fn encode_all<'a>(grids: &[&Grid<'a>], level: u32) -> Result<Vec<Encoded<'a>>, String> {
+    if level > 9 {
+        return Err(format!("zlib level {level} is above 9"));
+    }
+    let values: Vec<Vec<Values<'a>>> = grids.iter().map(|g| g.values()).collect();
+    let flat: Vec<Values<'a>> = values.iter().flatten().copied().collect();
+    let mut encoded = encode_arrays(&flat, level)?.into_iter();
+    let mut out = Vec::with_capacity(grids.len());
+    for (g, v) in grids.iter().zip(&values) {
+        let mut offsets = Vec::with_capacity(v.len());
+        let mut parts = Vec::new();
+        let mut at = 0usize;
+        for e in encoded.by_ref().take(v.len()) {
+            offsets.push(at);
+            at += e.iter().map(Part::len).sum::<usize>();
+            parts.extend(e);
+        }
+        out.push(Encoded {
+            head: g.xml(&offsets, level),
+            parts,
+        });
+    }
+    Ok(out)
+}
+
+/// Writes the grids `files` (each with its path) at zlib level `level`, each whole or not at
+/// all; their blocks compressed together ([`encode_all`]) and the files written at the same
+/// time ([`write_encoded`]). On failure, the first file that failed, in order, and the
+/// message.
+pub fn write_files(files: &[(&Grid, &Path)], level: u32) -> Result<(), (PathBuf, String)> {
+    let grids: Vec<&Grid> = files.iter().map(|(g, _)| *g).collect();
+    let first = files
+        .first()
+        .map_or_else(PathBuf::new, |(_, p)| p.to_path_buf());
+    let encoded = encode_all(&grids, level).map_err(|e| (first, e))?;
+    let paths: Vec<&Path> = files.iter().map(|(_, p)| *p).collect();
+    write_encoded(&encoded.iter().zip(paths).collect::<Vec<_>>())
+}
+
+/// Writes each encoded grid to its path, whole or not at all, the files at the same time
+/// (one thread each); on failure, the first file that failed, in order, and the message.
+pub fn write_encoded(files: &[(&Encoded, &Path)]) -> Result<(), (PathBuf, String)> {
+    let write = |e: &Encoded, path: &Path| {
+        write_atomic_with(path, &mut |w| e.write_to(w))
+            .map_err(|e| (path.to_path_buf(), e.to_string()))
+    };
+    let results: Vec<Result<(), (PathBuf, String)>> = std::thread::scope(|s| {
+        let rest: Vec<_> = files
+            .iter()
+            .skip(1)
+            .map(|&(e, p)| s.spawn(move || write(e, p)))
+            .collect();
+        let head = files.first().map_or(Ok(()), |&(e, p)| write(e, p));
+        std::iter::once(head)
+            .chain(rest.into_iter().map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err((PathBuf::new(), "the file writer panicked".into())))
+            }))
+            .collect()
+    });
+    results.into_iter().collect()
 }
 
 /// Each array's appended data as a list of parts (header, then blocks). Level 0: the byte
@@ -556,13 +612,6 @@ pub fn frame_grid<'a>(frame: &'a FrameData, arrays: &ArraySet) -> Grid<'a> {
     grid.active_vectors = arrays.has("displacement").then_some("displacement");
     grid.active_tensors = arrays.has("stress").then_some("stress");
     grid
-}
-
-/// Writes `grid` at zlib level `level` to `path`, whole or not at all (the encoded pieces
-/// streamed to the file, [`write_atomic_with`]); on failure, the message.
-pub fn write_file(grid: &Grid, level: u32, path: &Path) -> Result<(), String> {
-    let e = grid.encode(level)?;
-    write_atomic_with(path, &mut |w| e.write_to(w)).map_err(|e| e.to_string())
 }
 
 /// Encodes a frame with every array as the bytes of a `.vtu` file (zlib level `level`,

@@ -23,7 +23,7 @@ use crate::diagnosis::Found;
 use crate::error::RunError;
 use crate::load::Loaded;
 use crate::output::{
-    ArraySet, Collection, FrameData, JointSeries, make_frame_of, vtu, write_atomic,
+    ArraySet, Collection, FrameData, JointSeries, joints, make_frame_of, vtu, write_atomic,
 };
 use crate::scene::Output;
 use crate::summary::Summary;
@@ -38,7 +38,9 @@ pub struct FrameWriter {
     frames: usize,
     joints: JointSeries,
     arrays: ArraySet,
-    /// The pool of the background writes; `None`: frames written in the loop.
+    /// Frames written in the background.
+    background: bool,
+    /// The pool of the background writes, once made.
     pool: Option<Arc<rayon::ThreadPool>>,
     /// The frame being written in the background.
     pending: Option<JoinHandle<Result<Written, RunError>>>,
@@ -62,15 +64,21 @@ fn write_files(
 ) -> Result<Written, RunError> {
     let out = |file: PathBuf, e: String| RunError::Output { file, message: e };
     let name = format!("frame_{index:04}.vtu");
-    let path = dir.join(&name);
-    vtu::write_file(&vtu::frame_grid(data, arrays), level, &path).map_err(|e| out(path, e))?;
     let joints = match &data.joints {
-        Some(j) => Some(
-            JointSeries::write_file(dir, index, j, level, arrays)
-                .map_err(|(file, e)| out(file, e))?,
-        ),
+        Some(j) => Some((
+            JointSeries::file_name(dir, index, j).map_err(|(file, e)| out(file, e))?,
+            joints::grid(j, arrays),
+        )),
         None => None,
     };
+    let frame = (vtu::frame_grid(data, arrays), dir.join(&name));
+    let joint_path = joints.as_ref().map(|(n, g)| (g, dir.join(n)));
+    let mut files: Vec<(&vtu::Grid, &Path)> = vec![(&frame.0, &frame.1)];
+    if let Some((g, p)) = &joint_path {
+        files.push((g, p));
+    }
+    vtu::write_files(&files, level).map_err(|(file, e)| out(file, e))?;
+    let joints = joints.map(|(n, _)| n);
     if raw {
         let path = dir.join(format!("frame_{index:04}.json"));
         let text = serde_json::to_vec(data).map_err(|e| out(path.clone(), e.to_string()))?;
@@ -105,6 +113,7 @@ impl FrameWriter {
             frames: 0,
             joints: JointSeries::default(),
             arrays: output.arrays.set(),
+            background: false,
             pool: None,
             pending: None,
         }
@@ -112,18 +121,23 @@ impl FrameWriter {
     }
 
     /// Frames written in the background (`true`) or in the loop.
-    pub fn in_background(mut self, on: bool) -> Self {
-        self.pool = on
-            .then(|| {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(rayon::current_num_threads())
-                    .thread_name(|i| format!("fdem-frames-{i}"))
-                    .build()
-                    .ok()
-            })
-            .flatten()
-            .map(Arc::new);
+    fn in_background(mut self, on: bool) -> Self {
+        self.background = on;
         self
+    }
+
+    /// The pool of the background writes (made at the first frame, of as many threads as
+    /// the run's pool), or `None` for writes in the loop (also when no pool can be made).
+    fn pool(&mut self) -> Option<Arc<rayon::ThreadPool>> {
+        if self.background && self.pool.is_none() {
+            self.pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(rayon::current_num_threads())
+                .thread_name(|i| format!("fdem-frames-{i}"))
+                .build()
+                .ok()
+                .map(Arc::new);
+        }
+        self.pool.clone()
     }
 
     /// Removes the frame files numbered `from` and above (written after a checkpoint by the
@@ -174,9 +188,9 @@ impl FrameWriter {
         }
         self.flush()?;
         let (dir, index, level, raw) = (self.dir.clone(), self.frames, self.level, self.raw);
-        match &self.pool {
+        match self.pool() {
             Some(pool) => {
-                let (pool, arrays) = (pool.clone(), self.arrays.clone());
+                let arrays = self.arrays.clone();
                 self.pending = Some(std::thread::spawn(move || {
                     pool.install(|| write_files(&dir, index, &data, level, raw, &arrays))
                 }));
