@@ -161,7 +161,7 @@ impl Values<'_> {
                     }
                 }
             }
-            Values::Count(_) => i64s(out, (i as i64..).map(|k| k)),
+            Values::Count(_) => i64s(out, i as i64..),
             Values::Offsets(verts, _) => i64s(out, (i as i64 + 1..).map(|k| verts as i64 * k)),
             Values::Repeat(b, _) => out.fill(b),
         }
