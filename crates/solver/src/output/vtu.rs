@@ -275,7 +275,7 @@ impl Encoded<'_> {
         self.head.len() + self.parts.iter().map(Part::len).sum::<usize>() + TAIL.len()
     }
 
-    /// True never (a file has its XML); for clippy's `len` without `is_empty`.
+    /// True when the file has no bytes (never: it has its XML).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
