@@ -113,17 +113,10 @@ impl FrameWriter {
             frames: 0,
             joints: JointSeries::default(),
             arrays: output.arrays.set(),
-            background: false,
+            background: output.writer_thread,
             pool: None,
             pending: None,
         }
-        .in_background(output.writer_thread)
-    }
-
-    /// Frames written in the background (`true`) or in the loop.
-    fn in_background(mut self, on: bool) -> Self {
-        self.background = on;
-        self
     }
 
     /// The pool of the background writes (made at the first frame, of as many threads as
