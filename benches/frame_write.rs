@@ -3,15 +3,17 @@
 //! time to encode and write its `.vtu` file and the file's size, with the raw appended
 //! writer (`fdem_solver::output::vtu`) at zlib levels 0, 1 (the default) and 6 on the
 //! current rayon pool, against vtkio's inline base64 encoder that wrote the files before
-//! (level 6, its default then, and 1). Median of 5 writes each. `FRAME_STEPS` sets the steps
-//! before the frame (default 2000).
+//! (level 6, its default then, and 1). Median of `FRAME_REPEAT` (default 5) writes each.
+//! `FRAME_STEPS` sets the steps before the frame (default 2000); `FRAME_CACHE=FILE` keeps the
+//! frame (its raw JSON) in FILE and reads it from there on later runs.
 //!
 //! `RAYON_NUM_THREADS=2 cargo bench --bench frame_write`
 
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use fdem_solver::driver::{RunOptions, load, run_outcome};
-use fdem_solver::output::{FrameData, JointFrame};
+use fdem_solver::output::{ArraySet, FrameData, JointFrame, write_atomic};
 
 #[path = "common/disc.rs"]
 mod disc;
@@ -81,38 +83,69 @@ fn frame_of(json: &serde_json::Value) -> FrameData {
     }
 }
 
-/// Median times [s] of 5 encodes and writes of `frame` and its joints with `encode` (the
-/// whole, and the encoding alone), and the two files' size.
+/// Median times [s] of `FRAME_REPEAT` (default 5) writes of `frame` and its joints with
+/// `write` (the whole, and the encoding alone as `write` returns it), and the two files' size.
 fn time(
     frame: &FrameData,
-    dir: &std::path::Path,
-    encode: impl Fn(&FrameData) -> Vec<u8>,
-    encode_joints: impl Fn(&JointFrame) -> Vec<u8>,
+    dir: &Path,
+    write: impl Fn(&FrameData, &Path) -> (f64, usize),
 ) -> (f64, f64, usize) {
+    let repeat = std::env::var("FRAME_REPEAT").map_or(5, |s| s.parse().unwrap());
     let (mut t, mut te) = (Vec::new(), Vec::new());
     let mut size = 0;
-    let joints = frame.joints.as_ref().unwrap();
-    for _ in 0..5 {
+    for _ in 0..repeat {
         let s = Instant::now();
-        let bytes = encode(frame);
-        let e = s.elapsed().as_secs_f64();
-        fdem_solver::output::write_atomic(&dir.join("frame.vtu"), &bytes).unwrap();
-        let s2 = Instant::now();
-        let j = encode_joints(joints);
-        te.push(e + s2.elapsed().as_secs_f64());
-        fdem_solver::output::write_atomic(&dir.join("joints.vtu"), &j).unwrap();
+        let (e, n) = write(frame, dir);
         t.push(s.elapsed().as_secs_f64());
-        size = bytes.len() + j.len();
+        te.push(e);
+        size = n;
     }
     t.sort_by(f64::total_cmp);
     te.sort_by(f64::total_cmp);
-    (t[2], te[2], size)
+    (t[repeat / 2], te[repeat / 2], size)
 }
 
-fn main() {
-    let dir = disc::scene_dir();
-    let mut l = load(&dir.join("disc.scene.json")).unwrap();
+/// Writes the frame and its joints with the raw appended writer (every array) as a run
+/// writes them: their blocks compressed together, the encoded pieces streamed to the two
+/// files at the same time; the encoding time and the bytes.
+fn write_raw(frame: &FrameData, dir: &Path, level: u32) -> (f64, usize) {
+    let all = ArraySet::all();
+    let grids = [
+        vtu::frame_grid(frame, &all),
+        joints::grid(frame.joints.as_ref().unwrap(), &all),
+    ];
+    let s = Instant::now();
+    let encoded = vtu::encode_all(&[&grids[0], &grids[1]], level).unwrap();
+    let enc = s.elapsed().as_secs_f64();
+    let paths = [dir.join("frame.vtu"), dir.join("joints.vtu")];
+    let files: Vec<_> = encoded
+        .iter()
+        .zip(paths.iter().map(|p| p.as_path()))
+        .collect();
+    vtu::write_encoded(&files).unwrap();
+    (enc, encoded.iter().map(|e| e.len()).sum())
+}
+
+/// Writes the frame and its joints with vtkio's encoder at `level`.
+fn write_vtkio(frame: &FrameData, dir: &Path, level: u32) -> (f64, usize) {
+    let s = Instant::now();
+    let bytes = vtu_vtkio::encode(frame, level).unwrap();
+    let j = vtu_vtkio::encode_joints(frame.joints.as_ref().unwrap(), level).unwrap();
+    let enc = s.elapsed().as_secs_f64();
+    write_atomic(&dir.join("frame.vtu"), &bytes).unwrap();
+    write_atomic(&dir.join("joints.vtu"), &j).unwrap();
+    (enc, bytes.len() + j.len())
+}
+
+/// The frame after `FRAME_STEPS` steps, from the file `FRAME_CACHE` when it names one that
+/// exists (else computed, and kept there when it is set).
+fn the_frame(dir: &Path) -> (FrameData, u64) {
     let steps = std::env::var("FRAME_STEPS").map_or(2000, |s| s.parse().unwrap());
+    let cache = std::env::var_os("FRAME_CACHE").map(PathBuf::from);
+    if let Some(text) = cache.as_ref().and_then(|c| std::fs::read(c).ok()) {
+        return (frame_of(&serde_json::from_slice(&text).unwrap()), steps);
+    }
+    let mut l = load(&dir.join("disc.scene.json")).unwrap();
     l.n_steps = steps;
     l.scene.output.frames = 1;
     let out = dir.join("out");
@@ -123,7 +156,15 @@ fn main() {
     };
     run_outcome(&mut l, &options, &mut |_| {}).unwrap();
     let text = std::fs::read(out.join("frame_0001.json")).unwrap();
-    let frame = frame_of(&serde_json::from_slice(&text).unwrap());
+    if let Some(c) = &cache {
+        std::fs::write(c, &text).unwrap();
+    }
+    (frame_of(&serde_json::from_slice(&text).unwrap()), steps)
+}
+
+fn main() {
+    let dir = disc::scene_dir();
+    let (frame, steps) = the_frame(&dir);
     let j = frame.joints.as_ref().unwrap();
     println!(
         "frame after {steps} steps: {} points, {} triangles, {} joints ({} broken), {} threads; frame + joints file:",
@@ -134,24 +175,14 @@ fn main() {
         rayon::current_num_threads()
     );
     for level in [0, 1, 6] {
-        let (t, te, size) = time(
-            &frame,
-            &dir,
-            |f| vtu::encode(f, level).unwrap(),
-            |j| joints::encode(j, level).unwrap(),
-        );
+        let (t, te, size) = time(&frame, &dir, |f, d| write_raw(f, d, level));
         println!(
             "raw appended, level {level}: {t:.3} s (encoding {te:.3} s), {:.1} MB",
             size as f64 / 1e6
         );
     }
     for level in [6, 1] {
-        let (t, te, size) = time(
-            &frame,
-            &dir,
-            |f| vtu_vtkio::encode(f, level).unwrap(),
-            |j| vtu_vtkio::encode_joints(j, level).unwrap(),
-        );
+        let (t, te, size) = time(&frame, &dir, |f, d| write_vtkio(f, d, level));
         println!(
             "vtkio inline base64, level {level}: {t:.3} s (encoding {te:.3} s), {:.1} MB",
             size as f64 / 1e6

@@ -58,6 +58,8 @@ mod initial_stress;
 mod joint_materials;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
+#[path = "output_arrays.rs"]
+mod output_arrays;
 #[path = "parity.rs"]
 mod parity;
 #[path = "prestressed_joints.rs"]

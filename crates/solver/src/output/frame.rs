@@ -4,6 +4,7 @@ use fdem_mesh::{Elements, TriId};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::arrays::ArraySet;
 use crate::model::Model;
 
 /// One frame: node and triangle arrays in SI units. Points are the current positions.
@@ -63,7 +64,7 @@ pub fn von_mises(s: [f64; 4]) -> f64 {
     (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt()
 }
 
-/// Builds a frame from positions, velocities, forces and reactions.
+/// Builds a frame from positions, velocities, forces and reactions, with every array.
 pub fn make_frame(
     model: &Model,
     elements: &Elements,
@@ -73,19 +74,43 @@ pub fn make_frame(
     force: &[[f64; 2]],
     reaction: &[[f64; 2]],
 ) -> FrameData {
-    let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
-    elements.stresses(x, v, &mut stresses);
-    let stress: Vec<[f64; 4]> = stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect();
-    let energy_density = (0..elements.len())
-        .into_par_iter()
-        .with_min_len(1024)
-        .map(|e| {
-            let td = &elements.tris[e];
-            let th = 2.0 * elements.materials[td.material as usize].half_t;
-            elements.element_energy(TriId(e as u32), x) / (td.area0 * th)
-        })
-        .collect();
-    frame_from_parts(model, t, x, v, force, reaction, stress, energy_density)
+    make_frame_of(model, elements, t, x, v, force, reaction, &ArraySet::all())
+}
+
+/// [`make_frame`] with the arrays of `arrays` only (the others left empty, and not
+/// computed: the stresses only for `stress`, `principal_stress` or `von_mises`).
+pub fn make_frame_of(
+    model: &Model,
+    elements: &Elements,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    force: &[[f64; 2]],
+    reaction: &[[f64; 2]],
+    arrays: &ArraySet,
+) -> FrameData {
+    let stress: Vec<[f64; 4]> = if arrays.has_any(&["stress", "principal_stress", "von_mises"]) {
+        let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
+        elements.stresses(x, v, &mut stresses);
+        stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect()
+    } else {
+        Vec::new()
+    };
+    let energy_density = if arrays.has("strain_energy_density") {
+        (0..elements.len())
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|e| {
+                let td = &elements.tris[e];
+                let th = 2.0 * elements.materials[td.material as usize].half_t;
+                elements.element_energy(TriId(e as u32), x) / (td.area0 * th)
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let parts = (x, v, force, reaction);
+    frame_from_parts_of(model, t, parts, stress, energy_density, arrays)
 }
 
 /// Assembles a frame from node arrays and per-triangle stresses and energy densities.
@@ -99,33 +124,81 @@ pub fn frame_from_parts(
     stress: Vec<[f64; 4]>,
     energy_density: Vec<f64>,
 ) -> FrameData {
+    let parts = (x, v, force, reaction);
+    frame_from_parts_of(model, t, parts, stress, energy_density, &ArraySet::all())
+}
+
+/// Positions, velocities, forces and reactions of the nodes.
+type NodeParts<'a> = (
+    &'a [[f64; 2]],
+    &'a [[f64; 2]],
+    &'a [[f64; 2]],
+    &'a [[f64; 2]],
+);
+
+/// [`frame_from_parts`] with the arrays of `arrays` only (the others left empty).
+fn frame_from_parts_of(
+    model: &Model,
+    t: f64,
+    (x, v, force, reaction): NodeParts,
+    stress: Vec<[f64; 4]>,
+    energy_density: Vec<f64>,
+    arrays: &ArraySet,
+) -> FrameData {
+    let copy = |name: &str, a: &[[f64; 2]]| {
+        if arrays.has(name) {
+            a.to_vec()
+        } else {
+            Vec::new()
+        }
+    };
+    let when = |name: &str| arrays.has(name);
     FrameData {
         time: t,
         points: x.to_vec(),
         triangles: model.triangles.clone(),
-        displacement: x
-            .iter()
-            .zip(&model.x0)
-            .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
-            .collect(),
-        velocity: v.to_vec(),
-        force: force.to_vec(),
-        reaction: reaction.to_vec(),
-        principal: stress.iter().map(|s| principal(s[0], s[1], s[2])).collect(),
-        von_mises: stress.iter().map(|s| von_mises(*s)).collect(),
+        displacement: if when("displacement") {
+            x.iter()
+                .zip(&model.x0)
+                .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+                .collect()
+        } else {
+            Vec::new()
+        },
+        velocity: copy("velocity", v),
+        force: copy("force", force),
+        reaction: copy("reaction", reaction),
+        principal: if when("principal_stress") {
+            stress.iter().map(|s| principal(s[0], s[1], s[2])).collect()
+        } else {
+            Vec::new()
+        },
+        von_mises: if when("von_mises") {
+            stress.iter().map(|s| von_mises(*s)).collect()
+        } else {
+            Vec::new()
+        },
         stress,
         energy_density,
-        material: model
-            .tri_material
-            .iter()
-            .map(|&r| model.material_id.get(r as usize).map_or(r, |&id| id) as i32)
-            .collect(),
-        body: model.tri_body.iter().map(|&b| b as i32).collect(),
+        material: if when("material") {
+            model
+                .tri_material
+                .iter()
+                .map(|&r| model.material_id.get(r as usize).map_or(r, |&id| id) as i32)
+                .collect()
+        } else {
+            Vec::new()
+        },
+        body: if when("body") {
+            model.tri_body.iter().map(|&b| b as i32).collect()
+        } else {
+            Vec::new()
+        },
         extra_point_vectors: Vec::new(),
         // Young's modulus per cell [Pa], only when some triangle's is drawn
-        extra_cell_scalars: if model.drawn_young {
+        extra_cell_scalars: if model.drawn_young && when(super::arrays::YOUNG) {
             vec![(
-                "young".into(),
+                super::arrays::YOUNG.into(),
                 model
                     .tri_material
                     .iter()

@@ -26,38 +26,42 @@
 
 use std::path::{Path, PathBuf};
 
-use super::atomic::write_atomic;
-use super::frame::FrameData;
+use super::arrays::ArraySet;
 use super::joint_frame::JointFrame;
 use super::pvd::Collection;
-use super::vtu::{Array, Grid, VTK_LINE};
+use super::vtu::{Column, Grid, VTK_LINE, Values};
 
-/// Encodes the joints as the bytes of a `.vtu` file of line cells (zlib level `level`,
-/// 0 = uncompressed).
-pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
+/// The grid of the joints' line cells with the arrays of `arrays`, borrowed from `j`.
+pub fn grid<'a>(j: &'a JointFrame, arrays: &ArraySet) -> Grid<'a> {
     let n = j.len();
-    let conn: Vec<u8> = (0..2 * n as i64).flat_map(i64::to_le_bytes).collect();
-    let mut grid = Grid::new(&j.points, conn, 2, VTK_LINE);
-    grid.cell_data = vec![
-        Array::f64("damage", 1, &j.damage),
-        Array::i32("mode", &j.mode),
-        Array::f64("mode_mix", 1, &j.mode_mix),
-        Array::i32("broken", &j.broken),
-        Array::f64("time_of_failure", 1, &j.time_of_failure),
-        Array::f64("opening", 1, &j.opening),
-        Array::f64("sliding", 1, &j.sliding),
-        Array::f64("normal_traction", 1, &j.normal_traction),
-        Array::f64("shear_traction", 1, &j.shear_traction),
+    let mut grid = Grid::new(&j.points, Values::Count(2 * n), n, 2, VTK_LINE);
+    let mut cells = vec![
+        Column::new("damage", 1, Values::F64(&j.damage)),
+        Column::new("mode", 1, Values::I32(&j.mode)),
+        Column::new("mode_mix", 1, Values::F64(&j.mode_mix)),
+        Column::new("broken", 1, Values::I32(&j.broken)),
+        Column::new("time_of_failure", 1, Values::F64(&j.time_of_failure)),
+        Column::new("opening", 1, Values::F64(&j.opening)),
+        Column::new("sliding", 1, Values::F64(&j.sliding)),
+        Column::new("normal_traction", 1, Values::F64(&j.normal_traction)),
+        Column::new("shear_traction", 1, Values::F64(&j.shear_traction)),
     ];
     if let Some(p) = &j.properties {
-        grid.cell_data.extend([
-            Array::f64("tensile_strength", 1, &p.tensile_strength),
-            Array::f64("cohesion", 1, &p.cohesion),
-            Array::f64("fracture_energy_i", 1, &p.fracture_energy_i),
-            Array::f64("fracture_energy_ii", 1, &p.fracture_energy_ii),
+        cells.extend([
+            Column::new("tensile_strength", 1, Values::F64(&p.tensile_strength)),
+            Column::new("cohesion", 1, Values::F64(&p.cohesion)),
+            Column::new("fracture_energy_i", 1, Values::F64(&p.fracture_energy_i)),
+            Column::new("fracture_energy_ii", 1, Values::F64(&p.fracture_energy_ii)),
         ]);
     }
-    grid.to_bytes(level)
+    grid.cell_data = cells.into_iter().filter(|c| arrays.has(c.name)).collect();
+    grid
+}
+
+/// Encodes the joints with every array as the bytes of a `.vtu` file of line cells (zlib
+/// level `level`, 0 = uncompressed).
+pub fn encode(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
+    grid(j, &ArraySet::all()).to_bytes(level)
 }
 
 /// The joint series of a run: `joints_NNNN.vtu` files and their collection `joints.pvd`,
@@ -68,29 +72,28 @@ pub struct JointSeries {
 }
 
 impl JointSeries {
-    /// Writes frame `index`'s joints (if it has any) into `dir` and rewrites `joints.pvd`;
-    /// on failure, the file and the message.
-    pub fn write(
-        &mut self,
+    /// The file of the joints `j` of frame `index` (`joints_NNNN.vtu`), or the file and the
+    /// message when a value is not finite (the frame is not written).
+    pub fn file_name(
         dir: &Path,
         index: usize,
-        frame: &FrameData,
-        level: u32,
-    ) -> Result<(), (PathBuf, String)> {
-        let Some(j) = &frame.joints else {
-            return Ok(());
-        };
+        j: &JointFrame,
+    ) -> Result<String, (PathBuf, String)> {
         let name = format!("joints_{index:04}.vtu");
-        let path = dir.join(&name);
         if !j.is_finite() {
-            return Err((path, "non-finite joint values (frame not written)".into()));
+            let message = "non-finite joint values (frame not written)".into();
+            return Err((dir.join(name), message));
         }
-        let bytes = encode(j, level).map_err(|e| (path.clone(), e))?;
-        write_atomic(&path, &bytes).map_err(|e| (path.clone(), e.to_string()))?;
+        Ok(name)
+    }
+
+    /// Adds the joint file `name` (written) at time `t` and rewrites `joints.pvd` in `dir`;
+    /// on failure, the file and the message.
+    pub fn push(&mut self, dir: &Path, t: f64, name: &str) -> Result<(), (PathBuf, String)> {
         let pvd = self
             .pvd
             .get_or_insert_with(|| Collection::new(&dir.join("joints.pvd")));
-        pvd.push(frame.time, &name)
+        pvd.push(t, name)
             .map_err(|e| (dir.join("joints.pvd"), e.to_string()))
     }
 

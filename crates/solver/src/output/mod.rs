@@ -6,6 +6,7 @@
 //! so an interrupted run leaves a readable result. A run owns its folder: it first removes
 //! every file an earlier run wrote there ([`folder::claim`]).
 
+pub mod arrays;
 pub mod atomic;
 pub mod csv;
 pub mod folder;
@@ -18,9 +19,10 @@ pub mod vtu;
 #[cfg(test)]
 mod vtu_vtkio;
 
-pub use atomic::write_atomic;
+pub use arrays::ArraySet;
+pub use atomic::{write_atomic, write_atomic_with};
 pub use csv::{csv_length, open_csv, truncate_csv};
-pub use frame::{FrameData, frame_from_parts, make_frame};
+pub use frame::{FrameData, frame_from_parts, make_frame, make_frame_of};
 pub use history::HistoryWriter;
 pub use joint_frame::{JointFrame, JointProperties};
 pub use joints::JointSeries;

@@ -19,11 +19,13 @@
 //! independent and cut at fixed sizes, the file is the same for any number of threads.
 //! zlib (not lz4) because meshio, VTK and ParaView all read it.
 
-use std::borrow::Cow;
-
 use flate2::{Compress, Compression, FlushCompress, Status};
 use rayon::prelude::*;
 
+use std::path::{Path, PathBuf};
+
+use super::arrays::ArraySet;
+use super::atomic::write_atomic_with;
 use super::frame::FrameData;
 
 /// Uncompressed bytes per zlib block.
@@ -34,7 +36,8 @@ pub const VTK_TRIANGLE: u8 = 5;
 /// VTK cell type of a line.
 pub const VTK_LINE: u8 = 3;
 
-/// One data array of a grid: its little-endian bytes with the VTK type and layout.
+/// One data array as read back by [`read`]: its little-endian bytes with the VTK type and
+/// layout.
 #[derive(Debug, Clone)]
 pub struct Array {
     /// `Name` attribute.
@@ -48,32 +51,6 @@ pub struct Array {
 }
 
 impl Array {
-    /// A `Float64` array of `components` per tuple.
-    pub fn f64(name: &str, components: usize, v: &[f64]) -> Self {
-        Self::new(
-            name,
-            "Float64",
-            components,
-            le_bytes(v, 8, |x, o| put(o, 0, *x)),
-        )
-    }
-
-    /// An `Int32` scalar array.
-    pub fn i32(name: &str, v: &[i32]) -> Self {
-        let bytes = le_bytes(v, 4, |x, o| o.copy_from_slice(&x.to_le_bytes()));
-        Self::new(name, "Int32", 1, bytes)
-    }
-
-    /// A `Float64` array of 3 components from 2D vectors (z = 0).
-    pub fn vec3(name: &str, v: &[[f64; 2]]) -> Self {
-        let bytes = le_bytes(v, 24, |p, o| {
-            put(o, 0, p[0]);
-            put(o, 1, p[1]);
-            put(o, 2, 0.0);
-        });
-        Self::new(name, "Float64", 3, bytes)
-    }
-
     fn new(name: &str, ty: &'static str, components: usize, bytes: Vec<u8>) -> Self {
         Self {
             name: name.into(),
@@ -84,69 +61,272 @@ impl Array {
     }
 }
 
-/// Writes `x` as the `k`-th f64 of `o`.
-fn put(o: &mut [u8], k: usize, x: f64) {
-    o[8 * k..8 * k + 8].copy_from_slice(&x.to_le_bytes());
+/// The values of an array to be written, borrowed where they lie (no copy is made: each
+/// block's bytes are produced when the block is compressed or written).
+#[derive(Debug, Clone, Copy)]
+pub enum Values<'a> {
+    /// `Float64` values as they are.
+    F64(&'a [f64]),
+    /// `Int32` values.
+    I32(&'a [i32]),
+    /// 2D vectors as three `Float64` components (z = 0).
+    Vec3(&'a [[f64; 2]]),
+    /// Pairs of `Float64`.
+    Pair(&'a [[f64; 2]]),
+    /// In-plane stress (xx, yy, xy, zz) as the full 3x3 tensor, row major (9 `Float64`).
+    Tensor(&'a [[f64; 4]]),
+    /// Triangles as three `Int64` node indices each.
+    Triangles(&'a [[u32; 3]]),
+    /// `0, 1, .., n - 1` as `Int64` (the connectivity of cells with their own points).
+    Count(usize),
+    /// `verts, 2 verts, .., n verts` as `Int64` (the offsets of `n` cells of `verts` points).
+    Offsets(usize, usize),
+    /// `n` copies of one `UInt8` (the cell types).
+    Repeat(u8, usize),
 }
 
-/// The bytes of `src`, each item written by `write` into its `width` bytes (in parallel).
-fn le_bytes<T: Sync>(src: &[T], width: usize, write: impl Fn(&T, &mut [u8]) + Sync) -> Vec<u8> {
-    let mut out = vec![0u8; src.len() * width];
-    const CHUNK: usize = 4096;
-    out.par_chunks_mut(CHUNK * width)
-        .zip(src.par_chunks(CHUNK))
-        .for_each(|(o, s)| {
-            for (o, x) in o.chunks_exact_mut(width).zip(s) {
-                write(x, o);
+impl Values<'_> {
+    /// Bytes per entry.
+    fn width(&self) -> usize {
+        match self {
+            Values::F64(_) | Values::Count(_) | Values::Offsets(..) => 8,
+            Values::I32(_) => 4,
+            Values::Vec3(_) | Values::Triangles(_) => 24,
+            Values::Pair(_) => 16,
+            Values::Tensor(_) => 72,
+            Values::Repeat(..) => 1,
+        }
+    }
+
+    /// Number of entries.
+    fn len(&self) -> usize {
+        match self {
+            Values::F64(v) => v.len(),
+            Values::I32(v) => v.len(),
+            Values::Vec3(v) | Values::Pair(v) => v.len(),
+            Values::Tensor(v) => v.len(),
+            Values::Triangles(v) => v.len(),
+            Values::Count(n) | Values::Offsets(_, n) | Values::Repeat(_, n) => *n,
+        }
+    }
+
+    /// Bytes in all.
+    pub fn byte_len(&self) -> usize {
+        self.len() * self.width()
+    }
+
+    /// VTK type name.
+    fn vtk_type(&self) -> &'static str {
+        match self {
+            Values::I32(_) => "Int32",
+            Values::Triangles(_) | Values::Count(_) | Values::Offsets(..) => "Int64",
+            Values::Repeat(..) => "UInt8",
+            _ => "Float64",
+        }
+    }
+
+    /// Writes entries `i..` into `out` (a whole number of entries).
+    fn put_entries(&self, i: usize, out: &mut [u8]) {
+        fn f64s<const N: usize>(out: &mut [u8], items: impl Iterator<Item = [f64; N]>) {
+            for (o, x) in out.chunks_exact_mut(8 * N).zip(items) {
+                for (o, x) in o.chunks_exact_mut(8).zip(x) {
+                    o.copy_from_slice(&x.to_le_bytes());
+                }
             }
-        });
-    out
+        }
+        fn i64s(out: &mut [u8], items: impl Iterator<Item = i64>) {
+            for (o, x) in out.chunks_exact_mut(8).zip(items) {
+                o.copy_from_slice(&x.to_le_bytes());
+            }
+        }
+        match *self {
+            Values::F64(v) => f64s::<1>(out, v[i..].iter().map(|x| [*x])),
+            Values::I32(v) => {
+                for (o, x) in out.chunks_exact_mut(4).zip(&v[i..]) {
+                    o.copy_from_slice(&x.to_le_bytes());
+                }
+            }
+            Values::Vec3(v) => f64s(out, v[i..].iter().map(|p| [p[0], p[1], 0.0])),
+            Values::Pair(v) => f64s(out, v[i..].iter().copied()),
+            Values::Tensor(v) => f64s(
+                out,
+                v[i..]
+                    .iter()
+                    .map(|s| [s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]]),
+            ),
+            Values::Triangles(v) => {
+                for (o, t) in out.chunks_exact_mut(24).zip(&v[i..]) {
+                    for (o, k) in o.chunks_exact_mut(8).zip(t) {
+                        o.copy_from_slice(&i64::from(*k).to_le_bytes());
+                    }
+                }
+            }
+            Values::Count(_) => i64s(out, i as i64..),
+            Values::Offsets(verts, _) => i64s(out, (i as i64 + 1..).map(|k| verts as i64 * k)),
+            Values::Repeat(b, _) => out.fill(b),
+        }
+    }
+
+    /// Fills `out` with the bytes from byte `at` on (entries cut at any byte).
+    fn fill(&self, at: usize, out: &mut [u8]) {
+        let w = self.width();
+        let mut scratch = [0u8; 72];
+        let (mut pos, end, mut o) = (at, at + out.len(), 0);
+        while pos < end {
+            let (i, r) = (pos / w, pos % w);
+            if r == 0 && end - pos >= w {
+                let n = (end - pos) / w;
+                self.put_entries(i, &mut out[o..o + n * w]);
+                pos += n * w;
+                o += n * w;
+            } else {
+                self.put_entries(i, &mut scratch[..w]);
+                let take = (w - r).min(end - pos);
+                out[o..o + take].copy_from_slice(&scratch[r..r + take]);
+                pos += take;
+                o += take;
+            }
+        }
+    }
+
+    /// All the bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = vec![0u8; self.byte_len()];
+        self.fill(0, &mut out);
+        out
+    }
 }
 
-/// An unstructured grid of one cell type with fixed vertices per cell.
+/// One named array of a grid to be written.
+#[derive(Debug, Clone, Copy)]
+pub struct Column<'a> {
+    /// `Name` attribute.
+    pub name: &'a str,
+    /// Components per tuple.
+    pub components: usize,
+    /// The values.
+    pub values: Values<'a>,
+}
+
+impl<'a> Column<'a> {
+    /// The array `name` of `components` per tuple.
+    pub fn new(name: &'a str, components: usize, values: Values<'a>) -> Self {
+        Self {
+            name,
+            components,
+            values,
+        }
+    }
+}
+
+/// An unstructured grid of one cell type with fixed vertices per cell, its arrays borrowed.
 #[derive(Debug, Clone)]
-pub struct Grid {
+pub struct Grid<'a> {
     /// Number of points.
     pub n_points: usize,
     /// Number of cells.
     pub n_cells: usize,
     /// Point coordinates (3 components `Float64`).
-    pub points: Array,
+    pub points: Column<'a>,
     /// `connectivity` (`Int64`).
-    pub connectivity: Array,
+    pub connectivity: Column<'a>,
     /// `offsets` (`Int64`).
-    pub offsets: Array,
+    pub offsets: Column<'a>,
     /// `types` (`UInt8`).
-    pub types: Array,
+    pub types: Column<'a>,
     /// Point data, in order.
-    pub point_data: Vec<Array>,
+    pub point_data: Vec<Column<'a>>,
     /// Cell data, in order.
-    pub cell_data: Vec<Array>,
+    pub cell_data: Vec<Column<'a>>,
     /// The point array named as the active vectors (`<PointData Vectors=..>`), if any.
-    pub active_vectors: Option<String>,
+    pub active_vectors: Option<&'a str>,
     /// The cell array named as the active tensors (`<CellData Tensors=..>`), if any.
-    pub active_tensors: Option<String>,
+    pub active_tensors: Option<&'a str>,
 }
 
-impl Grid {
-    /// A grid of cells of `verts` vertices each and VTK type `cell_type`: `connectivity` is
-    /// the little-endian `Int64` vertex list (`verts` entries per cell), `points` the point
-    /// coordinates.
-    pub fn new(points: &[[f64; 2]], connectivity: Vec<u8>, verts: usize, cell_type: u8) -> Self {
-        let n_cells = connectivity.len() / 8 / verts.max(1);
-        let offsets: Vec<i64> = (1..=n_cells as i64).map(|i| verts as i64 * i).collect();
+/// The appended data of one array, in pieces: owned bytes (headers, compressed blocks), or
+/// an array's raw bytes (level 0), produced as they are written.
+enum Part<'a> {
+    Owned(Vec<u8>),
+    Raw(Values<'a>),
+}
+
+impl Part<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Part::Owned(b) => b.len(),
+            Part::Raw(v) => v.byte_len(),
+        }
+    }
+}
+
+/// A grid encoded for writing: the XML head and the appended data in pieces, in file order.
+pub struct Encoded<'a> {
+    head: String,
+    parts: Vec<Part<'a>>,
+}
+
+/// The end of every file.
+const TAIL: &[u8] = b"\n  </AppendedData>\n</VTKFile>\n";
+
+impl Encoded<'_> {
+    /// Bytes of the file.
+    pub fn len(&self) -> usize {
+        self.head.len() + self.parts.iter().map(Part::len).sum::<usize>() + TAIL.len()
+    }
+
+    /// True when the file has no bytes (never: it has its XML).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Writes the file's bytes to `w`, piece by piece in order.
+    pub fn write_to(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+        w.write_all(self.head.as_bytes())?;
+        let mut buf = Vec::new();
+        for p in &self.parts {
+            match p {
+                Part::Owned(b) => w.write_all(b)?,
+                Part::Raw(v) => {
+                    buf.resize(BLOCK.min(v.byte_len()), 0);
+                    let mut at = 0;
+                    while at < v.byte_len() {
+                        let n = BLOCK.min(v.byte_len() - at);
+                        v.fill(at, &mut buf[..n]);
+                        w.write_all(&buf[..n])?;
+                        at += n;
+                    }
+                }
+            }
+        }
+        w.write_all(TAIL)
+    }
+
+    /// The file's bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.len());
+        let _ = self.write_to(&mut out);
+        out
+    }
+}
+
+impl<'a> Grid<'a> {
+    /// A grid of `n_cells` cells of `verts` vertices each and VTK type `cell_type`, with the
+    /// node indices `connectivity` (`verts` per cell) and the point coordinates `points`.
+    pub fn new(
+        points: &'a [[f64; 2]],
+        connectivity: Values<'a>,
+        n_cells: usize,
+        verts: usize,
+        cell_type: u8,
+    ) -> Self {
         Self {
             n_points: points.len(),
             n_cells,
-            points: Array::vec3("Points", points),
-            connectivity: Array::new("connectivity", "Int64", 1, connectivity),
-            offsets: Array::new(
-                "offsets",
-                "Int64",
-                1,
-                le_bytes(&offsets, 8, |x, o| o.copy_from_slice(&x.to_le_bytes())),
-            ),
-            types: Array::new("types", "UInt8", 1, vec![cell_type; n_cells]),
+            points: Column::new("Points", 3, Values::Vec3(points)),
+            connectivity: Column::new("connectivity", 1, connectivity),
+            offsets: Column::new("offsets", 1, Values::Offsets(verts, n_cells)),
+            types: Column::new("types", 1, Values::Repeat(cell_type, n_cells)),
             point_data: Vec::new(),
             cell_data: Vec::new(),
             active_vectors: None,
@@ -154,32 +334,25 @@ impl Grid {
         }
     }
 
-    /// The bytes of the `.vtu` file at zlib level `level` (0: uncompressed; at most 9).
-    pub fn to_bytes(&self, level: u32) -> Result<Vec<u8>, String> {
-        if level > 9 {
-            return Err(format!("zlib level {level} is above 9"));
-        }
-        let arrays: Vec<&Array> = self
-            .point_data
+    /// The grid encoded at zlib level `level` (0: uncompressed; at most 9).
+    pub fn encode(&self, level: u32) -> Result<Encoded<'a>, String> {
+        Ok(encode_all(&[self], level)?.remove(0))
+    }
+
+    /// The values of the arrays in the file's order: point data, cell data, points,
+    /// connectivity, offsets, types.
+    fn values(&self) -> Vec<Values<'a>> {
+        self.point_data
             .iter()
             .chain(&self.cell_data)
             .chain([&self.points, &self.connectivity, &self.offsets, &self.types])
-            .collect();
-        let encoded = encode_arrays(&arrays, level)?;
-        let mut offsets = Vec::with_capacity(encoded.len());
-        let mut at = 0usize;
-        for e in &encoded {
-            offsets.push(at);
-            at += e.iter().map(|p| p.len()).sum::<usize>();
-        }
-        let xml = self.xml(&offsets, level);
-        let mut out = Vec::with_capacity(xml.len() + at + 64);
-        out.extend_from_slice(xml.as_bytes());
-        for part in encoded.iter().flatten() {
-            out.extend_from_slice(part);
-        }
-        out.extend_from_slice(b"\n  </AppendedData>\n</VTKFile>\n");
-        Ok(out)
+            .map(|c| c.values)
+            .collect()
+    }
+
+    /// The bytes of the `.vtu` file at zlib level `level` (0: uncompressed; at most 9).
+    pub fn to_bytes(&self, level: u32) -> Result<Vec<u8>, String> {
+        Ok(self.encode(level)?.to_bytes())
     }
 
     /// The XML before the appended data, up to and including the `_` marker; `offsets` in
@@ -200,7 +373,7 @@ impl Grid {
             self.n_points, self.n_cells
         );
         let mut off = offsets.iter();
-        let mut arrays = |s: &mut String, list: &[&Array]| {
+        let mut arrays = |s: &mut String, list: &[&Column]| {
             for a in list {
                 let comps = if a.components > 1 {
                     format!(" NumberOfComponents=\"{}\"", a.components)
@@ -211,27 +384,26 @@ impl Grid {
                     s,
                     "        <DataArray type=\"{}\" Name=\"{}\"{comps} format=\"appended\" \
                      offset=\"{}\"/>",
-                    a.ty,
+                    a.values.vtk_type(),
                     a.name,
                     off.next().copied().unwrap_or(0)
                 );
             }
         };
-        let active = |key: &str, name: &Option<String>| {
-            name.as_ref()
-                .map_or(String::new(), |n| format!(" {key}=\"{n}\""))
+        let active = |key: &str, name: Option<&str>| {
+            name.map_or(String::new(), |n| format!(" {key}=\"{n}\""))
         };
         let _ = writeln!(
             s,
             "      <PointData{}>",
-            active("Vectors", &self.active_vectors)
+            active("Vectors", self.active_vectors)
         );
         arrays(&mut s, &self.point_data.iter().collect::<Vec<_>>());
         s.push_str("      </PointData>\n");
         let _ = writeln!(
             s,
             "      <CellData{}>",
-            active("Tensors", &self.active_tensors)
+            active("Tensors", self.active_tensors)
         );
         arrays(&mut s, &self.cell_data.iter().collect::<Vec<_>>());
         s.push_str("      </CellData>\n      <Points>\n");
@@ -246,40 +418,120 @@ impl Grid {
     }
 }
 
-/// Each array's appended data as a list of byte parts (header, then blocks). Level 0: the
-/// byte count and the raw bytes; else the zlib block header and the blocks, compressed in
-/// parallel (the bytes do not depend on the number of threads).
-fn encode_arrays<'a>(arrays: &[&'a Array], level: u32) -> Result<Vec<Vec<Cow<'a, [u8]>>>, String> {
+/// The grids `grids` encoded at zlib level `level` (0: uncompressed; at most 9), their
+/// blocks compressed together (one parallel pass, no pause between the files).
+pub fn encode_all<'a>(grids: &[&Grid<'a>], level: u32) -> Result<Vec<Encoded<'a>>, String> {
+    if level > 9 {
+        return Err(format!("zlib level {level} is above 9"));
+    }
+    let values: Vec<Vec<Values<'a>>> = grids.iter().map(|g| g.values()).collect();
+    let flat: Vec<Values<'a>> = values.iter().flatten().copied().collect();
+    let mut encoded = encode_arrays(&flat, level)?.into_iter();
+    let mut out = Vec::with_capacity(grids.len());
+    for (g, v) in grids.iter().zip(&values) {
+        let mut offsets = Vec::with_capacity(v.len());
+        let mut parts = Vec::new();
+        let mut at = 0usize;
+        for e in encoded.by_ref().take(v.len()) {
+            offsets.push(at);
+            at += e.iter().map(Part::len).sum::<usize>();
+            parts.extend(e);
+        }
+        out.push(Encoded {
+            head: g.xml(&offsets, level),
+            parts,
+        });
+    }
+    Ok(out)
+}
+
+/// Writes the grids `files` (each with its path) at zlib level `level`, each whole or not at
+/// all; their blocks compressed together ([`encode_all`]) and the files written at the same
+/// time ([`write_encoded`]). On failure, the first file that failed, in order, and the
+/// message.
+pub fn write_files(files: &[(&Grid, &Path)], level: u32) -> Result<(), (PathBuf, String)> {
+    let grids: Vec<&Grid> = files.iter().map(|(g, _)| *g).collect();
+    let first = files
+        .first()
+        .map_or_else(PathBuf::new, |(_, p)| p.to_path_buf());
+    let encoded = encode_all(&grids, level).map_err(|e| (first, e))?;
+    let paths: Vec<&Path> = files.iter().map(|(_, p)| *p).collect();
+    write_encoded(&encoded.iter().zip(paths).collect::<Vec<_>>())
+}
+
+/// Writes each encoded grid to its path, whole or not at all, the files at the same time
+/// (one thread each); on failure, the first file that failed, in order, and the message.
+pub fn write_encoded(files: &[(&Encoded, &Path)]) -> Result<(), (PathBuf, String)> {
+    let write = |e: &Encoded, path: &Path| {
+        write_atomic_with(path, &mut |w| e.write_to(w))
+            .map_err(|e| (path.to_path_buf(), e.to_string()))
+    };
+    let results: Vec<Result<(), (PathBuf, String)>> = std::thread::scope(|s| {
+        let rest: Vec<_> = files
+            .iter()
+            .skip(1)
+            .map(|&(e, p)| s.spawn(move || write(e, p)))
+            .collect();
+        let head = files.first().map_or(Ok(()), |&(e, p)| write(e, p));
+        std::iter::once(head)
+            .chain(rest.into_iter().map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err((PathBuf::new(), "the file writer panicked".into())))
+            }))
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+/// Each array's appended data as a list of parts (header, then blocks). Level 0: the byte
+/// count and the raw bytes; else the zlib block header and the blocks, each block's bytes
+/// produced and compressed in parallel (the bytes do not depend on the number of threads).
+fn encode_arrays<'a>(arrays: &[Values<'a>], level: u32) -> Result<Vec<Vec<Part<'a>>>, String> {
     if level == 0 {
         return Ok(arrays
             .iter()
             .map(|a| {
-                let n = (a.bytes.len() as u64).to_le_bytes().to_vec();
-                vec![Cow::Owned(n), Cow::Borrowed(&a.bytes[..])]
+                let n = (a.byte_len() as u64).to_le_bytes().to_vec();
+                vec![Part::Owned(n), Part::Raw(*a)]
             })
             .collect());
     }
-    let blocks: Vec<(usize, &'a [u8])> = arrays
+    // (array, first byte, bytes) of every block
+    let blocks: Vec<(usize, usize, usize)> = arrays
         .iter()
         .enumerate()
-        .flat_map(|(i, a)| a.bytes.chunks(BLOCK).map(move |b| (i, b)))
+        .flat_map(|(i, a)| {
+            let n = a.byte_len();
+            (0..n.div_ceil(BLOCK)).map(move |b| (i, b * BLOCK, BLOCK.min(n - b * BLOCK)))
+        })
         .collect();
     let compressed: Vec<Result<Vec<u8>, String>> = blocks
         .par_iter()
         .map_init(
-            || Compress::new(Compression::new(level), true),
-            |z, (_, b)| compress_block(z, b),
+            || {
+                (
+                    Compress::new(Compression::new(level), true),
+                    vec![0u8; BLOCK],
+                )
+            },
+            |(z, buf), &(i, at, n)| {
+                arrays[i].fill(at, &mut buf[..n]);
+                compress_block(z, &buf[..n])
+            },
         )
         .collect();
-    let mut out: Vec<Vec<Cow<'a, [u8]>>> = arrays.iter().map(|_| Vec::new()).collect();
+    let mut out: Vec<Vec<Part<'a>>> = arrays
+        .iter()
+        .map(|_| vec![Part::Owned(Vec::new())])
+        .collect();
     let mut sizes: Vec<Vec<u64>> = arrays.iter().map(|_| Vec::new()).collect();
-    for ((i, _), c) in blocks.iter().zip(compressed) {
+    for ((i, _, _), c) in blocks.iter().zip(compressed) {
         let c = c?;
         sizes[*i].push(c.len() as u64);
-        out[*i].push(Cow::Owned(c));
+        out[*i].push(Part::Owned(c));
     }
     for ((a, parts), sizes) in arrays.iter().zip(&mut out).zip(sizes) {
-        let partial = a.bytes.len() % BLOCK;
+        let partial = a.byte_len() % BLOCK;
         let mut head = Vec::with_capacity(8 * (3 + sizes.len()));
         for v in [sizes.len() as u64, BLOCK as u64, partial as u64]
             .into_iter()
@@ -287,7 +539,7 @@ fn encode_arrays<'a>(arrays: &[&'a Array], level: u32) -> Result<Vec<Vec<Cow<'a,
         {
             head.extend_from_slice(&v.to_le_bytes());
         }
-        parts.insert(0, Cow::Owned(head));
+        parts[0] = Part::Owned(head);
     }
     Ok(out)
 }
@@ -311,49 +563,61 @@ fn compress_block(z: &mut Compress, block: &[u8]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-/// Encodes a frame as the bytes of a `.vtu` file (zlib level `level`, 0 = uncompressed).
+/// The grid of a frame's triangles with the arrays of `arrays` (in the order of
+/// [`super::arrays`]), borrowed from `frame`.
+pub fn frame_grid<'a>(frame: &'a FrameData, arrays: &ArraySet) -> Grid<'a> {
+    let mut grid = Grid::new(
+        &frame.points,
+        Values::Triangles(&frame.triangles),
+        frame.triangles.len(),
+        3,
+        VTK_TRIANGLE,
+    );
+    let point = [
+        ("displacement", &frame.displacement),
+        ("velocity", &frame.velocity),
+        ("force", &frame.force),
+        ("reaction", &frame.reaction),
+    ];
+    let extra_points = frame
+        .extra_point_vectors
+        .iter()
+        .map(|(n, v)| (n.as_str(), v));
+    for (name, v) in point.into_iter().chain(extra_points) {
+        if arrays.has(name) {
+            grid.point_data.push(Column::new(name, 3, Values::Vec3(v)));
+        }
+    }
+    let cells = [
+        Column::new("stress", 9, Values::Tensor(&frame.stress)),
+        Column::new("principal_stress", 2, Values::Pair(&frame.principal)),
+        Column::new("von_mises", 1, Values::F64(&frame.von_mises)),
+        Column::new(
+            "strain_energy_density",
+            1,
+            Values::F64(&frame.energy_density),
+        ),
+        Column::new("material", 1, Values::I32(&frame.material)),
+        Column::new("body", 1, Values::I32(&frame.body)),
+    ];
+    let extra_cells = frame
+        .extra_cell_scalars
+        .iter()
+        .map(|(n, v)| Column::new(n, 1, Values::F64(v)));
+    grid.cell_data = cells
+        .into_iter()
+        .chain(extra_cells)
+        .filter(|c| arrays.has(c.name))
+        .collect();
+    grid.active_vectors = arrays.has("displacement").then_some("displacement");
+    grid.active_tensors = arrays.has("stress").then_some("stress");
+    grid
+}
+
+/// Encodes a frame with every array as the bytes of a `.vtu` file (zlib level `level`,
+/// 0 = uncompressed).
 pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
-    let conn = le_bytes(&frame.triangles, 24, |t, o| {
-        for k in 0..3 {
-            o[8 * k..8 * k + 8].copy_from_slice(&(t[k] as i64).to_le_bytes());
-        }
-    });
-    let mut grid = Grid::new(&frame.points, conn, 3, VTK_TRIANGLE);
-    grid.point_data = vec![
-        Array::vec3("displacement", &frame.displacement),
-        Array::vec3("velocity", &frame.velocity),
-        Array::vec3("force", &frame.force),
-        Array::vec3("reaction", &frame.reaction),
-    ];
-    for (name, v) in &frame.extra_point_vectors {
-        grid.point_data.push(Array::vec3(name, v));
-    }
-    let stress = le_bytes(&frame.stress, 72, |s, o| {
-        for (k, x) in [s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]]
-            .into_iter()
-            .enumerate()
-        {
-            put(o, k, x);
-        }
-    });
-    let principal = le_bytes(&frame.principal, 16, |p, o| {
-        put(o, 0, p[0]);
-        put(o, 1, p[1]);
-    });
-    grid.cell_data = vec![
-        Array::new("stress", "Float64", 9, stress),
-        Array::new("principal_stress", "Float64", 2, principal),
-        Array::f64("von_mises", 1, &frame.von_mises),
-        Array::f64("strain_energy_density", 1, &frame.energy_density),
-        Array::i32("material", &frame.material),
-        Array::i32("body", &frame.body),
-    ];
-    for (name, v) in &frame.extra_cell_scalars {
-        grid.cell_data.push(Array::f64(name, 1, v));
-    }
-    grid.active_vectors = Some("displacement".into());
-    grid.active_tensors = Some("stress".into());
-    grid.to_bytes(level)
+    frame_grid(frame, &ArraySet::all()).to_bytes(level)
 }
 
 /// Reads a file of this module's format back (the tests' and users' check of what was

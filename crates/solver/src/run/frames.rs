@@ -1,8 +1,17 @@
 //! The run's output folder and its frames: [`FrameWriter`] writes the `.vtu` frames (and the
 //! joints' series, the raw JSON frames) collected in `results.pvd`; [`FrameClock`] says when a
 //! frame is due.
+//!
+//! With `output.writer_thread` (the default) a frame is copied out of the state and then
+//! compressed and written on a background thread (with its own rayon pool of as many threads
+//! as the run's) while the run steps on. At most one frame is in flight: the next frame, a
+//! checkpoint, the end of the run and any stop wait for it first, and a failure of the
+//! background write ends the run there with the same error as a write in the loop. A frame
+//! enters `results.pvd` (and `joints.pvd`) once its files are whole.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::Instant;
 
 use fdem_time::State;
@@ -13,7 +22,10 @@ use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::diagnosis::Found;
 use crate::error::RunError;
 use crate::load::Loaded;
-use crate::output::{Collection, FrameData, JointSeries, make_frame, vtu, write_atomic};
+use crate::output::{
+    ArraySet, Collection, FrameData, JointSeries, joints, make_frame_of, vtu, write_atomic,
+};
+use crate::scene::Output;
 use crate::summary::Summary;
 use crate::system::SceneSystem;
 
@@ -25,37 +37,100 @@ pub struct FrameWriter {
     level: u32,
     frames: usize,
     joints: JointSeries,
+    arrays: ArraySet,
+    /// Frames written in the background.
+    background: bool,
+    /// The pool of the background writes, once made.
+    pool: Option<Arc<rayon::ThreadPool>>,
+    /// The frame being written in the background.
+    pending: Option<JoinHandle<Result<Written, RunError>>>,
+}
+
+/// A frame's files, written: its time and the names to add to the collections.
+struct Written {
+    time: f64,
+    frame: String,
+    joints: Option<String>,
+}
+
+/// The files of frame `index` (frame, joints, raw JSON) in `dir`.
+fn write_files(
+    dir: &Path,
+    index: usize,
+    data: &FrameData,
+    level: u32,
+    raw: bool,
+    arrays: &ArraySet,
+) -> Result<Written, RunError> {
+    let out = |file: PathBuf, e: String| RunError::Output { file, message: e };
+    let name = format!("frame_{index:04}.vtu");
+    let joints = match &data.joints {
+        Some(j) => Some((
+            JointSeries::file_name(dir, index, j).map_err(|(file, e)| out(file, e))?,
+            joints::grid(j, arrays),
+        )),
+        None => None,
+    };
+    let frame = (vtu::frame_grid(data, arrays), dir.join(&name));
+    let joint_path = joints.as_ref().map(|(n, g)| (g, dir.join(n)));
+    let mut files: Vec<(&vtu::Grid, &Path)> = vec![(&frame.0, &frame.1)];
+    if let Some((g, p)) = &joint_path {
+        files.push((g, p));
+    }
+    vtu::write_files(&files, level).map_err(|(file, e)| out(file, e))?;
+    let joints = joints.map(|(n, _)| n);
+    if raw {
+        let path = dir.join(format!("frame_{index:04}.json"));
+        let text = serde_json::to_vec(data).map_err(|e| out(path.clone(), e.to_string()))?;
+        write_atomic(&path, &text).map_err(|e| out(path, e.to_string()))?;
+    }
+    Ok(Written {
+        time: data.time,
+        frame: name,
+        joints,
+    })
 }
 
 impl FrameWriter {
     /// Claims the output folder: creates it, and removes the files of an earlier run
     /// (`output::folder`) so that none is mistaken for this run's.
-    pub fn new(options: &RunOptions, level: u32) -> Result<Self, RunError> {
+    pub fn new(options: &RunOptions, output: &Output) -> Result<Self, RunError> {
         crate::output::folder::claim(&options.out_dir).map_err(|e| RunError::Output {
             file: options.out_dir.clone(),
             message: format!("cannot prepare the output folder: {e}"),
         })?;
-        Ok(Self {
-            dir: options.out_dir.clone(),
-            pvd: Collection::new(&options.out_dir.join("results.pvd")),
-            raw: options.raw,
-            level,
-            frames: 0,
-            joints: JointSeries::default(),
-        })
+        Ok(Self::resume(options, output))
     }
 
     /// The writer of a run resumed in its folder (which it does not claim: the frames written
     /// before the checkpoint stay; [`Observer::restore`] removes those after it).
-    pub fn resume(options: &RunOptions, level: u32) -> Self {
+    pub fn resume(options: &RunOptions, output: &Output) -> Self {
         Self {
             dir: options.out_dir.clone(),
             pvd: Collection::new(&options.out_dir.join("results.pvd")),
             raw: options.raw,
-            level,
+            level: output.compression,
             frames: 0,
             joints: JointSeries::default(),
+            arrays: output.arrays.set(),
+            background: output.writer_thread,
+            pool: None,
+            pending: None,
         }
+    }
+
+    /// The pool of the background writes (made at the first frame, of as many threads as
+    /// the run's pool), or `None` for writes in the loop (also when no pool can be made).
+    fn pool(&mut self) -> Option<Arc<rayon::ThreadPool>> {
+        if self.background && self.pool.is_none() {
+            self.pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(rayon::current_num_threads())
+                .thread_name(|i| format!("fdem-frames-{i}"))
+                .build()
+                .ok()
+                .map(Arc::new);
+        }
+        self.pool.clone()
     }
 
     /// Removes the frame files numbered `from` and above (written after a checkpoint by the
@@ -76,13 +151,19 @@ impl FrameWriter {
         Ok(())
     }
 
-    /// Frames written.
+    /// Frames written or in flight.
     pub fn frames(&self) -> usize {
         self.frames
     }
 
-    /// Writes one frame (refused, with an `Unstable` error, when a value is not finite).
-    pub fn write(&mut self, data: &FrameData) -> Result<(), RunError> {
+    /// The arrays the frames carry.
+    pub fn arrays(&self) -> &ArraySet {
+        &self.arrays
+    }
+
+    /// Writes one frame (refused, with an `Unstable` error, when a value is not finite), in
+    /// the background when the writer has a pool (after the frame in flight is written).
+    pub fn write(&mut self, data: FrameData) -> Result<(), RunError> {
         let check_finite = data
             .points
             .iter()
@@ -98,59 +179,95 @@ impl FrameWriter {
                 message: "non-finite positions, velocities, forces or stresses in an output frame (not written)\n  fix: lower the time step (`integrator.safety`), and check the materials (young, density) and the loads".into(),
             });
         }
-        let name = format!("frame_{:04}.vtu", self.frames);
-        let out = |file: PathBuf, e: String| RunError::Output { file, message: e };
-        let bytes = vtu::encode(data, self.level).map_err(|e| out(self.dir.join(&name), e))?;
-        write_atomic(&self.dir.join(&name), &bytes)
-            .map_err(|e| out(self.dir.join(&name), e.to_string()))?;
-        self.joints
-            .write(&self.dir, self.frames, data, self.level)
-            .map_err(|(file, e)| out(file, e))?;
-        if self.raw {
-            let raw = format!("frame_{:04}.json", self.frames);
-            let text =
-                serde_json::to_vec(data).map_err(|e| out(self.dir.join(&raw), e.to_string()))?;
-            write_atomic(&self.dir.join(&raw), &text)
-                .map_err(|e| out(self.dir.join(&raw), e.to_string()))?;
+        self.flush()?;
+        let (dir, index, level, raw) = (self.dir.clone(), self.frames, self.level, self.raw);
+        match self.pool() {
+            Some(pool) => {
+                let arrays = self.arrays.clone();
+                self.pending = Some(std::thread::spawn(move || {
+                    pool.install(|| write_files(&dir, index, &data, level, raw, &arrays))
+                }));
+            }
+            None => {
+                let written = write_files(&dir, index, &data, level, raw, &self.arrays)?;
+                self.enter(written)?;
+            }
         }
-        self.pvd
-            .push(data.time, &name)
-            .map_err(|e| out(self.dir.join("results.pvd"), e.to_string()))?;
         self.frames += 1;
         Ok(())
     }
 
+    /// Waits for the frame in flight, if any, and enters it in the collections.
+    pub fn flush(&mut self) -> Result<(), RunError> {
+        let Some(h) = self.pending.take() else {
+            return Ok(());
+        };
+        let written = h.join().map_err(|_| RunError::Output {
+            file: self.dir.clone(),
+            message: "the frame writer thread panicked".into(),
+        })??;
+        self.enter(written)
+    }
+
+    /// Adds a written frame to `results.pvd` (and `joints.pvd`).
+    fn enter(&mut self, w: Written) -> Result<(), RunError> {
+        let out = |file: PathBuf, e: String| RunError::Output { file, message: e };
+        if let Some(name) = &w.joints {
+            self.joints
+                .push(&self.dir, w.time, name)
+                .map_err(|(file, e)| out(file, e))?;
+        }
+        self.pvd
+            .push(w.time, &w.frame)
+            .map_err(|e| out(self.dir.join("results.pvd"), e.to_string()))
+    }
+
     /// Writes the frame of the system at `state`: the force evaluated there (not counted in
-    /// the stage timers), the stresses, the stages' fields; its time counted as output.
+    /// the stage timers), the stresses, the stages' fields (when the frames carry some of
+    /// theirs); the time until the frame is handed over (or written) counted as output.
     fn write_state(&mut self, sys: &mut SceneSystem, state: &State) -> Result<(), RunError> {
         let s = Instant::now();
         let saved = sys.timers;
         let mut a = vec![0.0; state.x.len()];
         fdem_time::SecondOrderSystem::acceleration(sys, state.t, &state.x, &state.v, &mut a);
         sys.timers = saved;
-        let mut fr = state_frame(sys, state);
-        for c in &sys.contributions {
-            c.frame_fields(state.x_nodes(), &mut fr);
+        let mut fr = state_frame_of(sys, state, &self.arrays);
+        if self.arrays.has_stage_arrays() {
+            for c in &sys.contributions {
+                c.frame_fields(state.x_nodes(), &mut fr);
+            }
         }
-        self.write(&fr)?;
+        if !self.arrays.has_joints() {
+            fr.joints = None;
+        }
+        let result = self.write(fr);
         sys.timers.output += s.elapsed().as_secs_f64();
-        Ok(())
+        result
+    }
+}
+
+impl Drop for FrameWriter {
+    /// A frame in flight is finished before the writer goes (its error is the run's only
+    /// when the run waits for it: [`FrameWriter::flush`]).
+    fn drop(&mut self) {
+        if let Some(h) = self.pending.take() {
+            let _ = h.join();
+        }
     }
 }
 
 /// The frame of the system at `state`, with the forces and reactions of its last evaluation
 /// (without the stages' fields).
 pub fn state_frame(sys: &SceneSystem, state: &State) -> FrameData {
+    state_frame_of(sys, state, &ArraySet::all())
+}
+
+/// [`state_frame`] with the arrays of `arrays` only.
+fn state_frame_of(sys: &SceneSystem, state: &State, arrays: &ArraySet) -> FrameData {
     let reaction = sys.reactions();
-    make_frame(
-        &sys.model,
-        &sys.elements,
-        state.t,
-        state.x_nodes(),
-        state.v_nodes(),
-        &sys.force,
-        &reaction,
-    )
+    let (x, v) = (state.x_nodes(), state.v_nodes());
+    let (m, e) = (&sys.model, &sys.elements);
+    make_frame_of(m, e, state.t, x, v, &sys.force, &reaction, arrays)
 }
 
 impl Observer for FrameWriter {
@@ -170,16 +287,25 @@ impl Observer for FrameWriter {
         })
     }
 
+    /// The last frame written (and its wait counted as output) before the summary.
     fn finish(&mut self, _run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        let s = Instant::now();
+        self.flush()?;
+        summary.timers.output += s.elapsed().as_secs_f64();
         summary.frames = self.frames;
         Ok(())
     }
 
+    /// The run stops on an error of its own: the frame in flight finished (a failure of it
+    /// is not reported over the run's error).
     fn stopped(&mut self, summary: &mut Summary) {
-        summary.frames = self.frames;
+        let _ = self.flush();
+        summary.frames = self.pvd.len();
     }
 
+    /// The frame in flight written first, so that the checkpoint's count is of whole files.
     fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        self.flush()?;
         e.put(&self.frames);
         e.put(&self.pvd.entries().to_vec());
         e.put(&self.joints.entries().to_vec());
@@ -188,6 +314,9 @@ impl Observer for FrameWriter {
 
     /// The collections as they were at the checkpoint, rewritten; later frames removed.
     fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        if let Some(h) = self.pending.take() {
+            let _ = h.join();
+        }
         self.frames = d.get()?;
         let entries: Vec<(f64, String)> = d.get()?;
         let joints: Vec<(f64, String)> = d.get()?;

@@ -95,10 +95,10 @@ pub fn run_outcome(
         let cp = crate::checkpoint::read(&file)?;
         check_belongs(l, &file, &cp.header)?;
         checkpoints::keep_time_step(l, &cp.header);
-        let writer = FrameWriter::resume(options, l.scene.output.compression);
+        let writer = FrameWriter::resume(options, &l.scene.output);
         return dynamic(l, options, progress, writer, wall, Some(&cp));
     }
-    let writer = FrameWriter::new(options, l.scene.output.compression)?;
+    let writer = FrameWriter::new(options, &l.scene.output)?;
     dynamic(l, options, progress, writer, wall, None)
 }
 
@@ -122,10 +122,11 @@ fn static_run(
             .sum::<f64>()
     });
     summary.energy = Energies::from_static(&summary.energy, gravity);
-    let mut writer = FrameWriter::new(options, l.scene.output.compression)?;
+    let mut writer = FrameWriter::new(options, &l.scene.output)?;
     let s = Instant::now();
     if l.scene.output.frames > 0 {
-        writer.write(&frame)?;
+        writer.write(frame.clone())?;
+        writer.flush()?;
     }
     summary.timers.output = s.elapsed().as_secs_f64();
     summary.frames = writer.frames();

@@ -151,13 +151,28 @@ impl Scene {
             }
         }
         self.damping.validate(file)?;
-        self.output.validate(file)?;
+        self.output.validate(&self.array_offer(), file)?;
         self.histories.validate(file)?;
         if let Some(f) = &self.fracture {
             f.validate(file)?;
         }
         initial_stress::validate(&self.initial_stress, file)?;
         Ok(())
+    }
+}
+
+impl Scene {
+    /// What the scene has that adds arrays to its frames (`output.arrays`).
+    pub fn array_offer(&self) -> crate::output::arrays::Offer {
+        crate::output::arrays::Offer {
+            contact: self.contact.as_ref().is_some_and(|c| c.enabled),
+            drawn_young: self
+                .bodies
+                .iter()
+                .any(|b| b.materials.values().any(|m| m.heterogeneity.is_some())),
+            fracture: self.fracture.is_some(),
+            varied_joints: self.fracture.as_ref().is_some_and(|f| f.varied_joints()),
+        }
     }
 }
 

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
+use crate::output::arrays::{ArraySet, Offer};
 
 /// Field output.
 #[derive(Debug, Clone, Deserialize, Serialize)]
@@ -23,6 +24,52 @@ pub struct Output {
     /// time. `fdem run --checkpoint-every` overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checkpoint_every: Option<crate::checkpoint::Every>,
+    /// The arrays the frames carry: `"all"` (default: every array the scene offers) or a
+    /// list of names ([`crate::output::arrays`]); names the scene cannot give are an error.
+    #[serde(default, skip_serializing_if = "Arrays::is_all")]
+    pub arrays: Arrays,
+    /// Frames compressed and written on a background thread while the run steps on
+    /// (default true); false writes each frame before the next step.
+    #[serde(default = "default_true", skip_serializing_if = "is_true")]
+    pub writer_thread: bool,
+}
+
+/// `output.arrays`: `"all"` or a list of array names.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum Arrays {
+    /// A word: only `"all"` is valid.
+    Word(String),
+    /// The names of the arrays to write.
+    List(Vec<String>),
+}
+
+impl Default for Arrays {
+    fn default() -> Self {
+        Arrays::Word("all".into())
+    }
+}
+
+impl Arrays {
+    /// True for `"all"`.
+    pub fn is_all(&self) -> bool {
+        matches!(self, Arrays::Word(w) if w == "all")
+    }
+
+    /// The set of arrays a run writes (checked by [`Output::validate`]).
+    pub fn set(&self) -> ArraySet {
+        match self {
+            Arrays::List(names) => ArraySet::only(names.iter().cloned()),
+            Arrays::Word(_) => ArraySet::all(),
+        }
+    }
+}
+
+fn default_true() -> bool {
+    true
+}
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 fn default_frames() -> usize {
@@ -38,6 +85,8 @@ impl Default for Output {
             frames: default_frames(),
             compression: default_level(),
             checkpoint_every: None,
+            arrays: Arrays::default(),
+            writer_thread: true,
         }
     }
 }
@@ -80,8 +129,9 @@ pub struct GroupProbe {
 }
 
 impl Output {
-    /// Checks the compression level; `file` names the scene in errors.
-    pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
+    /// Checks the compression level and the array names against what the scene `offer`s;
+    /// `file` names the scene in errors.
+    pub(crate) fn validate(&self, offer: &Offer, file: &Path) -> Result<(), SceneError> {
         let bad = |path: String, message: String, fix: &str| {
             SceneError::invalid(file, path, message, fix)
         };
@@ -92,6 +142,41 @@ impl Output {
                 format!("compression level {} is above 9", self.compression),
                 "use a zlib level from 0 (none) to 9",
             ));
+        }
+        let valid = || {
+            format!(
+                "\"all\" or a list of this scene's arrays: {}",
+                offer.names().join(", ")
+            )
+        };
+        let names = match &self.arrays {
+            Arrays::Word(w) if w == "all" => return Ok(()),
+            Arrays::Word(w) => {
+                return Err(bad(
+                    "output.arrays".into(),
+                    format!("\"{w}\" is neither \"all\" nor a list of arrays"),
+                    &format!("give {}", valid()),
+                ));
+            }
+            Arrays::List(names) => names,
+        };
+        let offered = offer.names();
+        for (i, name) in names.iter().enumerate() {
+            let path = format!("output.arrays[{i}]");
+            if !offered.contains(&name.as_str()) {
+                return Err(bad(
+                    path,
+                    offer.missing(name),
+                    &format!("list only {}", valid()),
+                ));
+            }
+            if names[..i].contains(name) {
+                return Err(bad(
+                    path,
+                    format!("'{name}' is listed twice"),
+                    "list each array once",
+                ));
+            }
         }
         Ok(())
     }
