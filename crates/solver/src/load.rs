@@ -54,6 +54,9 @@ pub struct Loaded {
     /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
     /// time step for their frequency bound.
     pub contributions: Vec<Box<dyn ForceContribution>>,
+    /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
+    /// run summary's `timers.setup`.
+    pub load_s: f64,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -62,6 +65,7 @@ pub struct Loaded {
 /// then the fracturing bodies are exploded and the model built, and last the derived
 /// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
+    let started = std::time::Instant::now();
     let mut scene = Scene::from_file(file)?;
     static_checks::check_sections(&scene, file)?;
     let dir = file.parent().unwrap_or(Path::new("."));
@@ -160,6 +164,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         dt: steps.dt,
         n_steps: steps.n_steps,
         contributions: Vec::new(),
+        load_s: started.elapsed().as_secs_f64(),
     })
 }
 
