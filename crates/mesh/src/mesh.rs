@@ -178,16 +178,19 @@ impl Mesh {
             .collect();
         // Groups: node sets, edge orientation, sort.
         groups.sort_by_key(|g| (g.dim, g.tag));
-        let mut edge_dir = std::collections::HashMap::new();
-        for e in &edges {
-            if e.right.is_none() {
-                edge_dir.insert((e.nodes[1], e.nodes[0]), ());
-            }
+        // The boundary edges reversed, for the groups' edges (none asked: none built).
+        let mut edge_dir = std::collections::HashSet::new();
+        if groups.iter().any(|g| !g.edges.is_empty()) {
+            edge_dir.extend(
+                (edges.iter())
+                    .filter(|e| e.right.is_none())
+                    .map(|e| (e.nodes[1], e.nodes[0])),
+            );
         }
         for g in &mut groups {
             let mut ns: Vec<NodeId> = g.nodes.clone();
             for e in &mut g.edges {
-                if edge_dir.contains_key(&(e[0], e[1])) {
+                if edge_dir.contains(&(e[0], e[1])) {
                     e.swap(0, 1);
                 }
                 ns.extend_from_slice(e);
@@ -369,16 +372,35 @@ fn check_duplicates(path: &str, nodes: &[[f64; 2]], tags: &[u64]) -> Result<(), 
 
 type Edges = (Vec<MeshEdge>, Vec<[EdgeId; 3]>);
 
+/// An edge key: (min node, max node, triangle, local edge).
+type EdgeKey = (u32, u32, u32, u8);
+
+/// Triangles per rayon task in [`edge_keys`].
+const KEY_CHUNK: usize = 4096;
+
+/// The keys of every triangle's three edges, sorted. Each key is unique (its triangle and
+/// local edge are), so the parallel unstable sort gives the one sorted order whatever the
+/// number of threads.
+pub(crate) fn edge_keys(tris: &[[u32; 3]]) -> Vec<EdgeKey> {
+    use rayon::prelude::*;
+    let mut keys: Vec<EdgeKey> = Vec::with_capacity(3 * tris.len());
+    keys.par_extend(
+        tris.par_iter()
+            .with_min_len(KEY_CHUNK)
+            .enumerate()
+            .flat_map_iter(|(t, tri)| {
+                (0..3).map(move |k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    (a.min(b), a.max(b), t as u32, k as u8)
+                })
+            }),
+    );
+    keys.par_sort_unstable();
+    keys
+}
+
 fn build_edges(path: &str, tris: &[[u32; 3]], tri_tags: &[u64]) -> Result<Edges, MeshError> {
-    // (min node, max node, triangle, local edge)
-    let mut keys: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * tris.len());
-    for (t, tri) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            keys.push((a.min(b), a.max(b), t as u32, k as u8));
-        }
-    }
-    keys.sort_unstable();
+    let keys = edge_keys(tris);
     let mut edges = Vec::with_capacity(keys.len() / 2 + 1);
     let mut tri_edges = vec![[EdgeId(0); 3]; tris.len()];
     let mut i = 0;

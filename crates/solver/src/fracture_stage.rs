@@ -35,7 +35,7 @@ use std::sync::{Arc, Mutex};
 use fdem_fracture::{
     FractureError, FractureEvent, Joint, JointHistory, JointScratch, JointSet, JointState,
     JointStateSnapshot, accumulate_joint_forces, commit_joints, commit_joints_at_last_pass,
-    joint_omega_sq_bound,
+    joint_omega_sq_bound_intact,
 };
 use fdem_mesh::Mesh;
 use serde::Serialize;
@@ -199,10 +199,10 @@ pub fn check_initial_state(scene: &Scene, file: &Path) -> Result<(), SceneError>
     Ok(())
 }
 
-/// The joints' term of the frequency bound [rad/s].
+/// The joints' term of the frequency bound [rad/s], over every joint (intact, as a fresh
+/// state has them).
 pub fn omega_joints(set: &JointSet, model: &Model) -> f64 {
-    let state = JointState::new(set, &model.x0);
-    joint_omega_sq_bound(set, &state, &model.mass).sqrt()
+    joint_omega_sq_bound_intact(set, &model.mass).sqrt()
 }
 
 /// A word-wise FNV-1a hash of a list of pairs (a checkpoint's check of a rebuilt list).
