@@ -68,18 +68,13 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let started = std::time::Instant::now();
     let mut scene = Scene::from_file(file)?;
     static_checks::check_sections(&scene, file)?;
-    let dir = file.parent().unwrap_or(Path::new("."));
-    let mut read = Vec::new();
-    for i in 0..scene.bodies.len() {
-        let path = dir.join(&scene.bodies[i].mesh);
-        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
-            file: file.to_path_buf(),
-            path: format!("bodies[{i}].mesh"),
-            mesh: path.clone(),
-            message,
-        })?;
-        read.push(mesh);
-    }
+    // The schemes' stability limits (computed once per process, the same numbers on any
+    // thread) are found while the meshes are read.
+    let (read, _) = rayon::join(
+        || read_meshes(&scene, file),
+        || SchemeKind::CentralDifference.stability_limit(),
+    );
+    let read = read?;
     // (messages name each mesh as the scene does)
     let names: Vec<MeshNames> = read
         .iter()
@@ -166,6 +161,23 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         contributions: Vec::new(),
         load_s: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The bodies' meshes, in the scene's order.
+fn read_meshes(scene: &Scene, file: &Path) -> Result<Vec<Mesh>, SceneError> {
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let mut read = Vec::with_capacity(scene.bodies.len());
+    for (i, body) in scene.bodies.iter().enumerate() {
+        let path = dir.join(&body.mesh);
+        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
+            file: file.to_path_buf(),
+            path: format!("bodies[{i}].mesh"),
+            mesh: path.clone(),
+            message,
+        })?;
+        read.push(mesh);
+    }
+    Ok(read)
 }
 
 /// The number of steps of about `h` that span `duration` ([`limits::step_count`]: a whole
