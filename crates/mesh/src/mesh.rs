@@ -3,6 +3,7 @@
 
 use crate::error::MeshError;
 use crate::ids::{EdgeId, NodeId, RegionId, TriId};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// A named physical group of the mesh (a Gmsh physical group, or a JSON group).
@@ -124,31 +125,33 @@ impl Mesh {
         if triangles.is_empty() {
             return Err(MeshError::NoTriangles { path });
         }
-        // Orientation and zero area.
-        let mut reoriented = 0;
-        for (t, tri) in triangles.iter_mut().enumerate() {
-            let [a, b, c] = tri.map(|n| nodes[n as usize]);
-            let e1 = [b[0] - a[0], b[1] - a[1]];
-            let e2 = [c[0] - a[0], c[1] - a[1]];
-            let e3 = [c[0] - b[0], c[1] - b[1]];
-            let a2 = e1[0] * e2[1] - e1[1] * e2[0];
-            let lmax2 = [e1, e2, e3]
-                .iter()
-                .map(|e| e[0] * e[0] + e[1] * e[1])
-                .fold(0.0, f64::max);
-            if a2.abs() <= 1e-10 * lmax2 || !a2.is_finite() {
-                return Err(MeshError::ZeroArea {
-                    path,
-                    tri: TriId(t as u32),
-                    element: tri_tags[t],
-                    area: a2 / 2.0,
-                    nodes: tri.map(|n| node_tags[n as usize]),
-                });
-            }
-            if a2 < 0.0 {
-                tri.swap(1, 2);
-                reoriented += 1;
-            }
+        // Orientation and zero area, per triangle in parallel: the count of reversed
+        // triangles and the first flat one (in triangle order) do not depend on the threads.
+        let (flat, reoriented) = triangles
+            .par_iter_mut()
+            .with_min_len(TRI_CHUNK)
+            .enumerate()
+            .map(|(t, tri)| match doubled_area(&nodes, *tri) {
+                None => (Some(t), 0),
+                Some(a2) if a2 < 0.0 => {
+                    tri.swap(1, 2);
+                    (None, 1)
+                }
+                Some(_) => (None, 0),
+            })
+            .reduce(
+                || (None, 0),
+                |a, b| (a.0.into_iter().chain(b.0).min(), a.1 + b.1),
+            );
+        if let Some(t) = flat {
+            let tri = triangles[t];
+            return Err(MeshError::ZeroArea {
+                path,
+                tri: TriId(t as u32),
+                element: tri_tags[t],
+                area: tri_area(&nodes, tri),
+                nodes: tri.map(|n| node_tags[n as usize]),
+            });
         }
         // Unused nodes.
         let mut used = vec![false; nn];
@@ -328,6 +331,21 @@ impl Mesh {
     }
 }
 
+/// Twice the signed area of `tri`, or `None` when the triangle is flat (`|2A| <= 1e-10` times
+/// its longest edge squared) or not finite.
+fn doubled_area(nodes: &[[f64; 2]], tri: [u32; 3]) -> Option<f64> {
+    let [a, b, c] = tri.map(|n| nodes[n as usize]);
+    let e1 = [b[0] - a[0], b[1] - a[1]];
+    let e2 = [c[0] - a[0], c[1] - a[1]];
+    let e3 = [c[0] - b[0], c[1] - b[1]];
+    let a2 = e1[0] * e2[1] - e1[1] * e2[0];
+    let lmax2 = [e1, e2, e3]
+        .iter()
+        .map(|e| e[0] * e[0] + e[1] * e[1])
+        .fold(0.0, f64::max);
+    (a2.abs() > 1e-10 * lmax2 && a2.is_finite()).then_some(a2)
+}
+
 /// Signed area of triangle `tri` with positions `x`: `cross(x1-x0, x2-x0)/2`.
 #[inline]
 pub fn tri_area(x: &[[f64; 2]], tri: [u32; 3]) -> f64 {
@@ -372,21 +390,20 @@ fn check_duplicates(path: &str, nodes: &[[f64; 2]], tags: &[u64]) -> Result<(), 
 
 type Edges = (Vec<MeshEdge>, Vec<[EdgeId; 3]>);
 
+/// Triangles per rayon task in the build's per-triangle loops.
+const TRI_CHUNK: usize = 4096;
+
 /// An edge key: (min node, max node, triangle, local edge).
 type EdgeKey = (u32, u32, u32, u8);
-
-/// Triangles per rayon task in [`edge_keys`].
-const KEY_CHUNK: usize = 4096;
 
 /// The keys of every triangle's three edges, sorted. Each key is unique (its triangle and
 /// local edge are), so the parallel unstable sort gives the one sorted order whatever the
 /// number of threads.
 pub(crate) fn edge_keys(tris: &[[u32; 3]]) -> Vec<EdgeKey> {
-    use rayon::prelude::*;
     let mut keys: Vec<EdgeKey> = Vec::with_capacity(3 * tris.len());
     keys.par_extend(
         tris.par_iter()
-            .with_min_len(KEY_CHUNK)
+            .with_min_len(TRI_CHUNK)
             .enumerate()
             .flat_map_iter(|(t, tri)| {
                 (0..3).map(move |k| {

@@ -284,19 +284,26 @@ fn add_bodies(
                 .map(|p| [p[0] + body.offset[0], p[1] + body.offset[1]]),
         );
         m.v0.extend(std::iter::repeat_n(body.initial_velocity, mesh.nodes.len()));
+        // the material of the last group looked up (consecutive triangles share a group)
+        let mut last = None;
         for (ti, t) in mesh.triangles.iter().enumerate() {
             let g = &mesh.triangle_group[ti];
-            let (key, spec) = body
-                .materials
-                .get_key_value(g)
-                .or_else(|| body.materials.get_key_value("*"))
-                .ok_or_else(|| {
-                    unresolved(
-                        file,
-                        format!("bodies[{bi}].materials"),
-                        format!("triangle {ti} is in group '{g}', which has no material"),
-                    )
-                })?;
+            let (key, spec) = match last {
+                Some((lg, found)) if lg == g => found,
+                _ => {
+                    let found = (body.materials.get_key_value(g))
+                        .or_else(|| body.materials.get_key_value("*"))
+                        .ok_or_else(|| {
+                            unresolved(
+                                file,
+                                format!("bodies[{bi}].materials"),
+                                format!("triangle {ti} is in group '{g}', which has no material"),
+                            )
+                        })?;
+                    last = Some((g, found));
+                    found
+                }
+            };
             let mi = if spec.heterogeneity.is_some() {
                 // its own row: Young's modulus drawn for its global index
                 m.drawn_young = true;
