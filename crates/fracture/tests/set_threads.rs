@@ -32,7 +32,11 @@ fn joints() -> (Vec<Joint>, Vec<[f64; 2]>, Vec<JointMaterialInput>) {
             ..*jt
         })
         .collect();
-    (joints, mesh.x, vec![material(3e6, 50.0), material(5e6, 80.0)])
+    (
+        joints,
+        mesh.x,
+        vec![material(3e6, 50.0), material(5e6, 80.0)],
+    )
 }
 
 fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
@@ -130,7 +134,9 @@ fn the_joint_set_is_the_same_bits_on_any_number_of_threads() {
     assert_eq!(joints.len(), 29_800);
     let reference = serial_reference(&joints, &inputs, n, 0.05);
     for threads in [1, 2, 3] {
-        let set = in_pool(threads, || JointSet::new(&joints, &inputs, n, 0.05).unwrap());
+        let set = in_pool(threads, || {
+            JointSet::new(&joints, &inputs, n, 0.05).unwrap()
+        });
         assert!(
             bits(&set) == reference,
             "{threads} thread(s): the set differs from the serial construction"
@@ -168,7 +174,9 @@ fn the_first_bad_joint_is_named_on_any_number_of_threads() {
 fn the_fresh_bound_without_a_state_is_the_bound_with_one() {
     let (joints, x, inputs) = joints();
     let set = JointSet::new(&joints, &inputs, x.len(), 0.05).unwrap();
-    let mass: Vec<f64> = (0..x.len()).map(|i| 1e-3 * (1.0 + (i % 13) as f64)).collect();
+    let mass: Vec<f64> = (0..x.len())
+        .map(|i| 1e-3 * (1.0 + (i % 13) as f64))
+        .collect();
     let with_state = joint_omega_sq_bound(&set, &JointState::new(&set, &x), &mass);
     let without = joint_omega_sq_bound_intact(&set, &mass);
     assert!(with_state > 0.0);

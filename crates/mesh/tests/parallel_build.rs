@@ -5,9 +5,7 @@
 //! (kept here as the reference), and the groups' edges and points are exploded as before
 //! (checked against their definition).
 
-use fdem_mesh::{
-    EdgeId, Exploded, Mesh, MeshEdge, NodeId, PhysicalGroup, RawMesh, TriId, explode,
-};
+use fdem_mesh::{EdgeId, Exploded, Mesh, MeshEdge, NodeId, PhysicalGroup, RawMesh, TriId, explode};
 
 /// `n x n` cells of side 1/n, two triangles per cell (diagonals alternating, every other
 /// triangle given clockwise), with a surface group of the left half, an edge group of the
@@ -16,7 +14,11 @@ fn grid(n: usize, groups: bool) -> RawMesh {
     let mut nodes = Vec::new();
     for j in 0..=n {
         for i in 0..=n {
-            let dy = if j > 0 && j < n { 1e-3 * (i % 3) as f64 } else { 0.0 };
+            let dy = if j > 0 && j < n {
+                1e-3 * (i % 3) as f64
+            } else {
+                0.0
+            };
             nodes.push([i as f64 / n as f64, j as f64 / n as f64 + dy]);
         }
     }
@@ -50,7 +52,9 @@ fn grid(n: usize, groups: bool) -> RawMesh {
             .map(|t| TriId(t as u32))
             .collect();
         let mut bottom = group("bottom", 1, 2);
-        bottom.edges = (0..n).map(|i| [NodeId(id(i + 1, 0)), NodeId(id(i, 0))]).collect();
+        bottom.edges = (0..n)
+            .map(|i| [NodeId(id(i + 1, 0)), NodeId(id(i, 0))])
+            .collect();
         let mut corners = group("corners", 0, 3);
         corners.nodes = vec![NodeId(id(0, 0)), NodeId(id(n, n))];
         gs = vec![left, bottom, corners];
@@ -148,7 +152,10 @@ fn build_and_explode_are_the_same_bits_on_any_number_of_threads() {
             });
             assert_eq!(mesh.triangles.len(), 20_000);
             assert_eq!(mesh.reoriented, 10_000);
-            assert_eq!((mesh.edges.clone(), mesh.tri_edges.clone()), serial_edges(&mesh.triangles));
+            assert_eq!(
+                (mesh.edges.clone(), mesh.tri_edges.clone()),
+                serial_edges(&mesh.triangles)
+            );
             assert_eq!(
                 (whole.mesh.edges.clone(), whole.mesh.tri_edges.clone()),
                 serial_edges(&whole.mesh.triangles)
@@ -164,8 +171,14 @@ fn build_and_explode_are_the_same_bits_on_any_number_of_threads() {
                 check_groups(&mesh, part);
             }
         }
-        assert!(keys[1] == keys[0], "2 threads differ from 1 (groups {groups})");
-        assert!(keys[2] == keys[0], "3 threads differ from 1 (groups {groups})");
+        assert!(
+            keys[1] == keys[0],
+            "2 threads differ from 1 (groups {groups})"
+        );
+        assert!(
+            keys[2] == keys[0],
+            "3 threads differ from 1 (groups {groups})"
+        );
     }
 }
 
@@ -179,12 +192,40 @@ fn check_groups(mesh: &Mesh, ex: &Exploded) {
         .filter(|&i| orig.contains(&ex.original_node[i]))
         .map(|i| NodeId(i as u32))
         .collect();
-    assert!(want.len() > orig.len(), "the corner in the left group has copies");
+    assert!(
+        want.len() > orig.len(),
+        "the corner in the left group has copies"
+    );
     assert_eq!(corners.nodes, want);
     let bottom = ex.mesh.group("bottom").unwrap();
     assert_eq!(bottom.edges.len(), 100);
     for e in &bottom.edges {
         let [a, b] = e.map(|n| ex.mesh.nodes[n.idx()]);
         assert!(a[1] == 0.0 && b[1] == 0.0 && b[0] > a[0], "{a:?} -> {b:?}");
+    }
+}
+
+/// Two flat triangles in different rayon tasks: the first in triangle order is named, on any
+/// number of threads.
+#[test]
+fn the_first_flat_triangle_is_named_on_any_number_of_threads() {
+    let mut raw = grid(100, false);
+    for t in [17_001, 3_001] {
+        let [a, b, _] = raw.triangles[t];
+        raw.triangles[t] = [a, b, a];
+    }
+    for threads in [1, 2, 3] {
+        let e = in_pool(threads, || Mesh::from_parts(raw.clone())).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                fdem_mesh::MeshError::ZeroArea {
+                    tri: TriId(3_001),
+                    element: 3_001,
+                    ..
+                }
+            ),
+            "{threads} thread(s): {e}"
+        );
     }
 }
