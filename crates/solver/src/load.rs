@@ -69,12 +69,14 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let mut scene = Scene::from_file(file)?;
     static_checks::check_sections(&scene, file)?;
     // The schemes' stability limits (computed once per process, the same numbers on any
-    // thread) are found while the meshes are read.
-    let (read, _) = rayon::join(
-        || read_meshes(&scene, file),
-        || SchemeKind::CentralDifference.stability_limit(),
-    );
-    let read = read?;
+    // thread) are found on a thread of their own while the meshes are read, when more than
+    // one thread is allowed (not in the rayon pool: the read never waits for its workers).
+    let read = std::thread::scope(|s| {
+        if rayon::current_num_threads() > 1 {
+            s.spawn(|| SchemeKind::CentralDifference.stability_limit());
+        }
+        read_meshes(&scene, file)
+    })?;
     // (messages name each mesh as the scene does)
     let names: Vec<MeshNames> = read
         .iter()
