@@ -66,6 +66,8 @@ mod parity;
 mod prestressed_joints;
 #[path = "restart.rs"]
 mod restart;
+#[path = "setup_threads.rs"]
+mod setup_threads;
 #[path = "stable_step_bounds.rs"]
 mod stable_step_bounds;
 #[path = "stress_fields.rs"]

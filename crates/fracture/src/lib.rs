@@ -80,4 +80,4 @@ pub use pass::{
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
 pub use state::{JointEnergy, JointHistory, JointState, JointStateSnapshot};
-pub use timestep::joint_omega_sq_bound;
+pub use timestep::{joint_omega_sq_bound, joint_omega_sq_bound_intact};

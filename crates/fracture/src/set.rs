@@ -1,8 +1,46 @@
 //! The joint set: plain, validated data of every joint (node ids, triangles, reference
 //! length, material) with the per-joint constants derived once.
 
+use rayon::prelude::*;
+
 use crate::error::FractureError;
 use crate::material::{JointConsts, JointMaterial, JointMaterialInput};
+
+/// Joints per rayon task in [`JointSet::new`] (its columns are collected in joint order: the
+/// set does not depend on the number of threads).
+const SET_CHUNK: usize = 4096;
+
+/// Checks joint `j` (node ids below `n_nodes`, material in range, a positive length, fracture
+/// energies above the pre-peak work on its edge).
+fn check_joint(
+    j: usize,
+    jt: &Joint,
+    materials: &[JointMaterial],
+    n_nodes: usize,
+) -> Result<(), FractureError> {
+    let joint = j as u32;
+    for &node in &jt.nodes {
+        if node as usize >= n_nodes {
+            return Err(FractureError::NodeOutOfRange {
+                joint,
+                node,
+                n_nodes,
+            });
+        }
+    }
+    let Some(mat) = materials.get(jt.material as usize) else {
+        return Err(FractureError::MaterialOutOfRange {
+            joint,
+            material: jt.material,
+            n_materials: materials.len(),
+        });
+    };
+    let h = jt.ref_length;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(FractureError::BadLength { joint, h });
+    }
+    mat.check_edge(joint, jt.material, h)
+}
 
 /// Index of a joint in its [`JointSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -71,13 +109,23 @@ impl JointSet {
             .enumerate()
             .map(|(i, m)| m.validate(i as u32))
             .collect::<Result<Vec<_>, _>>()?;
-        let n = joints.len();
+        // the first joint in joint order that fails (the serial loop's error)
+        let first_bad = (joints.par_iter().with_min_len(SET_CHUNK).enumerate())
+            .position_first(|(j, jt)| check_joint(j, jt, &materials, n_nodes).is_err());
+        if let Some(j) = first_bad {
+            check_joint(j, &joints[j], &materials, n_nodes)?;
+        }
+        // the columns, each joint on its own, collected in joint order
+        let column = || joints.par_iter().with_min_len(SET_CHUNK);
+        let consts = column()
+            .map(|jt| materials[jt.material as usize].consts(jt.ref_length))
+            .collect();
         let mut set = JointSet {
-            nodes: Vec::with_capacity(n),
-            triangles: Vec::with_capacity(n),
-            ref_length: Vec::with_capacity(n),
-            material: Vec::with_capacity(n),
-            consts: Vec::with_capacity(n),
+            nodes: column().map(|jt| jt.nodes).collect(),
+            triangles: column().map(|jt| jt.triangles).collect(),
+            ref_length: column().map(|jt| jt.ref_length).collect(),
+            material: column().map(|jt| jt.material).collect(),
+            consts,
             materials,
             thickness,
             n_nodes,
@@ -85,36 +133,15 @@ impl JointSet {
             node_slots: Vec::new(),
             initial_offsets: Vec::new(),
         };
-        for (j, jt) in joints.iter().enumerate() {
-            let joint = j as u32;
-            for &node in &jt.nodes {
-                if node as usize >= n_nodes {
-                    return Err(FractureError::NodeOutOfRange {
-                        joint,
-                        node,
-                        n_nodes,
-                    });
-                }
-            }
-            let Some(mat) = set.materials.get(jt.material as usize) else {
-                return Err(FractureError::MaterialOutOfRange {
-                    joint,
-                    material: jt.material,
-                    n_materials: set.materials.len(),
-                });
-            };
-            let h = jt.ref_length;
-            if !(h.is_finite() && h > 0.0) {
-                return Err(FractureError::BadLength { joint, h });
-            }
-            mat.check_edge(joint, jt.material, h)?;
-            set.nodes.push(jt.nodes);
-            set.triangles.push(jt.triangles);
-            set.ref_length.push(h);
-            set.material.push(jt.material);
-            set.consts.push(mat.consts(h));
-        }
-        // CSR node -> joint slots, counting sort (slots stay in increasing order per node)
+        set.build_node_map();
+        Ok(set)
+    }
+
+    /// The node-to-joint map ([`JointSet::node_offsets`], [`JointSet::node_slots`]): a
+    /// counting sort, so the slots stay in increasing order per node.
+    fn build_node_map(&mut self) {
+        let (n_nodes, n) = (self.n_nodes, self.nodes.len());
+        let set = &*self;
         let mut offsets = vec![0u32; n_nodes + 1];
         for nodes in &set.nodes {
             for &nd in nodes {
@@ -132,9 +159,8 @@ impl JointSet {
                 fill[nd as usize] += 1;
             }
         }
-        set.node_offsets = offsets;
-        set.node_slots = slots;
-        Ok(set)
+        self.node_offsets = offsets;
+        self.node_slots = slots;
     }
 
     /// Prestresses the joints: `t0[j] = [sigma0, tau0]` (Pa) is the traction joint `j` carries

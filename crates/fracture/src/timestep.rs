@@ -22,6 +22,18 @@ use crate::state::JointState;
 /// for lumped nodal masses `masses` (kg). Allocates one array per node: call it when the time
 /// step is chosen, not in the step loop.
 pub fn joint_omega_sq_bound(set: &JointSet, state: &JointState, masses: &[f64]) -> f64 {
+    bound_over(set, masses, |j| state.intact[j])
+}
+
+/// [`joint_omega_sq_bound`] of a fresh state (every joint intact, as
+/// [`JointState::new`](crate::JointState::new) starts), without building the state: the same
+/// value bit for bit.
+pub fn joint_omega_sq_bound_intact(set: &JointSet, masses: &[f64]) -> f64 {
+    bound_over(set, masses, |_| true)
+}
+
+/// The bound over the joints `intact(j)` says are intact.
+fn bound_over(set: &JointSet, masses: &[f64], intact: impl Fn(usize) -> bool) -> f64 {
     assert_eq!(
         masses.len(),
         set.n_nodes,
@@ -29,7 +41,7 @@ pub fn joint_omega_sq_bound(set: &JointSet, state: &JointState, masses: &[f64]) 
     );
     let mut row = vec![0.0; set.n_nodes];
     for (j, nodes) in set.nodes.iter().enumerate() {
-        if !state.intact[j] {
+        if !intact(j) {
             continue;
         }
         let m = &set.materials[set.material[j] as usize];

@@ -9,6 +9,11 @@
 use crate::error::MeshError;
 use crate::ids::{NodeId, TriId};
 use crate::mesh::{Mesh, PhysicalGroup, RawMesh};
+use rayon::prelude::*;
+
+/// Items per rayon task in the explode's parallel maps (collected in order: the result does
+/// not depend on the number of threads).
+const PAR_CHUNK: usize = 4096;
 
 /// An internal edge of an exploded mesh: the two triangles and the four node ids.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -89,15 +94,16 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
         (0..3).find(|&k| tri[k] == orig.0).unwrap_or(0)
     };
     let new_of = |t: TriId, orig: NodeId| NodeId(tris[t.idx()][local(t, orig)]);
-    let mut internal_edges = Vec::new();
-    for e in &mesh.edges {
-        if let Some(t2) = e.right {
-            let t1 = e.left;
+    // In parallel over the edges, collected in edge order.
+    let internal_edges: Vec<InternalEdge> = (mesh.edges.par_iter())
+        .with_min_len(PAR_CHUNK)
+        .filter_map(|e| {
+            let (t1, t2) = (e.left, e.right?);
             if !(selected[t1.idx()] || selected[t2.idx()]) {
-                continue;
+                return None;
             }
             let [p0, q0] = e.nodes;
-            internal_edges.push(InternalEdge {
+            Some(InternalEdge {
                 tris: [t1, t2],
                 nodes: [
                     new_of(t1, p0),
@@ -106,22 +112,29 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
                     new_of(t2, p0),
                 ],
                 local_edge: [local(t1, p0) as u8, local(t2, q0) as u8],
-            });
+            })
+        })
+        .collect();
+    // Copies of each original node (for point groups; none built without one).
+    let mut copies: Vec<Vec<NodeId>> = Vec::new();
+    if mesh.groups.iter().any(|g| g.dim == 0) {
+        copies = vec![Vec::new(); mesh.nodes.len()];
+        for (i, o) in original_node.iter().enumerate() {
+            copies[o.idx()].push(NodeId(i as u32));
         }
     }
-    // Copies of each original node (for point groups).
-    let mut copies: Vec<Vec<NodeId>> = vec![Vec::new(); mesh.nodes.len()];
-    for (i, o) in original_node.iter().enumerate() {
-        copies[o.idx()].push(NodeId(i as u32));
-    }
-    // Edge lookup: original (min, max) -> mesh edge.
-    let mut edge_of = std::collections::HashMap::with_capacity(mesh.edges.len());
-    for e in &mesh.edges {
-        let (a, b) = (
-            e.nodes[0].0.min(e.nodes[1].0),
-            e.nodes[0].0.max(e.nodes[1].0),
-        );
-        edge_of.insert((a, b), *e);
+    // Edge lookup: original (min, max) -> mesh edge (for the groups' edges; none built
+    // without them).
+    let mut edge_of = std::collections::HashMap::new();
+    if mesh.groups.iter().any(|g| !g.edges.is_empty()) {
+        edge_of.reserve(mesh.edges.len());
+        for e in &mesh.edges {
+            let (a, b) = (
+                e.nodes[0].0.min(e.nodes[1].0),
+                e.nodes[0].0.max(e.nodes[1].0),
+            );
+            edge_of.insert((a, b), *e);
+        }
     }
     let groups = mesh
         .groups
@@ -153,11 +166,9 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
             }
         })
         .collect();
-    let nodes = original_node.iter().map(|o| mesh.nodes[o.idx()]).collect();
-    let node_tags = original_node
-        .iter()
-        .map(|o| mesh.node_tags[o.idx()])
-        .collect();
+    let par_nodes = || original_node.par_iter().with_min_len(PAR_CHUNK);
+    let nodes = par_nodes().map(|o| mesh.nodes[o.idx()]).collect();
+    let node_tags = par_nodes().map(|o| mesh.node_tags[o.idx()]).collect();
     let exploded = Mesh::build(
         RawMesh {
             path: format!("{} (exploded)", mesh.source),

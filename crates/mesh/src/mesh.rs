@@ -3,6 +3,7 @@
 
 use crate::error::MeshError;
 use crate::ids::{EdgeId, NodeId, RegionId, TriId};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// A named physical group of the mesh (a Gmsh physical group, or a JSON group).
@@ -124,31 +125,33 @@ impl Mesh {
         if triangles.is_empty() {
             return Err(MeshError::NoTriangles { path });
         }
-        // Orientation and zero area.
-        let mut reoriented = 0;
-        for (t, tri) in triangles.iter_mut().enumerate() {
-            let [a, b, c] = tri.map(|n| nodes[n as usize]);
-            let e1 = [b[0] - a[0], b[1] - a[1]];
-            let e2 = [c[0] - a[0], c[1] - a[1]];
-            let e3 = [c[0] - b[0], c[1] - b[1]];
-            let a2 = e1[0] * e2[1] - e1[1] * e2[0];
-            let lmax2 = [e1, e2, e3]
-                .iter()
-                .map(|e| e[0] * e[0] + e[1] * e[1])
-                .fold(0.0, f64::max);
-            if a2.abs() <= 1e-10 * lmax2 || !a2.is_finite() {
-                return Err(MeshError::ZeroArea {
-                    path,
-                    tri: TriId(t as u32),
-                    element: tri_tags[t],
-                    area: a2 / 2.0,
-                    nodes: tri.map(|n| node_tags[n as usize]),
-                });
-            }
-            if a2 < 0.0 {
-                tri.swap(1, 2);
-                reoriented += 1;
-            }
+        // Orientation and zero area, per triangle in parallel: the count of reversed
+        // triangles and the first flat one (in triangle order) do not depend on the threads.
+        let (flat, reoriented) = triangles
+            .par_iter_mut()
+            .with_min_len(TRI_CHUNK)
+            .enumerate()
+            .map(|(t, tri)| match doubled_area(&nodes, *tri) {
+                None => (Some(t), 0),
+                Some(a2) if a2 < 0.0 => {
+                    tri.swap(1, 2);
+                    (None, 1)
+                }
+                Some(_) => (None, 0),
+            })
+            .reduce(
+                || (None, 0),
+                |a, b| (a.0.into_iter().chain(b.0).min(), a.1 + b.1),
+            );
+        if let Some(t) = flat {
+            let tri = triangles[t];
+            return Err(MeshError::ZeroArea {
+                path,
+                tri: TriId(t as u32),
+                element: tri_tags[t],
+                area: tri_area(&nodes, tri),
+                nodes: tri.map(|n| node_tags[n as usize]),
+            });
         }
         // Unused nodes.
         let mut used = vec![false; nn];
@@ -178,16 +181,19 @@ impl Mesh {
             .collect();
         // Groups: node sets, edge orientation, sort.
         groups.sort_by_key(|g| (g.dim, g.tag));
-        let mut edge_dir = std::collections::HashMap::new();
-        for e in &edges {
-            if e.right.is_none() {
-                edge_dir.insert((e.nodes[1], e.nodes[0]), ());
-            }
+        // The boundary edges reversed, for the groups' edges (none asked: none built).
+        let mut edge_dir = std::collections::HashSet::new();
+        if groups.iter().any(|g| !g.edges.is_empty()) {
+            edge_dir.extend(
+                (edges.iter())
+                    .filter(|e| e.right.is_none())
+                    .map(|e| (e.nodes[1], e.nodes[0])),
+            );
         }
         for g in &mut groups {
             let mut ns: Vec<NodeId> = g.nodes.clone();
             for e in &mut g.edges {
-                if edge_dir.contains_key(&(e[0], e[1])) {
+                if edge_dir.contains(&(e[0], e[1])) {
                     e.swap(0, 1);
                 }
                 ns.extend_from_slice(e);
@@ -325,6 +331,21 @@ impl Mesh {
     }
 }
 
+/// Twice the signed area of `tri`, or `None` when the triangle is flat (`|2A| <= 1e-10` times
+/// its longest edge squared) or not finite.
+fn doubled_area(nodes: &[[f64; 2]], tri: [u32; 3]) -> Option<f64> {
+    let [a, b, c] = tri.map(|n| nodes[n as usize]);
+    let e1 = [b[0] - a[0], b[1] - a[1]];
+    let e2 = [c[0] - a[0], c[1] - a[1]];
+    let e3 = [c[0] - b[0], c[1] - b[1]];
+    let a2 = e1[0] * e2[1] - e1[1] * e2[0];
+    let lmax2 = [e1, e2, e3]
+        .iter()
+        .map(|e| e[0] * e[0] + e[1] * e[1])
+        .fold(0.0, f64::max);
+    (a2.abs() > 1e-10 * lmax2 && a2.is_finite()).then_some(a2)
+}
+
 /// Signed area of triangle `tri` with positions `x`: `cross(x1-x0, x2-x0)/2`.
 #[inline]
 pub fn tri_area(x: &[[f64; 2]], tri: [u32; 3]) -> f64 {
@@ -369,16 +390,34 @@ fn check_duplicates(path: &str, nodes: &[[f64; 2]], tags: &[u64]) -> Result<(), 
 
 type Edges = (Vec<MeshEdge>, Vec<[EdgeId; 3]>);
 
+/// Triangles per rayon task in the build's per-triangle loops.
+const TRI_CHUNK: usize = 4096;
+
+/// An edge key: (min node, max node, triangle, local edge).
+type EdgeKey = (u32, u32, u32, u8);
+
+/// The keys of every triangle's three edges, sorted. Each key is unique (its triangle and
+/// local edge are), so the parallel unstable sort gives the one sorted order whatever the
+/// number of threads.
+pub(crate) fn edge_keys(tris: &[[u32; 3]]) -> Vec<EdgeKey> {
+    let mut keys: Vec<EdgeKey> = Vec::with_capacity(3 * tris.len());
+    keys.par_extend(
+        tris.par_iter()
+            .with_min_len(TRI_CHUNK)
+            .enumerate()
+            .flat_map_iter(|(t, tri)| {
+                (0..3).map(move |k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    (a.min(b), a.max(b), t as u32, k as u8)
+                })
+            }),
+    );
+    keys.par_sort_unstable();
+    keys
+}
+
 fn build_edges(path: &str, tris: &[[u32; 3]], tri_tags: &[u64]) -> Result<Edges, MeshError> {
-    // (min node, max node, triangle, local edge)
-    let mut keys: Vec<(u32, u32, u32, u8)> = Vec::with_capacity(3 * tris.len());
-    for (t, tri) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            keys.push((a.min(b), a.max(b), t as u32, k as u8));
-        }
-    }
-    keys.sort_unstable();
+    let keys = edge_keys(tris);
     let mut edges = Vec::with_capacity(keys.len() / 2 + 1);
     let mut tri_edges = vec![[EdgeId(0); 3]; tris.len()];
     let mut i = 0;

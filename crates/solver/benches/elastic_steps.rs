@@ -78,6 +78,7 @@ fn loaded() -> Loaded {
         dt: 0.5 * dt_limit,
         n_steps: STEPS,
         contributions: Vec::new(),
+        load_s: 0.0,
     }
 }
 

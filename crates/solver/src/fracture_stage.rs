@@ -35,9 +35,10 @@ use std::sync::{Arc, Mutex};
 use fdem_fracture::{
     FractureError, FractureEvent, Joint, JointHistory, JointScratch, JointSet, JointState,
     JointStateSnapshot, accumulate_joint_forces, accumulate_joint_forces_committing, commit_joints,
-    commit_joints_at_last_pass, joint_omega_sq_bound,
+    commit_joints_at_last_pass, joint_omega_sq_bound_intact,
 };
 use fdem_mesh::Mesh;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::checkpoint::pack::PackSlice;
@@ -99,10 +100,10 @@ pub fn explode_body(
         exploded: &ex.mesh,
     };
     let materials = crate::joint_assign::assign(section, file, refs, &body, &tris)?;
-    let joints = ex
-        .internal_edges
-        .iter()
+    // in parallel, in edge order
+    let joints = (ex.internal_edges.par_iter())
         .zip(materials)
+        .with_min_len(4096)
         .map(|(e, material)| {
             let n = e.nodes.map(|n| n.0);
             let (p, q) = (ex.mesh.nodes[n[0] as usize], ex.mesh.nodes[n[1] as usize]);
@@ -120,7 +121,7 @@ pub fn explode_body(
 
 /// All joints in the model's numbering.
 pub(crate) fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joint> {
-    let mut out = Vec::new();
+    let mut out = Vec::with_capacity(section.joints.iter().map(|(_, j)| j.len()).sum());
     for (bi, joints) in &section.joints {
         let node_base = model.body_nodes[*bi].start;
         let tri_base = model
@@ -128,7 +129,8 @@ pub(crate) fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joi
             .iter()
             .position(|&b| b as usize == *bi)
             .unwrap_or(0) as u32;
-        out.extend(joints.iter().map(|j| Joint {
+        // in parallel, in joint order
+        out.par_extend(joints.par_iter().with_min_len(4096).map(|j| Joint {
             nodes: j.nodes.map(|n| n + node_base),
             triangles: j.triangles.map(|t| t + tri_base),
             ..*j
@@ -199,10 +201,10 @@ pub fn check_initial_state(scene: &Scene, file: &Path) -> Result<(), SceneError>
     Ok(())
 }
 
-/// The joints' term of the frequency bound [rad/s].
+/// The joints' term of the frequency bound [rad/s], over every joint (intact, as a fresh
+/// state has them).
 pub fn omega_joints(set: &JointSet, model: &Model) -> f64 {
-    let state = JointState::new(set, &model.x0);
-    joint_omega_sq_bound(set, &state, &model.mass).sqrt()
+    joint_omega_sq_bound_intact(set, &model.mass).sqrt()
 }
 
 /// A word-wise FNV-1a hash of a list of pairs (a checkpoint's check of a rebuilt list).

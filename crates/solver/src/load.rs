@@ -54,6 +54,9 @@ pub struct Loaded {
     /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
     /// time step for their frequency bound.
     pub contributions: Vec<Box<dyn ForceContribution>>,
+    /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
+    /// run summary's `timers.setup`.
+    pub load_s: f64,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -62,20 +65,18 @@ pub struct Loaded {
 /// then the fracturing bodies are exploded and the model built, and last the derived
 /// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
+    let started = std::time::Instant::now();
     let mut scene = Scene::from_file(file)?;
     static_checks::check_sections(&scene, file)?;
-    let dir = file.parent().unwrap_or(Path::new("."));
-    let mut read = Vec::new();
-    for i in 0..scene.bodies.len() {
-        let path = dir.join(&scene.bodies[i].mesh);
-        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
-            file: file.to_path_buf(),
-            path: format!("bodies[{i}].mesh"),
-            mesh: path.clone(),
-            message,
-        })?;
-        read.push(mesh);
-    }
+    // The schemes' stability limits (computed once per process, the same numbers on any
+    // thread) are found on a thread of their own while the meshes are read, when more than
+    // one thread is allowed (not in the rayon pool: the read never waits for its workers).
+    let read = std::thread::scope(|s| {
+        if rayon::current_num_threads() > 1 {
+            s.spawn(|| SchemeKind::CentralDifference.stability_limit());
+        }
+        read_meshes(&scene, file)
+    })?;
     // (messages name each mesh as the scene does)
     let names: Vec<MeshNames> = read
         .iter()
@@ -160,7 +161,25 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         dt: steps.dt,
         n_steps: steps.n_steps,
         contributions: Vec::new(),
+        load_s: started.elapsed().as_secs_f64(),
     })
+}
+
+/// The bodies' meshes, in the scene's order.
+fn read_meshes(scene: &Scene, file: &Path) -> Result<Vec<Mesh>, SceneError> {
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let mut read = Vec::with_capacity(scene.bodies.len());
+    for (i, body) in scene.bodies.iter().enumerate() {
+        let path = dir.join(&body.mesh);
+        let mesh = mesh_adapter::read(&path).map_err(|message| SceneError::Mesh {
+            file: file.to_path_buf(),
+            path: format!("bodies[{i}].mesh"),
+            mesh: path.clone(),
+            message,
+        })?;
+        read.push(mesh);
+    }
+    Ok(read)
 }
 
 /// The number of steps of about `h` that span `duration` ([`limits::step_count`]: a whole

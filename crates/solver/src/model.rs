@@ -266,6 +266,15 @@ fn add_bodies(
     // The id of each drawn material entry: ((body, key), id).
     let mut drawn_ids: Vec<((usize, &str), u32)> = Vec::new();
     let mut next_id = 0u32;
+    let (n_nodes, n_tris) = meshes.iter().fold((0, 0), |(n, t), mesh| {
+        (n + mesh.nodes.len(), t + mesh.triangles.len())
+    });
+    m.x0.reserve(n_nodes);
+    m.v0.reserve(n_nodes);
+    m.triangles.reserve(n_tris);
+    m.tri_material.reserve(n_tris);
+    m.tri_body.reserve(n_tris);
+    m.tri_thickness.reserve(n_tris);
     for (bi, (body, mesh)) in scene.bodies.iter().zip(meshes).enumerate() {
         let base = m.x0.len() as u32;
         m.body_nodes.push(base..base + mesh.nodes.len() as u32);
@@ -275,19 +284,26 @@ fn add_bodies(
                 .map(|p| [p[0] + body.offset[0], p[1] + body.offset[1]]),
         );
         m.v0.extend(std::iter::repeat_n(body.initial_velocity, mesh.nodes.len()));
+        // the material of the last group looked up (consecutive triangles share a group)
+        let mut last = None;
         for (ti, t) in mesh.triangles.iter().enumerate() {
             let g = &mesh.triangle_group[ti];
-            let (key, spec) = body
-                .materials
-                .get_key_value(g)
-                .or_else(|| body.materials.get_key_value("*"))
-                .ok_or_else(|| {
-                    unresolved(
-                        file,
-                        format!("bodies[{bi}].materials"),
-                        format!("triangle {ti} is in group '{g}', which has no material"),
-                    )
-                })?;
+            let (key, spec) = match last {
+                Some((lg, found)) if lg == g => found,
+                _ => {
+                    let found = (body.materials.get_key_value(g))
+                        .or_else(|| body.materials.get_key_value("*"))
+                        .ok_or_else(|| {
+                            unresolved(
+                                file,
+                                format!("bodies[{bi}].materials"),
+                                format!("triangle {ti} is in group '{g}', which has no material"),
+                            )
+                        })?;
+                    last = Some((g, found));
+                    found
+                }
+            };
             let mi = if spec.heterogeneity.is_some() {
                 // its own row: Young's modulus drawn for its global index
                 m.drawn_young = true;
@@ -364,23 +380,18 @@ fn constrain_and_load(
     refs: &Resolved,
     edge_groups: &EdgeGroups,
 ) -> Result<(), SceneError> {
-    // Edge -> opposite node, for outward normals of loaded edges.
+    // Edge -> opposite node (outward normals) and node thickness, for loaded edges: built
+    // only for a scene with a pressure or traction.
     let mut opposite: HashMap<(u32, u32), u32> = HashMap::new();
-    for t in &m.triangles {
-        for k in 0..3 {
-            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-            opposite.insert((a.min(b), a.max(b)), c);
-        }
+    let mut node_thickness = Vec::new();
+    if (scene.boundary_conditions.iter()).any(|bc| {
+        matches!(
+            bc,
+            BoundaryCondition::Pressure(_) | BoundaryCondition::Traction(_)
+        )
+    }) {
+        (opposite, node_thickness) = edge_tables(m);
     }
-    let node_thickness = {
-        let mut th = vec![0.0; m.x0.len()];
-        for (e, t) in m.triangles.iter().enumerate() {
-            for &i in t {
-                th[i as usize] = m.tri_thickness[e];
-            }
-        }
-        th
-    };
     m.constrained = vec![false; 2 * m.x0.len()];
     for (i, bc) in scene.boundary_conditions.iter().enumerate() {
         let path = format!("boundary_conditions[{i}]");
@@ -481,6 +492,25 @@ fn constrain_and_load(
         }
     }
     Ok(())
+}
+
+/// The node opposite each edge of the model's triangles (key: sorted node pair; the last
+/// triangle listed wins), and each node's thickness (that of the last triangle listed with it).
+fn edge_tables(m: &Model) -> (HashMap<(u32, u32), u32>, Vec<f64>) {
+    let mut opposite = HashMap::with_capacity(3 * m.triangles.len());
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            opposite.insert((a.min(b), a.max(b)), c);
+        }
+    }
+    let mut th = vec![0.0; m.x0.len()];
+    for (e, t) in m.triangles.iter().enumerate() {
+        for &i in t {
+            th[i as usize] = m.tri_thickness[e];
+        }
+    }
+    (opposite, th)
 }
 
 /// The consistent nodal forces (DOF, value) at full strength of a pressure or traction `bc`

@@ -151,6 +151,11 @@ pub struct StageTimers {
     pub histories: f64,
     /// Frame output (stresses, encoding, writing).
     pub output: f64,
+    /// The set-up: the scene's load ([`crate::load::load`]: meshes, explode, model, elements,
+    /// time step) and the run's start until the first step (stages attached, first contact
+    /// detection, first force evaluation, energy books). Not in a checkpoint: a resumed run
+    /// reports its own set-up.
+    pub setup: f64,
 }
 
 /// The scene as a second-order system for the time crate.
@@ -439,6 +444,7 @@ impl crate::checkpoint::pack::Pack for StageTimers {
             integration: t[4],
             histories: t[5],
             output: t[6],
+            setup: 0.0,
         })
     }
 }

@@ -315,6 +315,7 @@ impl<'a> Run<'a> {
         cp: &Checkpoint,
         observers: &mut [&mut dyn Observer],
     ) -> Result<Self, RunError> {
+        let started = Instant::now();
         let file = out_dir.join(crate::checkpoint::FILE_NAME);
         let bad = |e: DecodeError| unreadable(&file, e);
         crate::stages::attach_to(
@@ -401,6 +402,8 @@ impl<'a> Run<'a> {
                 d.error(format!("{} bytes after the last section", d.remaining()))
             ));
         }
+        // this process's set-up (the load and the restore), not the checkpointed run's
+        run.sys.timers.setup = l.load_s + started.elapsed().as_secs_f64();
         Ok(run)
     }
 }

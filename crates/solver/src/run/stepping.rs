@@ -82,6 +82,7 @@ impl<'a> Run<'a> {
         sys.acceleration(0.0, &state.x, &state.v, &mut acc);
         let alpha = l.scene.damping.mass_proportional;
         let ledger = Books::new(&mut *sys, &state, alpha, book_residuals);
+        sys.timers.setup = l.load_s + wall.elapsed().as_secs_f64();
         Ok(Self {
             loaded: l,
             sys,
