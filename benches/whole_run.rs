@@ -11,7 +11,8 @@
 //! load on a shared machine, and the medians are compared. `RUNS` (default 3) sets the runs per
 //! program and thread count; `THREADS` (default `1,2`) the thread counts. The lines give the
 //! whole job's time, the stepping rate from `summary.json` (triangle-steps per second of the
-//! stepping loop, frames excluded) and the ratios base / this. With `KEEP=1` the folder with
+//! stepping loop, frames excluded), the time the stepping spent on frames (`timers.output`)
+//! and the set-up time (`timers.setup`, absent from older builds), and the ratios base / this. With `KEEP=1` the folder with
 //! the mesh and the job's scene (`disc-job.scene.json`) is kept, for profiling. `RINGS`
 //! (default 129) sets the rings of the disc's mesh, 6 RINGS^2 triangles: a smaller disc shows
 //! how the thread scaling depends on whether the run's data fit the processor's caches.
@@ -40,6 +41,7 @@ struct Job {
     wall: f64,
     rate: f64,
     output: f64,
+    setup: f64,
     steps: u64,
 }
 
@@ -66,6 +68,8 @@ fn job(bin: &Path, scene: &Path, out: &Path, threads: usize) -> Job {
         wall,
         rate: f("triangle_steps_per_second"),
         output: s["timers"]["output"].as_f64().unwrap_or(f64::NAN),
+        // absent from builds before the set-up timer
+        setup: s["timers"]["setup"].as_f64().unwrap_or(f64::NAN),
         steps: s["steps"].as_u64().unwrap_or(0),
     }
 }
@@ -130,9 +134,10 @@ fn main() {
             let wall = median(js.iter().map(|j| j.wall).collect());
             let rate = median(js.iter().map(|j| j.rate).collect());
             let output = median(js.iter().map(|j| j.output).collect());
+            let setup = median(js.iter().map(|j| j.setup).collect());
             let walls: Vec<String> = js.iter().map(|j| format!("{:.3}", j.wall)).collect();
             println!(
-                "{name}: {t} thread(s), {} steps, {FRAMES} frames: whole job {wall:.3} s (runs {}), stepping {rate:.4e} triangle-steps/s, frames {output:.3} s",
+                "{name}: {t} thread(s), {} steps, {FRAMES} frames: whole job {wall:.3} s (runs {}), stepping {rate:.4e} triangle-steps/s, frames {output:.3} s, set-up {setup:.3} s",
                 js[0].steps,
                 walls.join(" ")
             );
