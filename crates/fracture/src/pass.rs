@@ -188,13 +188,13 @@ fn trial_pass_impl<const OFF: bool>(
     let n = set.len();
     scratch.fit(n);
     scratch.fit_slots(set);
-    let inp = PassIn {
+    let inp = PassIn::new(
         set,
-        intact: &state.intact,
+        &state.intact,
         x,
-        slot_pos: &scratch.slot_pos,
-        out: &scratch.slot_forces,
-    };
+        &scratch.slot_pos,
+        &scratch.slot_forces,
+    );
     (
         scratch.trial.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
@@ -222,13 +222,13 @@ fn in_place_pass<const OFF: bool>(
     scratch.slot_forces.fit(4 * n);
     scratch.flags.resize(n.div_ceil(CHUNK), 0);
     scratch.marks.resize(n, 0);
-    let inp = PassIn {
+    let inp = PassIn::new(
         set,
-        intact: &state.intact,
+        &state.intact,
         x,
-        slot_pos: &scratch.slot_pos,
-        out: &scratch.slot_forces,
-    };
+        &scratch.slot_pos,
+        &scratch.slot_forces,
+    );
     (
         state.history.par_chunks_mut(CHUNK),
         scratch.marks.par_chunks_mut(CHUNK),
@@ -249,6 +249,24 @@ struct PassIn<'a> {
     x: &'a [[f64; 2]],
     slot_pos: &'a [u32],
     out: &'a SlotBuf,
+}
+
+impl<'a> PassIn<'a> {
+    fn new(
+        set: &'a JointSet,
+        intact: &'a [bool],
+        x: &'a [[f64; 2]],
+        slot_pos: &'a [u32],
+        out: &'a SlotBuf,
+    ) -> Self {
+        PassIn {
+            set,
+            intact,
+            x,
+            slot_pos,
+            out,
+        }
+    }
 }
 
 /// One chunk of a pass, joints `j0..j0 + h.len()`: each joint's forces to its slots and its new

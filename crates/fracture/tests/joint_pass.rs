@@ -69,6 +69,16 @@ fn joint_forces_conserve_linear_and_angular_momentum() {
     );
 }
 
+/// The positions of load step `s`: a stretch along x of 1e-4 per step plus `s` times the
+/// perturbation `dx`.
+fn loaded(mesh: &Exploded, dx: &[[f64; 2]], s: f64) -> Vec<[f64; 2]> {
+    mesh.x
+        .iter()
+        .zip(dx)
+        .map(|(p, d)| [p[0] + s * (d[0] + 1e-4 * p[0]), p[1] + s * d[1]])
+        .collect()
+}
+
 /// Forces, damage, histories and events after a run.
 type Outcome = (
     Vec<[f64; 2]>,
@@ -93,12 +103,7 @@ fn run(threads: usize) -> Outcome {
         let dx = perturbed(&mesh, 1e-6, 11);
         for step in 1..=30 {
             let s = step as f64;
-            let x: Vec<[f64; 2]> = mesh
-                .x
-                .iter()
-                .zip(&dx)
-                .map(|(p, d)| [p[0] + s * (d[0] + 1e-4 * p[0]), p[1] + s * d[1]])
-                .collect();
+            let x = loaded(&mesh, &dx, s);
             f.iter_mut().for_each(|v| *v = [0.0; 2]);
             accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
             commit_joints(&set, &mut state, &x, s * 1e-6, &mut scratch, &mut events);
@@ -323,12 +328,7 @@ fn in_place_pass_matches_the_trial_pass_and_its_commit() {
                 let dx = perturbed(&mesh, 1e-6, 11);
                 for step in 1..=30 {
                     let s = step as f64;
-                    let x: Vec<[f64; 2]> = mesh
-                        .x
-                        .iter()
-                        .zip(&dx)
-                        .map(|(p, d)| [p[0] + s * (d[0] + 1e-4 * p[0]), p[1] + s * d[1]])
-                        .collect();
+                    let x = loaded(&mesh, &dx, s);
                     let mut f = vec![[0.0; 2]; mesh.x.len()];
                     if in_place {
                         accumulate_joint_forces_committing(
