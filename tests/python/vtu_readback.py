@@ -54,6 +54,16 @@ def expected(raw):
     # Arrays of the force contributions (contact_force, contact_active), only when present.
     for k, v in raw.get("extra_point_vectors", []):
         e["point"][k] = vec3(v)
+    # The recovered nodal stresses (point data), only when present.
+    if "nodal_stress" in raw:
+        n = np.asarray(raw["nodal_stress"], dtype=float)
+        zn = np.zeros(len(n))
+        e["point"]["nodal_stress"] = np.column_stack(
+            [n[:, 0], n[:, 2], zn, n[:, 2], n[:, 1], zn, zn, zn, n[:, 3]])
+    if "nodal_principal" in raw:
+        e["point"]["nodal_principal_stress"] = np.asarray(raw["nodal_principal"], dtype=float)
+    if "nodal_von_mises" in raw:
+        e["point"]["nodal_von_mises"] = np.asarray(raw["nodal_von_mises"], dtype=float)
     for k, v in raw.get("extra_cell_scalars", []):
         e["cell"][k] = np.asarray(v, dtype=float)
     return e

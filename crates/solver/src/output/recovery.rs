@@ -366,3 +366,118 @@ pub fn recover(
         .map(|i| p.node(i, method))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A structured `n` x `n` grid of the unit square, exploded (each triangle its own three
+    /// nodes), with a joint on every interior edge: (nodes, triangles, joints).
+    fn exploded_grid(n: usize) -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 4]>) {
+        let v = |i: usize, j: usize| [i as f64 / n as f64, j as f64 / n as f64];
+        let mut nodes = Vec::new();
+        let mut tris = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                for t in [
+                    [v(i, j), v(i + 1, j), v(i + 1, j + 1)],
+                    [v(i, j), v(i + 1, j + 1), v(i, j + 1)],
+                ] {
+                    let b = nodes.len() as u32;
+                    nodes.extend(t);
+                    tris.push([b, b + 1, b + 2]);
+                }
+            }
+        }
+        // joints: every pair of triangles sharing an edge (by position), P -> Q in T1 and
+        // R -> S in T2 with P = S, Q = R
+        let key = |p: [f64; 2]| ((p[0] * n as f64).round() as i64, (p[1] * n as f64).round() as i64);
+        let mut edges: std::collections::BTreeMap<_, (u32, u32)> = Default::default();
+        let mut joints = Vec::new();
+        for t in &tris {
+            for k in 0..3 {
+                let (p, q) = (t[k], t[(k + 1) % 3]);
+                let (kp, kq) = (key(nodes[p as usize]), key(nodes[q as usize]));
+                match edges.remove(&(kq, kp)) {
+                    Some((r, s)) => joints.push([p, q, r, s]),
+                    None => {
+                        edges.insert((kp, kq), (p, q));
+                    }
+                }
+            }
+        }
+        (nodes, tris, joints)
+    }
+
+    #[test]
+    fn a_linear_stress_field_is_recovered_exactly_at_every_node() {
+        // s = (1 + 2x - 3y, 4 - x + y, 0.5 x, 7): the fit is exact for it, interior,
+        // boundary and corner nodes alike (to round-off); the area-weighted mean is not
+        let (nodes, tris, joints) = exploded_grid(6);
+        let lin = |p: [f64; 2]| [1.0 + 2.0 * p[0] - 3.0 * p[1], 4.0 - p[0] + p[1], 0.5 * p[0], 7.0];
+        let stress: Vec<[f64; 4]> = tris
+            .iter()
+            .map(|t| {
+                let c = t.iter().fold([0.0; 2], |a, &i| {
+                    [a[0] + nodes[i as usize][0] / 3.0, a[1] + nodes[i as usize][1] / 3.0]
+                });
+                lin(c)
+            })
+            .collect();
+        let material = vec![0u32; tris.len()];
+        let intact = vec![true; joints.len()];
+        let mesh = Mesh {
+            x0: &nodes,
+            triangles: &tris,
+            material: &material,
+        };
+        let links = Links {
+            nodes: &joints,
+            intact: &intact,
+        };
+        let worst = |m: Method| {
+            let r = recover(mesh, &stress, Some(links), m);
+            (r.iter().zip(&nodes))
+                .flat_map(|(s, p)| (0..4).map(move |k| (s[k] - lin(*p)[k]).abs()))
+                .fold(0.0, f64::max)
+        };
+        assert!(worst(Method::Patch) < 1e-12, "{}", worst(Method::Patch));
+        assert!(worst(Method::Average) > 0.1);
+    }
+
+    #[test]
+    fn the_recovery_is_the_same_bits_on_any_number_of_threads() {
+        let (nodes, tris, joints) = exploded_grid(40);
+        let stress: Vec<[f64; 4]> = (0..tris.len())
+            .map(|t| {
+                let x = t as f64;
+                [(x * 0.37).sin(), (x * 0.11).cos(), x.sqrt(), 1.0 / (1.0 + x)]
+            })
+            .collect();
+        let material: Vec<u32> = (0..tris.len() as u32).map(|t| u32::from(t % 7 == 0)).collect();
+        let intact: Vec<bool> = (0..joints.len()).map(|j| j % 5 != 0).collect();
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mesh = Mesh {
+                    x0: &nodes,
+                    triangles: &tris,
+                    material: &material,
+                };
+                let links = Links {
+                    nodes: &joints,
+                    intact: &intact,
+                };
+                recover(mesh, &stress, Some(links), Method::Patch)
+            })
+        };
+        let one = run(1);
+        assert!(one.len() == nodes.len() && one.iter().flatten().all(|v| v.is_finite()));
+        let bits = |r: &[[f64; 4]]| -> Vec<u64> { r.iter().flatten().map(|v| v.to_bits()).collect() };
+        assert_eq!(bits(&one), bits(&run(2)));
+        assert_eq!(bits(&one), bits(&run(3)));
+    }
+}
