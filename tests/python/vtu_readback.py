@@ -1,6 +1,6 @@
 """Independent read-back of fdem's output: every .vtu frame listed in results.pvd is read by
 meshio and by VTK's vtkXMLUnstructuredGridReader, and its points, cells and arrays must equal
-the solver's raw dump (frame_NNNN.json) exactly. In fracturing runs the joint series
+the solver's raw dump (frame_NNNN.json) exactly (the recovered nodal stresses included). In fracturing runs the joint series
 (joints.pvd, joints_NNNN.vtu: one line cell per joint) is read the same way and compared with
 the dump's "joints" object; a run without joints must have no joint series. The cell
 connectivity and offsets are Int64, so meshio's cells are integers and index the points

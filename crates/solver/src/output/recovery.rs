@@ -234,7 +234,7 @@ impl<'a> Patches<'a> {
         }
         let det = cxx * cyy - cxy * cxy;
         let tr = cxx + cyy;
-        if !(det > 1e-6 * tr * tr) {
+        if det.is_nan() || det <= 1e-6 * tr * tr {
             return None;
         }
         // value at q: mean + gradient . (q - mean position), q - mean = (-mx, -my)
@@ -371,9 +371,12 @@ pub fn recover(
 mod tests {
     use super::*;
 
+    /// Nodes, triangles and joints.
+    type Grid = (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 4]>);
+
     /// A structured `n` x `n` grid of the unit square, exploded (each triangle its own three
     /// nodes), with a joint on every interior edge: (nodes, triangles, joints).
-    fn exploded_grid(n: usize) -> (Vec<[f64; 2]>, Vec<[u32; 3]>, Vec<[u32; 4]>) {
+    fn exploded_grid(n: usize) -> Grid {
         let v = |i: usize, j: usize| [i as f64 / n as f64, j as f64 / n as f64];
         let mut nodes = Vec::new();
         let mut tris = Vec::new();
@@ -391,7 +394,12 @@ mod tests {
         }
         // joints: every pair of triangles sharing an edge (by position), P -> Q in T1 and
         // R -> S in T2 with P = S, Q = R
-        let key = |p: [f64; 2]| ((p[0] * n as f64).round() as i64, (p[1] * n as f64).round() as i64);
+        let key = |p: [f64; 2]| {
+            (
+                (p[0] * n as f64).round() as i64,
+                (p[1] * n as f64).round() as i64,
+            )
+        };
         let mut edges: std::collections::BTreeMap<_, (u32, u32)> = Default::default();
         let mut joints = Vec::new();
         for t in &tris {
@@ -414,12 +422,22 @@ mod tests {
         // s = (1 + 2x - 3y, 4 - x + y, 0.5 x, 7): the fit is exact for it, interior,
         // boundary and corner nodes alike (to round-off); the area-weighted mean is not
         let (nodes, tris, joints) = exploded_grid(6);
-        let lin = |p: [f64; 2]| [1.0 + 2.0 * p[0] - 3.0 * p[1], 4.0 - p[0] + p[1], 0.5 * p[0], 7.0];
+        let lin = |p: [f64; 2]| {
+            [
+                1.0 + 2.0 * p[0] - 3.0 * p[1],
+                4.0 - p[0] + p[1],
+                0.5 * p[0],
+                7.0,
+            ]
+        };
         let stress: Vec<[f64; 4]> = tris
             .iter()
             .map(|t| {
                 let c = t.iter().fold([0.0; 2], |a, &i| {
-                    [a[0] + nodes[i as usize][0] / 3.0, a[1] + nodes[i as usize][1] / 3.0]
+                    [
+                        a[0] + nodes[i as usize][0] / 3.0,
+                        a[1] + nodes[i as usize][1] / 3.0,
+                    ]
                 });
                 lin(c)
             })
@@ -451,10 +469,17 @@ mod tests {
         let stress: Vec<[f64; 4]> = (0..tris.len())
             .map(|t| {
                 let x = t as f64;
-                [(x * 0.37).sin(), (x * 0.11).cos(), x.sqrt(), 1.0 / (1.0 + x)]
+                [
+                    (x * 0.37).sin(),
+                    (x * 0.11).cos(),
+                    x.sqrt(),
+                    1.0 / (1.0 + x),
+                ]
             })
             .collect();
-        let material: Vec<u32> = (0..tris.len() as u32).map(|t| u32::from(t % 7 == 0)).collect();
+        let material: Vec<u32> = (0..tris.len() as u32)
+            .map(|t| u32::from(t % 7 == 0))
+            .collect();
         let intact: Vec<bool> = (0..joints.len()).map(|j| j % 5 != 0).collect();
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -476,7 +501,8 @@ mod tests {
         };
         let one = run(1);
         assert!(one.len() == nodes.len() && one.iter().flatten().all(|v| v.is_finite()));
-        let bits = |r: &[[f64; 4]]| -> Vec<u64> { r.iter().flatten().map(|v| v.to_bits()).collect() };
+        let bits =
+            |r: &[[f64; 4]]| -> Vec<u64> { r.iter().flatten().map(|v| v.to_bits()).collect() };
         assert_eq!(bits(&one), bits(&run(2)));
         assert_eq!(bits(&one), bits(&run(3)));
     }
