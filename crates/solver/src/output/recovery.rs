@@ -464,6 +464,56 @@ mod tests {
     }
 
     #[test]
+    fn no_patch_crosses_a_material_interface() {
+        // an unexploded 8 x 8 grid, material 0 left of x = 1/2 with the stress A, material 1
+        // right of it with B: every node reads A or B exactly, its own side's; the nodes on
+        // the interface read the material with the larger area around them: material 0's A
+        // inside (three triangles of each, a tie) and at the top end (two of material 0),
+        // B at the bottom end (two of material 1)
+        let n = 8;
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let nodes: Vec<[f64; 2]> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f64 / n as f64, j as f64 / n as f64]))
+            .collect();
+        let mut tris = Vec::new();
+        let mut material = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                material.extend([u32::from(i >= n / 2); 2]);
+            }
+        }
+        let (a, b) = ([1.0, 2.0, 3.0, 4.0], [-5.0, 6.0, -7.0, 8.0]);
+        let stress: Vec<[f64; 4]> = material
+            .iter()
+            .map(|&m| if m == 0 { a } else { b })
+            .collect();
+        let mesh = Mesh {
+            x0: &nodes,
+            triangles: &tris,
+            material: &material,
+        };
+        for method in [Method::Patch, Method::Average, Method::OwnPatch] {
+            let r = recover(mesh, &stress, None, method);
+            for (s, p) in r.iter().zip(&nodes) {
+                let off = |w: [f64; 4]| (0..4).map(|k| (s[k] - w[k]).abs()).fold(0.0, f64::max);
+                let worst = if p[0] < 0.5 {
+                    off(a)
+                } else if p[0] > 0.5 {
+                    off(b)
+                } else if p[1] == 0.0 {
+                    // the bottom end: two triangles of material 1, one of material 0
+                    off(b)
+                } else {
+                    off(a)
+                };
+                assert!(worst < 1e-12, "{method:?} at {p:?}: {s:?}");
+            }
+        }
+    }
+
+    #[test]
     fn the_recovery_is_the_same_bits_on_any_number_of_threads() {
         let (nodes, tris, joints) = exploded_grid(40);
         let stress: Vec<[f64; 4]> = (0..tris.len())
