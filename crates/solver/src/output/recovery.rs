@@ -420,7 +420,8 @@ mod tests {
     #[test]
     fn a_linear_stress_field_is_recovered_exactly_at_every_node() {
         // s = (1 + 2x - 3y, 4 - x + y, 0.5 x, 7): the fit is exact for it, interior,
-        // boundary and corner nodes alike (to round-off); the area-weighted mean is not
+        // boundary and corner nodes alike (to round-off: measured 8.9e-16); the area-weighted
+        // mean is not (0.28 at a corner)
         let (nodes, tris, joints) = exploded_grid(6);
         let lin = |p: [f64; 2]| {
             [
@@ -459,8 +460,10 @@ mod tests {
                 .flat_map(|(s, p)| (0..4).map(move |k| (s[k] - lin(*p)[k]).abs()))
                 .fold(0.0, f64::max)
         };
-        assert!(worst(Method::Patch) < 1e-12, "{}", worst(Method::Patch));
-        assert!(worst(Method::Average) > 0.1);
+        let (fit, mean) = (worst(Method::Patch), worst(Method::Average));
+        eprintln!("linear field: largest nodal error {fit:.1e} (patch fit), {mean:.3} (mean)");
+        assert!(fit < 1e-12, "{fit}");
+        assert!(mean > 0.1, "{mean}");
     }
 
     #[test]
