@@ -71,6 +71,11 @@ fn frame_of(json: &serde_json::Value) -> FrameData {
         energy_density: f64s(&json["energy_density"]),
         material: serde_json::from_value(json["material"].clone()).unwrap(),
         body: serde_json::from_value(json["body"].clone()).unwrap(),
+        nodal_stress: serde_json::from_value(json["nodal_stress"].clone()).unwrap_or_default(),
+        nodal_principal: serde_json::from_value(json["nodal_principal"].clone())
+            .unwrap_or_default(),
+        nodal_von_mises: serde_json::from_value(json["nodal_von_mises"].clone())
+            .unwrap_or_default(),
         extra_point_vectors: named(&json["extra_point_vectors"])
             .into_iter()
             .map(|(n, v)| (n, pairs(&v)))

@@ -58,6 +58,8 @@ mod initial_stress;
 mod joint_materials;
 #[path = "malformed_scenes.rs"]
 mod malformed_scenes;
+#[path = "nodal_stress.rs"]
+mod nodal_stress;
 #[path = "output_arrays.rs"]
 mod output_arrays;
 #[path = "parity.rs"]

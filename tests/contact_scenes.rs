@@ -187,6 +187,6 @@ fn frames_of_a_scene_without_contact_have_no_contact_arrays() {
                 .iter()
                 .any(|n| n == "contact_force" || n == "contact_active")
         );
-        assert_eq!(names.len(), 14, "{names:?}");
+        assert_eq!(names.len(), 17, "{names:?}");
     }
 }

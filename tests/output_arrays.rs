@@ -79,9 +79,10 @@ fn a_reduced_list_writes_exactly_its_arrays_bit_for_bit_as_a_full_frame() {
             std::fs::read_to_string(full_out.join(pvd)).unwrap()
         );
     }
-    // a list without a joint array writes no joint series
+    // a list without a joint array writes no joint series; a nodal stress array alone (no
+    // cell stress, no joint array) is the full frame's, its patches cut by the same joints
     let no_joints = block("arrays-no-joints", |v| {
-        v["output"]["arrays"] = serde_json::json!(["displacement"]);
+        v["output"]["arrays"] = serde_json::json!(["displacement", "nodal_von_mises"]);
     });
     let (_, out) = common::run(&no_joints);
     let names: Vec<String> = std::fs::read_dir(&out)
@@ -90,8 +91,10 @@ fn a_reduced_list_writes_exactly_its_arrays_bit_for_bit_as_a_full_frame() {
         .collect();
     assert!(names.iter().all(|n| !n.starts_with("joints")), "{names:?}");
     let a = arrays(&out.join("frame_0003.vtu"));
-    assert_eq!(a.len(), 1 + GEOMETRY.len());
-    assert!(a["displacement"] == arrays(&full_out.join("frame_0003.vtu"))["displacement"]);
+    assert_eq!(a.len(), 2 + GEOMETRY.len());
+    let full = arrays(&full_out.join("frame_0003.vtu"));
+    assert!(a["displacement"] == full["displacement"]);
+    assert!(a["nodal_von_mises"] == full["nodal_von_mises"]);
 }
 
 /// The error of loading the cantilever example with `output.arrays` set to `arrays`.
@@ -112,7 +115,10 @@ fn unknown_arrays_and_arrays_the_scene_cannot_give_are_refused_with_their_path()
     assert!(e.contains("unknown array 'strain'"), "{e}");
     // the valid names of this scene: no contact, no joints
     assert!(
-        e.contains("displacement, velocity, force, reaction, stress"),
+        e.contains(
+            "displacement, velocity, force, reaction, nodal_stress, nodal_principal_stress, \
+             nodal_von_mises, stress"
+        ),
         "{e}"
     );
     assert!(!e.contains("contact_force") && !e.contains("damage"), "{e}");

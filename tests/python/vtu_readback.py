@@ -1,6 +1,6 @@
 """Independent read-back of fdem's output: every .vtu frame listed in results.pvd is read by
 meshio and by VTK's vtkXMLUnstructuredGridReader, and its points, cells and arrays must equal
-the solver's raw dump (frame_NNNN.json) exactly. In fracturing runs the joint series
+the solver's raw dump (frame_NNNN.json) exactly (the recovered nodal stresses included). In fracturing runs the joint series
 (joints.pvd, joints_NNNN.vtu: one line cell per joint) is read the same way and compared with
 the dump's "joints" object; a run without joints must have no joint series. The cell
 connectivity and offsets are Int64, so meshio's cells are integers and index the points
@@ -54,6 +54,16 @@ def expected(raw):
     # Arrays of the force contributions (contact_force, contact_active), only when present.
     for k, v in raw.get("extra_point_vectors", []):
         e["point"][k] = vec3(v)
+    # The recovered nodal stresses (point data), only when present.
+    if "nodal_stress" in raw:
+        n = np.asarray(raw["nodal_stress"], dtype=float)
+        zn = np.zeros(len(n))
+        e["point"]["nodal_stress"] = np.column_stack(
+            [n[:, 0], n[:, 2], zn, n[:, 2], n[:, 1], zn, zn, zn, n[:, 3]])
+    if "nodal_principal" in raw:
+        e["point"]["nodal_principal_stress"] = np.asarray(raw["nodal_principal"], dtype=float)
+    if "nodal_von_mises" in raw:
+        e["point"]["nodal_von_mises"] = np.asarray(raw["nodal_von_mises"], dtype=float)
     for k, v in raw.get("extra_cell_scalars", []):
         e["cell"][k] = np.asarray(v, dtype=float)
     return e

@@ -761,6 +761,13 @@ impl ForceContribution for FractureStage {
         Some(&self.state)
     }
 
+    fn joint_links(&self) -> Option<crate::output::recovery::Links<'_>> {
+        Some(crate::output::recovery::Links {
+            nodes: &self.set.nodes,
+            intact: &self.state.intact,
+        })
+    }
+
     fn finish(&mut self) {
         if let Some(w) = &mut self.csv {
             let _ = w.flush();

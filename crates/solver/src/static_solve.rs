@@ -173,7 +173,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         .map(|(i, p)| [p[0] + u[2 * i], p[1] + u[2 * i + 1]])
         .collect();
     let zeros = vec![[0.0; 2]; l.model.n_nodes()];
-    let frame = frame_from_parts(
+    let mut frame = frame_from_parts(
         &l.model,
         0.0,
         &x,
@@ -183,6 +183,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         stress,
         energy_density,
     );
+    frame.recover_nodal(&l.model, None, &l.scene.output.arrays.set());
     let mut strain = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>();
     let mut ext = 0.5 * u.iter().zip(&fext).map(|(a, b)| a * b).sum::<f64>();
     if !f0.is_empty() {

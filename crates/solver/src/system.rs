@@ -104,6 +104,12 @@ pub trait ForceContribution: Send {
     fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
         None
     }
+    /// The joints as the nodal stress recovery needs them (node ids, intact flags): a term
+    /// with joints (the fracture stage) hands them out so that no patch crosses a broken
+    /// joint (default: none).
+    fn joint_links(&self) -> Option<crate::output::recovery::Links<'_>> {
+        None
+    }
 }
 
 /// What a [`ForceContribution`] reports to the run summary.

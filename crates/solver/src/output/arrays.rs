@@ -2,7 +2,8 @@
 //! default, `"all"`), or the listed ones. The names, in the order the files hold them:
 //!
 //! - `frame_NNNN.vtu` point data: `displacement`, `velocity`, `force`, `reaction`, then
-//!   `contact_force` (scenes with contact);
+//!   `contact_force` (scenes with contact), then the recovered nodal stresses
+//!   `nodal_stress`, `nodal_principal_stress`, `nodal_von_mises` ([`super::recovery`]);
 //! - its cell data: `stress`, `principal_stress`, `von_mises`, `strain_energy_density`,
 //!   `material`, `body`, then `young` (scenes whose Young's modulus is drawn per triangle) and
 //!   `contact_active` (scenes with contact);
@@ -16,6 +17,8 @@
 
 /// Point arrays of every frame.
 pub const POINT: [&str; 4] = ["displacement", "velocity", "force", "reaction"];
+/// The recovered nodal stress arrays of every frame (point data, [`super::recovery`]).
+pub const NODAL: [&str; 3] = ["nodal_stress", "nodal_principal_stress", "nodal_von_mises"];
 /// Cell arrays of every frame.
 pub const CELL: [&str; 6] = [
     "stress",
@@ -70,6 +73,7 @@ impl Offer {
         if self.contact {
             v.push(CONTACT[0]);
         }
+        v.extend(NODAL);
         v.extend(CELL);
         if self.drawn_young {
             v.push(YOUNG);
@@ -153,6 +157,11 @@ impl ArraySet {
     /// True when the frames carry an array of the stages (contact, joints).
     pub fn has_stage_arrays(&self) -> bool {
         self.has_any(&CONTACT) || self.has_joints()
+    }
+
+    /// True when the frames carry a recovered nodal stress array.
+    pub fn has_nodal(&self) -> bool {
+        self.has_any(&NODAL)
     }
 
     /// True when the frames carry a joint array (and so a joint series is written).

@@ -37,6 +37,16 @@ pub struct FrameData {
     pub material: Vec<i32>,
     /// Body id per triangle.
     pub body: Vec<i32>,
+    /// Recovered stress per node: sxx, syy, sxy, szz [Pa] ([`super::recovery`]); empty when
+    /// the frame carries no nodal stress array.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub nodal_stress: Vec<[f64; 4]>,
+    /// Principal in-plane stresses s1 >= s2 of the recovered nodal stress [Pa].
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub nodal_principal: Vec<[f64; 2]>,
+    /// von Mises stress of the recovered nodal stress [Pa].
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub nodal_von_mises: Vec<f64>,
     /// Further point vectors from the force contributions (`contact_force` [N] when the scene
     /// has contact), written after `reaction`; empty (and absent from the files) otherwise.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -64,6 +74,49 @@ pub fn von_mises(s: [f64; 4]) -> f64 {
     (0.5 * ((xx - yy).powi(2) + (yy - zz).powi(2) + (zz - xx).powi(2)) + 3.0 * xy * xy).sqrt()
 }
 
+impl FrameData {
+    /// Fills the recovered nodal stress arrays that `arrays` asks for from the frame's cell
+    /// stresses (patches cut by the broken joints of `links`, [`super::recovery`]); then
+    /// drops the cell stresses when `arrays` does not ask for them. Nothing is computed when
+    /// no nodal array is asked for.
+    pub fn recover_nodal(
+        &mut self,
+        model: &Model,
+        links: Option<super::recovery::Links>,
+        arrays: &ArraySet,
+    ) {
+        if !arrays.has_nodal() {
+            return;
+        }
+        let material: Vec<u32> = (model.tri_material.iter())
+            .map(|&r| model.material_id.get(r as usize).map_or(r, |&id| id))
+            .collect();
+        let mesh = super::recovery::Mesh {
+            x0: &model.x0,
+            triangles: &model.triangles,
+            material: &material,
+        };
+        let nodal = super::recovery::recover(
+            mesh,
+            &self.stress,
+            links,
+            super::recovery::Method::default(),
+        );
+        if arrays.has("nodal_principal_stress") {
+            self.nodal_principal = nodal.iter().map(|s| principal(s[0], s[1], s[2])).collect();
+        }
+        if arrays.has("nodal_von_mises") {
+            self.nodal_von_mises = nodal.iter().map(|s| von_mises(*s)).collect();
+        }
+        if arrays.has("nodal_stress") {
+            self.nodal_stress = nodal;
+        }
+        if !arrays.has_any(&["stress", "principal_stress", "von_mises"]) {
+            self.stress = Vec::new();
+        }
+    }
+}
+
 /// Builds a frame from positions, velocities, forces and reactions, with every array.
 pub fn make_frame(
     model: &Model,
@@ -78,7 +131,8 @@ pub fn make_frame(
 }
 
 /// [`make_frame`] with the arrays of `arrays` only (the others left empty, and not
-/// computed: the stresses only for `stress`, `principal_stress` or `von_mises`).
+/// computed: the stresses only for `stress`, `principal_stress`, `von_mises` or a nodal
+/// stress array, which [`FrameData::recover_nodal`] then fills).
 pub fn make_frame_of(
     model: &Model,
     elements: &Elements,
@@ -89,13 +143,14 @@ pub fn make_frame_of(
     reaction: &[[f64; 2]],
     arrays: &ArraySet,
 ) -> FrameData {
-    let stress: Vec<[f64; 4]> = if arrays.has_any(&["stress", "principal_stress", "von_mises"]) {
-        let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
-        elements.stresses(x, v, &mut stresses);
-        stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect()
-    } else {
-        Vec::new()
-    };
+    let stress: Vec<[f64; 4]> =
+        if arrays.has_any(&["stress", "principal_stress", "von_mises"]) || arrays.has_nodal() {
+            let mut stresses = vec![fdem_mesh::stress::Stress::default(); elements.len()];
+            elements.stresses(x, v, &mut stresses);
+            stresses.iter().map(|s| [s.xx, s.yy, s.xy, s.zz]).collect()
+        } else {
+            Vec::new()
+        };
     let energy_density = if arrays.has("strain_energy_density") {
         (0..elements.len())
             .into_par_iter()
@@ -194,6 +249,9 @@ fn frame_from_parts_of(
         } else {
             Vec::new()
         },
+        nodal_stress: Vec::new(),
+        nodal_principal: Vec::new(),
+        nodal_von_mises: Vec::new(),
         extra_point_vectors: Vec::new(),
         // Young's modulus per cell [Pa], only when some triangle's is drawn
         extra_cell_scalars: if model.drawn_young && when(super::arrays::YOUNG) {

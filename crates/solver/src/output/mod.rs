@@ -15,6 +15,7 @@ pub mod history;
 pub mod joint_frame;
 pub mod joints;
 pub mod pvd;
+pub mod recovery;
 pub mod vtu;
 #[cfg(test)]
 mod vtu_vtkio;

@@ -2,7 +2,9 @@
 //! independent blocks (the writer of the triangle frames and, through [`Grid`], of the joint
 //! frames).
 //!
-//! Point arrays: `displacement`, `velocity`, `force`, `reaction` (3 components, z = 0).
+//! Point arrays: `displacement`, `velocity`, `force`, `reaction` (3 components, z = 0), the
+//! extra point arrays (`contact_force`), then the recovered `nodal_stress` (9 components, as
+//! `stress`), `nodal_principal_stress` (s1, s2) and `nodal_von_mises`.
 //! Cell arrays: `stress` (full 3x3 tensor, 9 components, row major, so ParaView's tensor
 //! filters apply), `principal_stress` (s1, s2), `von_mises`, `strain_energy_density`,
 //! `material`, `body`. Then the frame's extra arrays from the force contributions, e.g.
@@ -588,6 +590,17 @@ pub fn frame_grid<'a>(frame: &'a FrameData, arrays: &ArraySet) -> Grid<'a> {
             grid.point_data.push(Column::new(name, 3, Values::Vec3(v)));
         }
     }
+    let nodal = [
+        Column::new("nodal_stress", 9, Values::Tensor(&frame.nodal_stress)),
+        Column::new(
+            "nodal_principal_stress",
+            2,
+            Values::Pair(&frame.nodal_principal),
+        ),
+        Column::new("nodal_von_mises", 1, Values::F64(&frame.nodal_von_mises)),
+    ];
+    grid.point_data
+        .extend(nodal.into_iter().filter(|c| arrays.has(c.name)));
     let cells = [
         Column::new("stress", 9, Values::Tensor(&frame.stress)),
         Column::new("principal_stress", 2, Values::Pair(&frame.principal)),

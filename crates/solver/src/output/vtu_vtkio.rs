@@ -55,6 +55,25 @@ pub fn encode(frame: &FrameData, level: u32) -> Result<Vec<u8>, String> {
     for (name, v) in &frame.extra_point_vectors {
         point.push(array(name, ElementType::Vectors, vec3(v)));
     }
+    let nodal9: Vec<f64> = frame
+        .nodal_stress
+        .iter()
+        .flat_map(|s| [s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]])
+        .collect();
+    let nodal_principal: Vec<f64> = frame.nodal_principal.iter().flat_map(|p| *p).collect();
+    point.extend([
+        array("nodal_stress", ElementType::Tensors, nodal9),
+        array(
+            "nodal_principal_stress",
+            ElementType::Generic(2),
+            nodal_principal,
+        ),
+        array(
+            "nodal_von_mises",
+            ElementType::Generic(1),
+            frame.nodal_von_mises.clone(),
+        ),
+    ]);
     let piece = UnstructuredGridPiece {
         points: vec3(&frame.points).into(),
         cells: Cells {
@@ -365,6 +384,11 @@ mod tests {
             energy_density: f(7, m),
             material: (0..m as i32).map(|i| i % 3 - 1).collect(),
             body: (0..m as i32).map(|i| i / 100).collect(),
+            nodal_stress: (0..n)
+                .map(|i| [value(i + 9), value(i + 10), value(i + 11), value(i + 12)])
+                .collect(),
+            nodal_principal: v2(13),
+            nodal_von_mises: f(14, n),
             extra_point_vectors: vec![("contact_force".into(), v2(8))],
             extra_cell_scalars: vec![("contact_active".into(), f(9, m))],
             joints: Some(joints),
@@ -405,7 +429,7 @@ mod tests {
                 let got = as_tuples(vtu::read(&one).unwrap());
                 let want = arrays_of(&read_back(encode(&fr, level).unwrap()));
                 assert_eq!(got.len(), want.len());
-                assert_eq!(got.len(), 16, "4 + 1 point, 6 + 1 cell, 4 grid arrays");
+                assert_eq!(got.len(), 19, "4 + 1 + 3 point, 6 + 1 cell, 4 grid arrays");
                 for (g, w) in got.iter().zip(&want) {
                     assert!(g == w, "array {} differs at level {level}, {n} points", w.0);
                 }

@@ -257,7 +257,7 @@ impl Drop for FrameWriter {
 }
 
 /// The frame of the system at `state`, with the forces and reactions of its last evaluation
-/// (without the stages' fields).
+/// and the recovered nodal stresses (without the stages' fields).
 pub fn state_frame(sys: &SceneSystem, state: &State) -> FrameData {
     state_frame_of(sys, state, &ArraySet::all())
 }
@@ -267,7 +267,10 @@ fn state_frame_of(sys: &SceneSystem, state: &State, arrays: &ArraySet) -> FrameD
     let reaction = sys.reactions();
     let (x, v) = (state.x_nodes(), state.v_nodes());
     let (m, e) = (&sys.model, &sys.elements);
-    make_frame_of(m, e, state.t, x, v, &sys.force, &reaction, arrays)
+    let mut frame = make_frame_of(m, e, state.t, x, v, &sys.force, &reaction, arrays);
+    let links = sys.contributions.iter().find_map(|c| c.joint_links());
+    frame.recover_nodal(m, links, arrays);
+    frame
 }
 
 impl Observer for FrameWriter {
