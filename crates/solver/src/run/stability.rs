@@ -17,6 +17,7 @@ use crate::diagnosis::Found;
 use crate::error::RunError;
 use crate::ledger::kinetic_energy;
 use crate::stages::summed_report;
+use crate::summary::{QuasiStatic, Summary};
 
 /// Steps between two stability checks (and two residual checks of a relaxation).
 pub const CHECK_EVERY: u64 = 100;
@@ -29,6 +30,37 @@ pub struct StabilityGuard {
     /// Energy below which a prestressed scene's growth is round-off [J]: 1e-12 of the
     /// initial stresses' energy scale (0 without initial stress).
     floor: f64,
+    /// The quasi-static indicator so far (dynamic analyses).
+    indicator: Option<Indicator>,
+}
+
+/// The quasi-static indicator's running values ([`crate::summary::QuasiStatic`]).
+#[derive(Debug, Clone, Copy, Default)]
+struct Indicator {
+    /// End of the transient [s].
+    t0: f64,
+    /// Largest stored energy after the transient [J] and its time [s].
+    stored_max: f64,
+    t_peak: f64,
+    /// Largest ratio so far after the transient, and up to the peak.
+    ratio_all: f64,
+    ratio_pre_peak: f64,
+}
+
+impl Indicator {
+    /// Takes the state at time `t`: kinetic energy `k` of the free DOFs, stored `s`.
+    fn take(&mut self, t: f64, k: f64, s: f64) {
+        if t < self.t0 || s <= 0.0 {
+            return;
+        }
+        let r = k / s;
+        self.ratio_all = self.ratio_all.max(r);
+        if s > self.stored_max {
+            self.stored_max = s;
+            self.t_peak = t;
+            self.ratio_pre_peak = self.ratio_all;
+        }
+    }
 }
 
 impl StabilityGuard {
@@ -37,6 +69,7 @@ impl StabilityGuard {
         Self {
             e_prev: 0.0,
             floor: 0.0,
+            indicator: None,
         }
     }
 }
@@ -51,6 +84,13 @@ impl Observer for StabilityGuard {
     fn start(&mut self, run: &mut RunView) -> Result<(), Halt> {
         self.e_prev = run.ledger.initial();
         self.floor = 1e-12 * run.sys.elements.initial_stress_energy_scale();
+        let scene = &run.loaded.scene;
+        if scene.analysis == crate::scene::Analysis::Dynamic {
+            self.indicator = Some(Indicator {
+                t0: transient_end(scene),
+                ..Default::default()
+            });
+        }
         Ok(())
     }
 
@@ -69,9 +109,9 @@ impl Observer for StabilityGuard {
         }
         let (stored, walls) =
             summed_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
-        let mut e_now = kinetic_energy(&run.ledger.mass_dof, &state.v)
-            + sys.elements.strain_energy(state.x_nodes())
-            + stored;
+        let kinetic = kinetic_energy(&run.ledger.mass_dof, &state.v);
+        let strain = sys.elements.strain_energy(state.x_nodes());
+        let mut e_now = kinetic + strain + stored;
         let mut supplied = run.ledger.supplied_bound(&sys.model, state, walls);
         if sys.elements.prestressed() {
             // the initial stresses' energy S0 : E is first order in the displacement and
@@ -81,6 +121,10 @@ impl Observer for StabilityGuard {
             let w0 = sys.elements.initial_stress_energy(state.x_nodes());
             e_now -= w0;
             supplied += w0.abs() + self.floor;
+        }
+        if let Some(ind) = &mut self.indicator {
+            let k_free = kinetic - run.ledger.k_prescribed(&state.v);
+            ind.take(state.t, k_free, strain + stored);
         }
         if let Some(message) = energy_growth(
             e_now,
@@ -97,14 +141,92 @@ impl Observer for StabilityGuard {
         Ok(Flow::Continue)
     }
 
-    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
-        e.put(&[self.e_prev, self.floor]);
+    fn finish(&mut self, run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        summary.quasi_static = self.indicator.map(|i| quasi_static(&run.loaded.scene, &i));
         Ok(())
     }
 
-    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
-        [self.e_prev, self.floor] = d.get()?;
+    fn stopped(&mut self, summary: &mut Summary) {
+        summary.quasi_static = self.indicator.map(|i| QuasiStatic {
+            transient_end: i.t0,
+            peak_time: i.t_peak,
+            kinetic_ratio_max: i.ratio_pre_peak,
+            kinetic_ratio_max_all: i.ratio_all,
+            limit: None,
+            warning: None,
+        });
+    }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&[self.e_prev, self.floor]);
+        if let Some(i) = &self.indicator {
+            e.put(&[i.t0, i.stored_max, i.t_peak, i.ratio_all, i.ratio_pre_peak]);
+        }
         Ok(())
+    }
+
+    fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        [self.e_prev, self.floor] = d.get()?;
+        if run.loaded.scene.analysis == crate::scene::Analysis::Dynamic {
+            let [t0, stored_max, t_peak, ratio_all, ratio_pre_peak] = d.get()?;
+            self.indicator = Some(Indicator {
+                t0,
+                stored_max,
+                t_peak,
+                ratio_all,
+                ratio_pre_peak,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The end of a scene's initial transient [s]: the longest ramp of its prescribed motions,
+/// loads and walls, and at least a tenth of the duration.
+pub fn transient_end(scene: &crate::scene::Scene) -> f64 {
+    use crate::scene::BoundaryCondition as B;
+    let ramps = scene.boundary_conditions.iter().map(|bc| match bc {
+        B::Fixed(_) => 0.0,
+        B::Velocity(b) => b.ramp,
+        B::Displacement(b) => b.ramp,
+        B::Pressure(b) => b.ramp,
+        B::Traction(b) => b.ramp,
+        B::PointLoad(b) => b.ramp,
+    });
+    let walls = scene
+        .contact
+        .iter()
+        .flat_map(|c| c.walls.iter().map(|w| w.ramp));
+    let tenth = 0.1 * scene.duration.unwrap_or(0.0);
+    ramps.chain(walls).fold(tenth, f64::max)
+}
+
+/// The summary's indicator of a finished run, with the warning of a scene that declares a
+/// slow run (a `loading` or `mass_scaling` section) when the ratio before the peak exceeds
+/// its limit.
+fn quasi_static(scene: &crate::scene::Scene, i: &Indicator) -> QuasiStatic {
+    let declared = scene.loading.is_some() || scene.mass_scaling.is_some();
+    let limit = declared.then(|| {
+        scene
+            .loading
+            .as_ref()
+            .map_or(crate::scene::mass_scaling::KINETIC_RATIO_LIMIT, |l| {
+                l.kinetic_ratio_limit
+            })
+    });
+    let warning = limit.filter(|l| i.ratio_pre_peak > *l).map(|l| {
+        format!(
+            "the run is not quasi-static: kinetic energy reached {:.3} of the stored energy before its peak at t = {:.4e} s (limit {l}); lower loading.rate or mass_scaling",
+            i.ratio_pre_peak, i.t_peak
+        )
+    });
+    QuasiStatic {
+        transient_end: i.t0,
+        peak_time: i.t_peak,
+        kinetic_ratio_max: i.ratio_pre_peak,
+        kinetic_ratio_max_all: i.ratio_all,
+        limit,
+        warning,
     }
 }
 
