@@ -73,17 +73,18 @@ pub struct Summary {
 
 /// The quasi-static indicator: the ratio `K / (U + S)` of the kinetic energy of the free
 /// degrees of freedom to the stored energy (strain `U`, contact and joints `S`), taken at the
-/// stability checks (every 100 steps and the last) once the transient is over.
+/// stability checks (every 100 steps and the last): see [`crate::run::indicator`].
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct QuasiStatic {
-    /// The end of the initial transient [s]: the longest ramp of the loading, and at least a
-    /// tenth of the duration.
+    /// The end of the initial transient [s]: when the stored energy first reached 10 % of
+    /// its largest value.
     pub transient_end: f64,
-    /// The time of the largest stored energy after the transient (about the peak load) [s].
+    /// The time of the largest stored energy (about the peak load) [s].
     pub peak_time: f64,
-    /// The largest ratio between the transient's end and `peak_time`: the indicator.
+    /// The indicator: the largest ratio before `peak_time` while the stored energy lies
+    /// between 10 % and 90 % of its largest value.
     pub kinetic_ratio_max: f64,
-    /// The largest ratio after the transient over the whole run (a brittle failure after
+    /// The largest ratio after `transient_end` over the whole run (a brittle failure after
     /// the peak is dynamic at any rate).
     pub kinetic_ratio_max_all: f64,
     /// The warning threshold (`loading.kinetic_ratio_limit`) of a scene with a `loading` or

@@ -47,7 +47,7 @@ pub use observer::{Flow, Halt, Observer, RunView};
 pub use options::RunOptions;
 pub use progress::{Progress, ProgressReport};
 pub use relaxation::Relaxation;
-pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth};
+pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth, indicator};
 pub use step_control::{AdaptiveStep, StepControl};
 pub use stepping::{Run, books_residuals, history_interval};
 

@@ -34,33 +34,11 @@ pub struct StabilityGuard {
     indicator: Option<Indicator>,
 }
 
-/// The quasi-static indicator's running values ([`crate::summary::QuasiStatic`]).
-#[derive(Debug, Clone, Copy, Default)]
+/// The quasi-static indicator's samples: `[t, K, U + S]` at each check (dynamic analyses),
+/// reduced at the end by [`indicator`].
+#[derive(Debug, Clone, Default)]
 struct Indicator {
-    /// End of the transient [s].
-    t0: f64,
-    /// Largest stored energy after the transient [J] and its time [s].
-    stored_max: f64,
-    t_peak: f64,
-    /// Largest ratio so far after the transient, and up to the peak.
-    ratio_all: f64,
-    ratio_pre_peak: f64,
-}
-
-impl Indicator {
-    /// Takes the state at time `t`: kinetic energy `k` of the free DOFs, stored `s`.
-    fn take(&mut self, t: f64, k: f64, s: f64) {
-        if t < self.t0 || s <= 0.0 {
-            return;
-        }
-        let r = k / s;
-        self.ratio_all = self.ratio_all.max(r);
-        if s > self.stored_max {
-            self.stored_max = s;
-            self.t_peak = t;
-            self.ratio_pre_peak = self.ratio_all;
-        }
-    }
+    samples: Vec<[f64; 3]>,
 }
 
 impl StabilityGuard {
@@ -86,9 +64,10 @@ impl Observer for StabilityGuard {
         self.floor = 1e-12 * run.sys.elements.initial_stress_energy_scale();
         let scene = &run.loaded.scene;
         if scene.analysis == crate::scene::Analysis::Dynamic {
+            // one sample per check: allocated once
+            let checks = run.loaded.n_steps / CHECK_EVERY + 2;
             self.indicator = Some(Indicator {
-                t0: transient_end(scene),
-                ..Default::default()
+                samples: Vec::with_capacity(checks.min(1 << 20) as usize),
             });
         }
         Ok(())
@@ -124,7 +103,7 @@ impl Observer for StabilityGuard {
         }
         if let Some(ind) = &mut self.indicator {
             let k_free = kinetic - run.ledger.k_prescribed(&state.v);
-            ind.take(state.t, k_free, strain + stored);
+            ind.samples.push([state.t, k_free, strain + stored]);
         }
         if let Some(message) = energy_growth(
             e_now,
@@ -142,25 +121,23 @@ impl Observer for StabilityGuard {
     }
 
     fn finish(&mut self, run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
-        summary.quasi_static = self.indicator.map(|i| quasi_static(&run.loaded.scene, &i));
+        let scene = &run.loaded.scene;
+        summary.quasi_static = self.indicator.as_ref().map(|i| {
+            let mut q = indicator(&i.samples);
+            warn(scene, &mut q);
+            q
+        });
         Ok(())
     }
 
     fn stopped(&mut self, summary: &mut Summary) {
-        summary.quasi_static = self.indicator.map(|i| QuasiStatic {
-            transient_end: i.t0,
-            peak_time: i.t_peak,
-            kinetic_ratio_max: i.ratio_pre_peak,
-            kinetic_ratio_max_all: i.ratio_all,
-            limit: None,
-            warning: None,
-        });
+        summary.quasi_static = self.indicator.as_ref().map(|i| indicator(&i.samples));
     }
 
     fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
         e.put(&[self.e_prev, self.floor]);
         if let Some(i) = &self.indicator {
-            e.put(&[i.t0, i.stored_max, i.t_peak, i.ratio_all, i.ratio_pre_peak]);
+            e.put(&i.samples);
         }
         Ok(())
     }
@@ -168,65 +145,66 @@ impl Observer for StabilityGuard {
     fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
         [self.e_prev, self.floor] = d.get()?;
         if run.loaded.scene.analysis == crate::scene::Analysis::Dynamic {
-            let [t0, stored_max, t_peak, ratio_all, ratio_pre_peak] = d.get()?;
-            self.indicator = Some(Indicator {
-                t0,
-                stored_max,
-                t_peak,
-                ratio_all,
-                ratio_pre_peak,
-            });
+            let mut samples: Vec<[f64; 3]> = d.get()?;
+            samples.reserve((run.loaded.n_steps / CHECK_EVERY + 2).min(1 << 20) as usize);
+            self.indicator = Some(Indicator { samples });
         }
         Ok(())
     }
 }
 
-/// The end of a scene's initial transient [s]: the longest ramp of its prescribed motions,
-/// loads and walls, and at least a tenth of the duration.
-pub fn transient_end(scene: &crate::scene::Scene) -> f64 {
-    use crate::scene::BoundaryCondition as B;
-    let ramps = scene.boundary_conditions.iter().map(|bc| match bc {
-        B::Fixed(_) => 0.0,
-        B::Velocity(b) => b.ramp,
-        B::Displacement(b) => b.ramp,
-        B::Pressure(b) => b.ramp,
-        B::Traction(b) => b.ramp,
-        B::PointLoad(b) => b.ramp,
-    });
-    let walls = scene
-        .contact
+/// The quasi-static indicator of the samples `[t, K, U + S]` of a run (kinetic energy of the
+/// free DOFs, stored energy): with `S*` the largest stored energy and `t*` its time (about
+/// the peak load), the largest `K / (U + S)` before `t*` while the stored energy lies between
+/// 10 % and 90 % of `S*` (the loading: not the start, where nothing is stored yet, nor the
+/// cracking that announces the peak), and the largest after the stored energy first reached
+/// 10 % of `S*` over the whole run. No stored energy: all zeros.
+pub fn indicator(samples: &[[f64; 3]]) -> QuasiStatic {
+    let (mut peak, mut s_max) = (0.0, 0.0);
+    for &[t, _, s] in samples {
+        if s > s_max {
+            (peak, s_max) = (t, s);
+        }
+    }
+    let start = samples
         .iter()
-        .flat_map(|c| c.walls.iter().map(|w| w.ramp));
-    let tenth = 0.1 * scene.duration.unwrap_or(0.0);
-    ramps.chain(walls).fold(tenth, f64::max)
+        .position(|p| s_max > 0.0 && p[2] >= 0.1 * s_max);
+    let (mut loading, mut all) = (0.0f64, 0.0f64);
+    for &[t, k, s] in start.map_or(&[][..], |i| &samples[i..]) {
+        let r = k / s;
+        all = all.max(r);
+        if t <= peak && s <= 0.9 * s_max {
+            loading = loading.max(r);
+        }
+    }
+    QuasiStatic {
+        transient_end: start.map_or(0.0, |i| samples[i][0]),
+        peak_time: peak,
+        kinetic_ratio_max: loading,
+        kinetic_ratio_max_all: all,
+        limit: None,
+        warning: None,
+    }
 }
 
-/// The summary's indicator of a finished run, with the warning of a scene that declares a
-/// slow run (a `loading` or `mass_scaling` section) when the ratio before the peak exceeds
-/// its limit.
-fn quasi_static(scene: &crate::scene::Scene, i: &Indicator) -> QuasiStatic {
-    let declared = scene.loading.is_some() || scene.mass_scaling.is_some();
-    let limit = declared.then(|| {
-        scene
-            .loading
-            .as_ref()
-            .map_or(crate::scene::mass_scaling::KINETIC_RATIO_LIMIT, |l| {
-                l.kinetic_ratio_limit
-            })
-    });
-    let warning = limit.filter(|l| i.ratio_pre_peak > *l).map(|l| {
-        format!(
-            "the run is not quasi-static: kinetic energy reached {:.3} of the stored energy before its peak at t = {:.4e} s (limit {l}); lower loading.rate or mass_scaling",
-            i.ratio_pre_peak, i.t_peak
-        )
-    });
-    QuasiStatic {
-        transient_end: i.t0,
-        peak_time: i.t_peak,
-        kinetic_ratio_max: i.ratio_pre_peak,
-        kinetic_ratio_max_all: i.ratio_all,
-        limit,
-        warning,
+/// The limit and the warning of a scene that declares a slow run (a `loading` or
+/// `mass_scaling` section): the warning when the indicator exceeds the limit.
+fn warn(scene: &crate::scene::Scene, q: &mut QuasiStatic) {
+    if scene.loading.is_none() && scene.mass_scaling.is_none() {
+        return;
+    }
+    let l = scene
+        .loading
+        .as_ref()
+        .map_or(crate::scene::mass_scaling::KINETIC_RATIO_LIMIT, |l| {
+            l.kinetic_ratio_limit
+        });
+    q.limit = Some(l);
+    if q.kinetic_ratio_max > l {
+        q.warning = Some(format!(
+            "the run is not quasi-static: the kinetic energy reached {:.3} of the stored energy while loading (limit {l}, before the peak of the stored energy at t = {:.4e} s); lower loading.rate or the mass_scaling factor",
+            q.kinetic_ratio_max, q.peak_time
+        ));
     }
 }
 

@@ -42,8 +42,8 @@ pub struct Loading {
     /// (duration, ramps, histories) are divided by it (> 0, default 1).
     #[serde(default = "one")]
     pub rate: f64,
-    /// The warning threshold of the kinetic to stored energy ratio before the peak
-    /// (default [`KINETIC_RATIO_LIMIT`]).
+    /// The warning threshold of the quasi-static indicator, the kinetic to stored energy
+    /// ratio while loading (default [`KINETIC_RATIO_LIMIT`]).
     #[serde(default = "ratio_limit")]
     pub kinetic_ratio_limit: f64,
 }
@@ -59,7 +59,7 @@ fn ratio_limit() -> f64 {
 /// The default warning threshold of the quasi-static indicator (kinetic energy over stored
 /// energy, the largest before the peak of the stored energy): docs/speed-vs-accuracy.md
 /// relates it to the error of the peak load.
-pub const KINETIC_RATIO_LIMIT: f64 = 0.05;
+pub const KINETIC_RATIO_LIMIT: f64 = 0.1;
 
 /// Checks the sections: `mass_scaling` has one of `factor` (finite, >= 1) and `target_step`
 /// (finite, > 0), and no static analysis; `loading.rate` is finite and positive and the
@@ -139,7 +139,7 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
             return Err(bad(
                 "loading.kinetic_ratio_limit",
                 format!("kinetic ratio limit {k} is not a positive finite number"),
-                "give the largest acceptable kinetic / stored energy ratio, e.g. 0.05",
+                "give the largest acceptable kinetic / stored energy ratio, e.g. 0.1",
             ));
         }
     }
