@@ -17,8 +17,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::conditions::BoundaryCondition;
+use super::contact::ContactSection;
 use super::history::{HistorySpec, Shape};
-use super::{Analysis, Scene};
+use super::integrator::{Analysis, TimeStep};
 use crate::error::SceneError;
 
 /// Mass scaling: either a factor on every mass, or the time step it should give.
@@ -61,14 +62,29 @@ fn ratio_limit() -> f64 {
 /// relates it to the error of the peak load.
 pub const KINETIC_RATIO_LIMIT: f64 = 0.1;
 
+/// The scene's parts that the sections are checked against.
+pub struct Context<'a> {
+    /// The kind of analysis.
+    pub analysis: Analysis,
+    /// The integrator's step.
+    pub time_step: &'a TimeStep,
+    /// The duration as written [s].
+    pub duration: Option<f64>,
+}
+
 /// Checks the sections: `mass_scaling` has one of `factor` (finite, >= 1) and `target_step`
-/// (finite, > 0), and no static analysis; `loading.rate` is finite and positive and the
-/// stretched duration finite.
-pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
+/// (finite, > 0, not with a fixed step), and no static analysis; `loading.rate` is finite
+/// and positive and the stretched duration finite; `loading.kinetic_ratio_limit` positive.
+pub fn validate(
+    mass_scaling: Option<&MassScaling>,
+    loading: Option<&Loading>,
+    cx: &Context,
+    file: &Path,
+) -> Result<(), SceneError> {
     let bad =
         |path: &str, message: String, fix: &str| SceneError::invalid(file, path, message, fix);
-    if let Some(m) = &scene.mass_scaling {
-        if scene.analysis == Analysis::Static {
+    if let Some(m) = mass_scaling {
+        if cx.analysis == Analysis::Static {
             return Err(bad(
                 "mass_scaling",
                 "mass scaling has no effect on a static analysis".into(),
@@ -106,9 +122,7 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
             }
             _ => {}
         }
-        if m.target_step.is_some()
-            && matches!(scene.integrator.time_step, super::TimeStep::Fixed(_))
-        {
+        if m.target_step.is_some() && matches!(cx.time_step, TimeStep::Fixed(_)) {
             return Err(bad(
                 "mass_scaling.target_step",
                 "a target step with a fixed integrator.time_step".into(),
@@ -116,7 +130,7 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
             ));
         }
     }
-    if let Some(l) = &scene.loading {
+    if let Some(l) = loading {
         let r = l.rate;
         if !(r.is_finite() && r > 0.0) {
             return Err(bad(
@@ -125,7 +139,7 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
                 "give the factor on the loading speed (1: as written, 0.5: half as fast)",
             ));
         }
-        if let Some(d) = scene.duration
+        if let Some(d) = cx.duration
             && !(d / r).is_finite()
         {
             return Err(bad(
@@ -160,20 +174,26 @@ pub fn factor_for_target(target: f64, h: f64, file: &Path) -> Result<f64, SceneE
     Ok((target / h) * (target / h))
 }
 
-/// Applies the loading rate of the scene's `loading` section (nothing at rate 1): every
+/// Applies the loading rate of a `loading` section (nothing at rate 1) to the scene's
+/// duration, conditions and contact walls: every
 /// prescribed velocity and wall velocity times `r`; the duration, the ramps and the times
 /// of the histories divided by `r`. Initial velocities, fixed time steps and step counts
 /// are left as they are.
-pub fn apply_rate(scene: &mut Scene) {
-    let r = match &scene.loading {
+pub fn apply_rate(
+    loading: Option<&Loading>,
+    duration: &mut Option<f64>,
+    conditions: &mut [BoundaryCondition],
+    contact: Option<&mut ContactSection>,
+) {
+    let r = match loading {
         Some(l) if l.rate != 1.0 => l.rate,
         _ => return,
     };
     let stretch = |t: &mut f64| *t /= r;
-    if let Some(d) = &mut scene.duration {
+    if let Some(d) = duration {
         stretch(d);
     }
-    for bc in &mut scene.boundary_conditions {
+    for bc in conditions {
         let (ramp, history) = match bc {
             BoundaryCondition::Fixed(_) => continue,
             BoundaryCondition::Velocity(v) => {
@@ -192,7 +212,7 @@ pub fn apply_rate(scene: &mut Scene) {
             stretch_history(h, r);
         }
     }
-    for w in scene.contact.iter_mut().flat_map(|c| c.walls.iter_mut()) {
+    for w in contact.into_iter().flat_map(|c| c.walls.iter_mut()) {
         w.velocity = w.velocity.map(|v| v * r);
         stretch(&mut w.ramp);
         if let Some(h) = &mut w.history {

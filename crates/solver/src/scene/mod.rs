@@ -113,7 +113,12 @@ impl Scene {
         })?;
         let mut scene = scene;
         scene.validate(file)?;
-        mass_scaling::apply_rate(&mut scene);
+        mass_scaling::apply_rate(
+            scene.loading.as_ref(),
+            &mut scene.duration,
+            &mut scene.boundary_conditions,
+            scene.contact.as_mut(),
+        );
         Ok(scene)
     }
 
@@ -167,7 +172,12 @@ impl Scene {
             f.validate(file)?;
         }
         initial_stress::validate(&self.initial_stress, file)?;
-        mass_scaling::validate(self, file)?;
+        let cx = mass_scaling::Context {
+            analysis: self.analysis,
+            time_step: &self.integrator.time_step,
+            duration: self.duration,
+        };
+        mass_scaling::validate(self.mass_scaling.as_ref(), self.loading.as_ref(), &cx, file)?;
         Ok(())
     }
 }
