@@ -312,6 +312,9 @@ impl Loaded {
                 "; {} with h = {:.4e} s (limit {:.4e} s), {} steps",
                 self.scheme, self.dt, self.dt_limit, self.n_steps
             );
+            if let Some((f, _)) = &self.model.mass_scaling {
+                let _ = write!(s, "; mass scaling {f:.4}");
+            }
         }
         s
     }
