@@ -66,6 +66,8 @@ mod output_arrays;
 mod parity;
 #[path = "prestressed_joints.rs"]
 mod prestressed_joints;
+#[path = "quasi_static.rs"]
+mod quasi_static;
 #[path = "restart.rs"]
 mod restart;
 #[path = "setup_threads.rs"]

@@ -473,7 +473,8 @@ impl Books {
             + kp
     }
 
-    fn k_prescribed(&self, v: &[f64]) -> f64 {
+    /// The kinetic energy of the DOFs with a prescribed velocity or displacement.
+    pub fn k_prescribed(&self, v: &[f64]) -> f64 {
         self.prescribed
             .iter()
             .map(|&d| 0.5 * self.mass_dof[d] * v[d] * v[d])
@@ -492,7 +493,7 @@ impl Books {
         match model.gravity {
             None => 0.0,
             Some(g) => model
-                .mass
+                .weight_mass()
                 .iter()
                 .enumerate()
                 .map(|(i, m)| {

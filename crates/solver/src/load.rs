@@ -95,29 +95,11 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         meshes.push(mesh);
     }
     crate::cracks::resolve(&mut scene, file, &meshes)?;
-    let model = model::build(&scene, file, &inputs, &refs)?;
+    let mut model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
         static_checks::check_supports(&scene, file, &model)?;
     }
     crate::stages::validate(&scene, file)?;
-    let xi = scene.damping.viscosity_ratio;
-    let mut elements =
-        mesh_adapter::elements(&model, xi).map_err(|message| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path: "bodies".into(),
-            message,
-            fix: "check the materials and the mesh".into(),
-        })?;
-    elements.set_initial_stress(crate::prestress::field(
-        &scene, file, &model, &meshes, &refs,
-    )?);
-    if elements.prestressed()
-        && let Some(mut set) = crate::fracture_stage::joint_set(&scene, &model, file)?
-    {
-        // refuse at load a joint that the initial stress would start broken
-        let s0 = &elements.initial_stress;
-        crate::prestress::prestress_joints(&scene, file, &model, s0, &mut set)?;
-    }
     let scheme: SchemeKind = scene
         .integrator
         .scheme
@@ -128,26 +110,31 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
             message: format!("unknown scheme '{}'", scene.integrator.scheme),
             fix: format!("use one of {}", SchemeKind::valid_names()),
         })?;
-    let omega_max = crate::stages::omega_max(
-        &scene,
-        &model,
-        file,
-        elements.max_frequency_bound(&model.x0),
-    )?;
-    let z_visc = (0..elements.len())
-        .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
-        .fold(0.0, f64::max);
-    let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
-    let steps = limits::time_steps(&StepInputs {
+    let ms = scene.mass_scaling.clone();
+    if let Some(f) = ms.as_ref().and_then(|m| m.factor) {
+        model.scale_masses(f);
+    }
+    let parts = Parts {
         scene: &scene,
         file,
-        model: &model,
-        elements: &elements,
+        meshes: &meshes,
+        refs: &refs,
         scheme,
+    };
+    let mut timed = parts.timed(&model)?;
+    if let Some(target) = ms.as_ref().and_then(|m| m.target_step) {
+        // the factor that gives the target step: the bounds fall as 1 / sqrt(factor)
+        let h = scene.integrator.safety * timed.steps.dt_limit;
+        let f = crate::scene::mass_scaling::factor_for_target(target, h, file)?;
+        model.scale_masses(f);
+        timed = parts.timed(&model)?;
+    }
+    let Timed {
+        elements,
         omega_max,
         z_high,
-        lower_fixed_step: false,
-    })?;
+        steps,
+    } = timed;
     Ok(Loaded {
         file: file.to_path_buf(),
         scene,
@@ -163,6 +150,75 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
         contributions: Vec::new(),
         load_s: started.elapsed().as_secs_f64(),
     })
+}
+
+/// What the elements and the time step are built from.
+struct Parts<'a> {
+    scene: &'a Scene,
+    file: &'a Path,
+    meshes: &'a [Mesh],
+    refs: &'a crate::resolve::Resolved,
+    scheme: SchemeKind,
+}
+
+/// The elements of a model, its frequency bound, the damping of its highest mode and its
+/// time steps.
+struct Timed {
+    elements: Elements,
+    omega_max: f64,
+    z_high: f64,
+    steps: limits::Steps,
+}
+
+impl Parts<'_> {
+    /// The elements (with their initial stress) and the time step of `model`.
+    fn timed(&self, model: &Model) -> Result<Timed, SceneError> {
+        let (scene, file) = (self.scene, self.file);
+        let xi = scene.damping.viscosity_ratio;
+        let mut elements =
+            mesh_adapter::elements(model, xi).map_err(|message| SceneError::Invalid {
+                file: file.to_path_buf(),
+                path: "bodies".into(),
+                message,
+                fix: "check the materials and the mesh".into(),
+            })?;
+        elements.set_initial_stress(crate::prestress::field(
+            scene,
+            file,
+            model,
+            self.meshes,
+            self.refs,
+        )?);
+        if elements.prestressed()
+            && let Some(mut set) = crate::fracture_stage::joint_set(scene, model, file)?
+        {
+            // refuse at load a joint that the initial stress would start broken
+            let s0 = &elements.initial_stress;
+            crate::prestress::prestress_joints(scene, file, model, s0, &mut set)?;
+        }
+        let omega_max =
+            crate::stages::omega_max(scene, model, file, elements.max_frequency_bound(&model.x0))?;
+        let z_visc = (0..elements.len())
+            .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
+            .fold(0.0, f64::max);
+        let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
+        let steps = limits::time_steps(&StepInputs {
+            scene,
+            file,
+            model,
+            elements: &elements,
+            scheme: self.scheme,
+            omega_max,
+            z_high,
+            lower_fixed_step: false,
+        })?;
+        Ok(Timed {
+            elements,
+            omega_max,
+            z_high,
+            steps,
+        })
+    }
 }
 
 /// The bodies' meshes, in the scene's order.
@@ -256,6 +312,9 @@ impl Loaded {
                 "; {} with h = {:.4e} s (limit {:.4e} s), {} steps",
                 self.scheme, self.dt, self.dt_limit, self.n_steps
             );
+            if let Some((f, _)) = &self.model.mass_scaling {
+                let _ = write!(s, "; mass scaling {f:.4}");
+            }
         }
         s
     }

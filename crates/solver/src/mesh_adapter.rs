@@ -66,7 +66,14 @@ pub fn elements(model: &Model, xi: f64) -> Result<Elements, String> {
     let mats: Vec<Material> = model
         .materials
         .iter()
-        .map(|(s, t)| material(s, *t, xi))
+        .map(|(s, t)| {
+            let mut m = material(s, *t, xi);
+            // mass scaling: the density of the frequency bounds is the scaled one
+            if let Some((f, _)) = &model.mass_scaling {
+                m.density *= f;
+            }
+            m
+        })
         .collect();
     Elements::from_arrays(&model.x0, &model.triangles, &model.tri_material, &mats)
         .map_err(|e| e.to_string())

@@ -123,8 +123,11 @@ pub struct Model {
     pub material_id: Vec<u32>,
     /// First node of each body, and one past the last.
     pub body_nodes: Vec<std::ops::Range<u32>>,
-    /// Lumped node masses [kg].
+    /// Lumped node masses [kg] (times the mass scaling factor, if any).
     pub mass: Vec<f64>,
+    /// Mass scaling: the factor on every lumped mass and the true masses, which the weight
+    /// `m g` uses (`None`: the masses are the true ones).
+    pub mass_scaling: Option<(f64, Vec<f64>)>,
     /// Constrained DOFs (fixed or prescribed velocity), one flag per DOF.
     pub constrained: Vec<bool>,
     /// DOFs with a prescribed nonzero velocity.
@@ -155,6 +158,27 @@ impl Model {
             .sum()
     }
 
+    /// The masses of the weight `m g` [kg]: the true lumped masses, also under mass scaling.
+    pub fn weight_mass(&self) -> &[f64] {
+        self.mass_scaling.as_ref().map_or(&self.mass, |(_, m)| m)
+    }
+
+    /// The mass scaling factor (1 without mass scaling).
+    pub fn mass_factor(&self) -> f64 {
+        self.mass_scaling.as_ref().map_or(1.0, |(f, _)| *f)
+    }
+
+    /// Scales every lumped mass by `f` (the weight keeps the true masses), from the true
+    /// masses: a second call replaces the first.
+    pub fn scale_masses(&mut self, f: f64) {
+        let true_mass = match self.mass_scaling.take() {
+            Some((_, m)) => m,
+            None => self.mass.clone(),
+        };
+        self.mass = true_mass.iter().map(|m| m * f).collect();
+        self.mass_scaling = Some((f, true_mass));
+    }
+
     /// External load vector (flat DOFs) at time t, gravity included, added to `f`.
     pub fn add_external(&self, t: f64, f: &mut [f64]) {
         for l in &self.loads {
@@ -164,7 +188,7 @@ impl Model {
             }
         }
         if let Some(g) = self.gravity {
-            for (i, m) in self.mass.iter().enumerate() {
+            for (i, m) in self.weight_mass().iter().enumerate() {
                 f[2 * i] += m * g[0];
                 f[2 * i + 1] += m * g[1];
             }
@@ -181,7 +205,7 @@ impl Model {
             }
         }
         if let Some(g) = self.gravity {
-            for (i, m) in self.mass.iter().enumerate() {
+            for (i, m) in self.weight_mass().iter().enumerate() {
                 f[2 * i] += m * g[0];
                 f[2 * i + 1] += m * g[1];
             }

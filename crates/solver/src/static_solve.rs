@@ -232,6 +232,9 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         threads: rayon::current_num_threads(),
         stages: serde_json::Value::Null,
         time_step_range: None,
+        mass_scaling_factor: None,
+        loading_rate: None,
+        quasi_static: None,
         interrupted: None,
     };
     Ok((frame, summary))

@@ -56,10 +56,44 @@ pub struct Summary {
     pub stages: serde_json::Value,
     /// An `"adaptive"` step: the smallest and the largest step taken [s].
     pub time_step_range: Option<[f64; 2]>,
+    /// Mass scaling: the factor on every mass (absent without mass scaling).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_scaling_factor: Option<f64>,
+    /// The loading rate of the scene's `loading` section (absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub loading_rate: Option<f64>,
+    /// The quasi-static indicator of a dynamic run (kinetic over stored energy).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quasi_static: Option<QuasiStatic>,
     /// Present when the run was interrupted (a signal, or `--stop-after`): where it stopped
     /// and the checkpoint to resume from.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interrupted: Option<Interrupted>,
+}
+
+/// The quasi-static indicator: the ratio `K / (U + S)` of the kinetic energy of the free
+/// degrees of freedom to the stored energy (strain `U`, contact and joints `S`), taken at the
+/// stability checks (every 100 steps and the last): see [`crate::run::indicator`].
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct QuasiStatic {
+    /// The end of the initial transient [s]: when the stored energy first reached 10 % of
+    /// its largest value.
+    pub transient_end: f64,
+    /// The time of the largest stored energy (about the peak load) [s].
+    pub peak_time: f64,
+    /// The indicator: the largest ratio before `peak_time` while the stored energy lies
+    /// between 10 % and 90 % of its largest value.
+    pub kinetic_ratio_max: f64,
+    /// The largest ratio after `transient_end` over the whole run (a brittle failure after
+    /// the peak is dynamic at any rate).
+    pub kinetic_ratio_max_all: f64,
+    /// The warning threshold (`loading.kinetic_ratio_limit`) of a scene with a `loading` or
+    /// `mass_scaling` section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub limit: Option<f64>,
+    /// The warning, when `kinetic_ratio_max` exceeds `limit`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
 }
 
 /// How an interrupted run stopped.
@@ -110,6 +144,9 @@ impl Summary {
             self.energy.describe(),
             self.max_displacement
         );
+        if let Some(w) = self.quasi_static.as_ref().and_then(|q| q.warning.as_ref()) {
+            let _ = write!(s, "\nwarning: {w}");
+        }
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
             let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
         }

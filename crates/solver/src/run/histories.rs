@@ -24,6 +24,9 @@ pub struct Histories {
     groups: Vec<Vec<u32>>,
     /// Whether an energy probe is recorded (then the ledger is computed at each record).
     energy: bool,
+    /// Whether the energy probe adds the quasi-static indicator `kinetic_ratio` (a scene
+    /// with a `loading` or `mass_scaling` section).
+    ratio: bool,
 }
 
 impl Histories {
@@ -58,6 +61,9 @@ impl Histories {
                 Probe::Energy => {
                     // the ledger's terms, named as in summary.json and the console
                     cols.extend(Energies::column_names().map(String::from));
+                    if declares_slow_run(l) {
+                        cols.push("kinetic_ratio".into());
+                    }
                     groups.push(Vec::new());
                 }
             }
@@ -74,10 +80,12 @@ impl Histories {
             every,
             groups,
             energy: probes.iter().any(|p| matches!(p, Probe::Energy)),
+            ratio: declares_slow_run(l),
         })
     }
 
-    /// Records one row.
+    /// Records one row; `k_free` is the kinetic energy of the free DOFs (the indicator's).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
         l: &Loaded,
@@ -87,6 +95,7 @@ impl Histories {
         v: &[[f64; 2]],
         reaction: &[[f64; 2]],
         energy: &Energies,
+        k_free: f64,
     ) {
         let mut row = vec![t];
         for (p, nodes) in l.scene.histories.probes.iter().zip(&self.groups) {
@@ -117,11 +126,27 @@ impl Histories {
                     }
                     row.extend([rx, ry]);
                 }
-                Probe::Energy => row.extend(energy.columns().map(|(_, v)| v)),
+                Probe::Energy => {
+                    row.extend(energy.columns().map(|(_, v)| v));
+                    if self.ratio {
+                        row.push(kinetic_ratio(k_free, energy.strain + energy.stored));
+                    }
+                }
             }
         }
         self.writer.push(&row);
     }
+}
+
+/// Whether a scene declares a slow run (a `loading` or `mass_scaling` section): its energy
+/// probe then adds the quasi-static indicator.
+pub fn declares_slow_run(l: &Loaded) -> bool {
+    l.scene.loading.is_some() || l.scene.mass_scaling.is_some()
+}
+
+/// The quasi-static indicator `k / stored` (0 while nothing is stored).
+pub fn kinetic_ratio(k: f64, stored: f64) -> f64 {
+    if stored > 0.0 { k / stored } else { 0.0 }
 }
 
 impl Histories {
@@ -147,6 +172,11 @@ impl Observer for Histories {
             } else {
                 Energies::default()
             };
+            let k_free = if self.ratio {
+                e.kinetic - run.ledger.k_prescribed(&state.v)
+            } else {
+                0.0
+            };
             self.record(
                 run.loaded,
                 &sys.model.x0,
@@ -155,6 +185,7 @@ impl Observer for Histories {
                 state.v_nodes(),
                 &reaction,
                 &e,
+                k_free,
             );
             run.sys.timers.histories += s.elapsed().as_secs_f64();
         }

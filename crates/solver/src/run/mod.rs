@@ -47,7 +47,7 @@ pub use observer::{Flow, Halt, Observer, RunView};
 pub use options::RunOptions;
 pub use progress::{Progress, ProgressReport};
 pub use relaxation::Relaxation;
-pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth};
+pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth, indicator};
 pub use step_control::{AdaptiveStep, StepControl};
 pub use stepping::{Run, books_residuals, history_interval};
 
@@ -115,7 +115,7 @@ fn static_run(
     let gravity = l.model.gravity.map_or(0.0, |g| {
         0.5 * l
             .model
-            .mass
+            .weight_mass()
             .iter()
             .zip(&frame.displacement)
             .map(|(m, u)| m * (g[0] * u[0] + g[1] * u[1]))
@@ -141,6 +141,7 @@ fn static_run(
             &frame.velocity,
             &frame.reaction,
             &summary.energy,
+            0.0,
         );
         h.flush()?;
     }

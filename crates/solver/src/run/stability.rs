@@ -17,6 +17,7 @@ use crate::diagnosis::Found;
 use crate::error::RunError;
 use crate::ledger::kinetic_energy;
 use crate::stages::summed_report;
+use crate::summary::{QuasiStatic, Summary};
 
 /// Steps between two stability checks (and two residual checks of a relaxation).
 pub const CHECK_EVERY: u64 = 100;
@@ -29,6 +30,15 @@ pub struct StabilityGuard {
     /// Energy below which a prestressed scene's growth is round-off [J]: 1e-12 of the
     /// initial stresses' energy scale (0 without initial stress).
     floor: f64,
+    /// The quasi-static indicator so far (dynamic analyses).
+    indicator: Option<Indicator>,
+}
+
+/// The quasi-static indicator's samples: `[t, K, U + S]` at each check (dynamic analyses),
+/// reduced at the end by [`indicator`].
+#[derive(Debug, Clone, Default)]
+struct Indicator {
+    samples: Vec<[f64; 3]>,
 }
 
 impl StabilityGuard {
@@ -37,6 +47,7 @@ impl StabilityGuard {
         Self {
             e_prev: 0.0,
             floor: 0.0,
+            indicator: None,
         }
     }
 }
@@ -51,6 +62,14 @@ impl Observer for StabilityGuard {
     fn start(&mut self, run: &mut RunView) -> Result<(), Halt> {
         self.e_prev = run.ledger.initial();
         self.floor = 1e-12 * run.sys.elements.initial_stress_energy_scale();
+        let scene = &run.loaded.scene;
+        if scene.analysis == crate::scene::Analysis::Dynamic {
+            // one sample per check: allocated once
+            let checks = run.loaded.n_steps / CHECK_EVERY + 2;
+            self.indicator = Some(Indicator {
+                samples: Vec::with_capacity(checks.min(1 << 20) as usize),
+            });
+        }
         Ok(())
     }
 
@@ -69,9 +88,9 @@ impl Observer for StabilityGuard {
         }
         let (stored, walls) =
             summed_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
-        let mut e_now = kinetic_energy(&run.ledger.mass_dof, &state.v)
-            + sys.elements.strain_energy(state.x_nodes())
-            + stored;
+        let kinetic = kinetic_energy(&run.ledger.mass_dof, &state.v);
+        let strain = sys.elements.strain_energy(state.x_nodes());
+        let mut e_now = kinetic + strain + stored;
         let mut supplied = run.ledger.supplied_bound(&sys.model, state, walls);
         if sys.elements.prestressed() {
             // the initial stresses' energy S0 : E is first order in the displacement and
@@ -81,6 +100,10 @@ impl Observer for StabilityGuard {
             let w0 = sys.elements.initial_stress_energy(state.x_nodes());
             e_now -= w0;
             supplied += w0.abs() + self.floor;
+        }
+        if let Some(ind) = &mut self.indicator {
+            let k_free = kinetic - run.ledger.k_prescribed(&state.v);
+            ind.samples.push([state.t, k_free, strain + stored]);
         }
         if let Some(message) = energy_growth(
             e_now,
@@ -97,14 +120,91 @@ impl Observer for StabilityGuard {
         Ok(Flow::Continue)
     }
 
-    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
-        e.put(&[self.e_prev, self.floor]);
+    fn finish(&mut self, run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        let scene = &run.loaded.scene;
+        summary.quasi_static = self.indicator.as_ref().map(|i| {
+            let mut q = indicator(&i.samples);
+            warn(scene, &mut q);
+            q
+        });
         Ok(())
     }
 
-    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
-        [self.e_prev, self.floor] = d.get()?;
+    fn stopped(&mut self, summary: &mut Summary) {
+        summary.quasi_static = self.indicator.as_ref().map(|i| indicator(&i.samples));
+    }
+
+    fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
+        e.put(&[self.e_prev, self.floor]);
+        if let Some(i) = &self.indicator {
+            e.put(&i.samples);
+        }
         Ok(())
+    }
+
+    fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        [self.e_prev, self.floor] = d.get()?;
+        if run.loaded.scene.analysis == crate::scene::Analysis::Dynamic {
+            let mut samples: Vec<[f64; 3]> = d.get()?;
+            samples.reserve((run.loaded.n_steps / CHECK_EVERY + 2).min(1 << 20) as usize);
+            self.indicator = Some(Indicator { samples });
+        }
+        Ok(())
+    }
+}
+
+/// The quasi-static indicator of the samples `[t, K, U + S]` of a run (kinetic energy of the
+/// free DOFs, stored energy): with `S*` the largest stored energy and `t*` its time (about
+/// the peak load), the largest `K / (U + S)` before `t*` while the stored energy lies between
+/// 10 % and 90 % of `S*` (the loading: not the start, where nothing is stored yet, nor the
+/// cracking that announces the peak), and the largest after the stored energy first reached
+/// 10 % of `S*` over the whole run. No stored energy: all zeros.
+pub fn indicator(samples: &[[f64; 3]]) -> QuasiStatic {
+    let (mut peak, mut s_max) = (0.0, 0.0);
+    for &[t, _, s] in samples {
+        if s > s_max {
+            (peak, s_max) = (t, s);
+        }
+    }
+    let start = samples
+        .iter()
+        .position(|p| s_max > 0.0 && p[2] >= 0.1 * s_max);
+    let (mut loading, mut all) = (0.0f64, 0.0f64);
+    for &[t, k, s] in start.map_or(&[][..], |i| &samples[i..]) {
+        let r = k / s;
+        all = all.max(r);
+        if t <= peak && s <= 0.9 * s_max {
+            loading = loading.max(r);
+        }
+    }
+    QuasiStatic {
+        transient_end: start.map_or(0.0, |i| samples[i][0]),
+        peak_time: peak,
+        kinetic_ratio_max: loading,
+        kinetic_ratio_max_all: all,
+        limit: None,
+        warning: None,
+    }
+}
+
+/// The limit and the warning of a scene that declares a slow run (a `loading` or
+/// `mass_scaling` section): the warning when the indicator exceeds the limit.
+fn warn(scene: &crate::scene::Scene, q: &mut QuasiStatic) {
+    if scene.loading.is_none() && scene.mass_scaling.is_none() {
+        return;
+    }
+    let l = scene
+        .loading
+        .as_ref()
+        .map_or(crate::scene::mass_scaling::KINETIC_RATIO_LIMIT, |l| {
+            l.kinetic_ratio_limit
+        });
+    q.limit = Some(l);
+    if q.kinetic_ratio_max > l {
+        q.warning = Some(format!(
+            "the run is not quasi-static: the kinetic energy reached {:.3} of the stored energy while loading (limit {l}, before the peak of the stored energy at t = {:.4e} s); lower loading.rate or the mass_scaling factor",
+            q.kinetic_ratio_max, q.peak_time
+        ));
     }
 }
 

@@ -304,6 +304,9 @@ impl<'a> Run<'a> {
             threads: rayon::current_num_threads(),
             stages: serde_json::Value::Null,
             time_step_range: None,
+            mass_scaling_factor: sys.model.mass_scaling.as_ref().map(|m| m.0),
+            loading_rate: l.scene.loading.as_ref().map(|x| x.rate),
+            quasi_static: None,
             interrupted: None,
         }
     }

@@ -25,6 +25,7 @@ pub mod history;
 pub mod initial_stress;
 pub mod integrator;
 pub mod joint_materials;
+pub mod mass_scaling;
 pub mod output;
 
 pub use bodies::{Body, BulkHeterogeneity, Law, MaterialSpec, Plane};
@@ -37,6 +38,7 @@ pub use fracture::FractureSection;
 pub use history::HistorySpec;
 pub use initial_stress::{GravityStress, InitialStress};
 pub use integrator::{Analysis, Damping, Integrator, TimeStep};
+pub use mass_scaling::{Loading, MassScaling};
 pub use output::{GroupProbe, Histories, Output, Probe};
 
 /// A whole scene: bodies, boundary conditions, loads, integrator, run length and output.
@@ -81,6 +83,12 @@ pub struct Scene {
     /// In-situ (initial) stress of bodies or surface groups (default none: costs nothing).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub initial_stress: Vec<InitialStress>,
+    /// Mass scaling of a slow run (default none: the true masses).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_scaling: Option<MassScaling>,
+    /// The loading rate of a slow run (default none: the loading as written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loading: Option<Loading>,
 }
 
 impl Scene {
@@ -103,7 +111,14 @@ impl Scene {
                 message: inner.to_string(),
             }
         })?;
+        let mut scene = scene;
         scene.validate(file)?;
+        mass_scaling::apply_rate(
+            scene.loading.as_ref(),
+            &mut scene.duration,
+            &mut scene.boundary_conditions,
+            scene.contact.as_mut(),
+        );
         Ok(scene)
     }
 
@@ -157,6 +172,12 @@ impl Scene {
             f.validate(file)?;
         }
         initial_stress::validate(&self.initial_stress, file)?;
+        let cx = mass_scaling::Context {
+            analysis: self.analysis,
+            time_step: &self.integrator.time_step,
+            duration: self.duration,
+        };
+        mass_scaling::validate(self.mass_scaling.as_ref(), self.loading.as_ref(), &cx, file)?;
         Ok(())
     }
 }
