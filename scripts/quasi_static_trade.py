@@ -9,7 +9,11 @@ point whose peak load is within 2 % of the reference's (the first point: a slowe
 than shipped, unscaled; docs/speed-vs-accuracy.md).
 
     cargo build --release
-    python3 scripts/quasi_static_trade.py target/release/fdem [OUTDIR]
+    python3 scripts/quasi_static_trade.py target/release/fdem [OUTDIR] [--plot PNG]
+
+With --plot, also draws the peak load's deviation from the reference against the steps saved
+(one panel per specimen, mass scaling and faster loading as two series) into PNG; that needs
+matplotlib (docs/img/quasi-static-trade.png was drawn with --plot docs/img/quasi-static-trade.png).
 
 One thread per run (RAYON_NUM_THREADS=1) so that the wall times compare; about 4 minutes on
 one core. Writes the runs under OUTDIR (default: a fresh temporary folder).
@@ -94,10 +98,58 @@ def run(bin_, scene, out):
         return json.load(f)
 
 
+def plot(results, png):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+
+    fig, axes = plt.subplots(1, len(results), figsize=(4.2 * len(results), 3.6), sharey=True)
+    for ax, (name, rows) in zip(axes, results):
+        base = rows[0]
+        for label, keep, marker in (
+            ("mass scaling (label: factor)", lambda r: r["rate"] == base["rate"], "o-"),
+            ("faster loading (label: rate / reference's)", lambda r: r["factor"] == 1, "s--"),
+        ):
+            pts = [r for r in rows if keep(r)]
+            gain = [base["steps"] / r["steps"] for r in pts]
+            dev = [100 * (r["peak"] / base["peak"] - 1) for r in pts]
+            ax.plot(gain, dev, marker, label=label)
+            for r, g, d in zip(pts, gain, dev):
+                tag = f"{r['factor']}" if label.startswith("mass") else f"{r['rate'] / base['rate']:g}x"
+                if g > 1:
+                    up = label.startswith("mass")
+                    ax.annotate(
+                        tag,
+                        (g, d),
+                        textcoords="offset points",
+                        xytext=(-14, 6) if up else (4, -11),
+                        fontsize=7,
+                    )
+        ax.axhspan(-2, 2, color="0.9", zorder=0)
+        ax.set_xscale("log", base=2)
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.set_title(name)
+        ax.set_xlabel("steps saved (reference / run)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("peak load vs reference [%]")
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+
+
 def main():
-    bin_ = os.path.abspath(sys.argv[1])
-    tmp = sys.argv[2] if len(sys.argv) > 2 else tempfile.mkdtemp(prefix="fdem-trade.")
+    args = sys.argv[1:]
+    png = None
+    if "--plot" in args:
+        i = args.index("--plot")
+        png = args[i + 1]
+        del args[i : i + 2]
+    bin_ = os.path.abspath(args[0])
+    tmp = args[1] if len(args) > 1 else tempfile.mkdtemp(prefix="fdem-trade.")
     os.makedirs(tmp, exist_ok=True)
+    results = []
     for name, example, how, r0, axis in SPECIMENS:
         rows = []
         for factor, r in POINTS:
@@ -120,6 +172,7 @@ def main():
                     ratio=s["quasi_static"]["kinetic_ratio_max"],
                 )
             )
+        results.append((name, rows))
         base = rows[0]
         print(f"\n{name} ({example}.json, no frames; axis x = {1e3 * axis:g} mm)\n")
         print(
@@ -139,6 +192,8 @@ def main():
         print(
             f"\ncheapest within 2 % of the reference peak: mass scaling {best['factor']}, rate {best['rate']} ({base['steps'] / best['steps']:.1f} times fewer steps, {base['wall'] / best['wall']:.1f} times less wall time)"
         )
+    if png:
+        plot(results, png)
 
 
 if __name__ == "__main__":
