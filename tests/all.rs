@@ -64,6 +64,8 @@ mod output_arrays;
 mod parity;
 #[path = "prestressed_joints.rs"]
 mod prestressed_joints;
+#[path = "relaxation_methods.rs"]
+mod relaxation_methods;
 #[path = "restart.rs"]
 mod restart;
 #[path = "setup_threads.rs"]

@@ -28,7 +28,9 @@
 mod checkpoint_policy;
 mod checkpoints;
 mod frames;
+mod adaptive;
 mod histories;
+mod kinetic;
 mod observer;
 mod options;
 mod progress;
@@ -46,7 +48,7 @@ pub use histories::Histories;
 pub use observer::{Flow, Halt, Observer, RunView};
 pub use options::RunOptions;
 pub use progress::{Progress, ProgressReport};
-pub use relaxation::Relaxation;
+pub use relaxation::{ROUND_OFF_FACTOR, Relaxation};
 pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth};
 pub use step_control::{AdaptiveStep, StepControl};
 pub use stepping::{Run, books_residuals, history_interval};
@@ -197,8 +199,13 @@ fn dynamic_run(
     resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let mut histories = Histories::new(l, &sys.model, &options.out_dir);
+    let method = match l.scene.integrator.relaxation_method(&l.scene.damping) {
+        crate::scene::RelaxationMethod::Kinetic => "kinetic",
+        crate::scene::RelaxationMethod::Viscous => "viscous",
+        crate::scene::RelaxationMethod::Adaptive => "adaptive",
+    };
     let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
-        .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance));
+        .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance, method));
     let mut guard = StabilityGuard::new();
     let mut progress = ProgressReport::new(progress);
     let observers: &mut [&mut dyn Observer] = &mut [
