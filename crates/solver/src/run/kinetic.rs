@@ -78,9 +78,11 @@ impl KineticDamping {
                 *v = 0.0;
             }
         }
-        // the force at the reset state (the residual and the books read it); the scheme's
-        // cached force is stale
+        // the force at the reset state (the residual and the books read it), and the move
+        // committed as a step of the stages (their books of work see it; the state lies on
+        // the path between two committed ones); the scheme's cached force is stale
         sys.evaluate(state.t, &state.x, &state.v);
+        sys.end_of_step(state.t, &state.x, &state.v);
         sys.evaluated_at_end = true;
         integrator.invalidate();
         ledger.step(sys, state);
