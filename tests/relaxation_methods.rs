@@ -125,7 +125,13 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
 #[test]
 fn relaxation_equals_the_static_solve_to_the_geometric_nonlinearity() {
     let static_tip = |load: f64| {
-        let st = cantilever(&format!("kdr-static-{load}"), (120, 12), "static", load, |_| {});
+        let st = cantilever(
+            &format!("kdr-static-{load}"),
+            (120, 12),
+            "static",
+            load,
+            |_| {},
+        );
         tip(&common::run(&st).1) / load
     };
     let w_st = static_tip(1.0);
@@ -183,7 +189,10 @@ fn relaxation_equals_the_static_solve_to_the_geometric_nonlinearity() {
 fn relaxation_method_is_checked_against_the_damping() {
     let check = |tag: &str, edit: &dyn Fn(&mut serde_json::Value), needle: &str| {
         let scene = cantilever(tag, (4, 2), "relaxation", 1.0, |v| edit(v));
-        let e = fdem_solver::driver::load(&scene).err().expect("rejected").to_string();
+        let e = fdem_solver::driver::load(&scene)
+            .err()
+            .expect("rejected")
+            .to_string();
         assert!(e.contains("integrator.relaxation"), "{e}");
         assert!(e.contains(needle), "{e}");
     };
@@ -209,7 +218,10 @@ fn relaxation_method_is_checked_against_the_damping() {
         v["duration"] = 1.0.into();
         v["integrator"] = serde_json::json!({ "relaxation": "kinetic" });
     });
-    let e = fdem_solver::driver::load(&dynamic).err().expect("rejected").to_string();
+    let e = fdem_solver::driver::load(&dynamic)
+        .err()
+        .expect("rejected")
+        .to_string();
     assert!(e.contains("integrator.relaxation"), "{e}");
 }
 
@@ -251,7 +263,8 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
     });
     let (first, _) = common::run(&dynamic);
     let js = first.joint_state.clone().expect("the joints' state");
-    let damaged = |h: &[fdem_fracture::JointHistory]| h.iter().filter(|j| j.damage[0] > 0.0).count();
+    let damaged =
+        |h: &[fdem_fracture::JointHistory]| h.iter().filter(|j| j.damage[0] > 0.0).count();
     let unload = common::edited_example("notched-beam-fracture.json", "kdr-notch-unload", |v| {
         v["duration"] = 0.6e-3.into();
         v["output"]["frames"] = 0.into();
@@ -276,7 +289,8 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         v["output"]["frames"] = 0.into();
         v["histories"] = serde_json::json!({});
         v["integrator"]["relaxation_tolerance"] = 1e-6.into();
-        v["boundary_conditions"][2] = serde_json::json!({ "fixed": { "group": "load", "y": true } });
+        v["boundary_conditions"][2] =
+            serde_json::json!({ "fixed": { "group": "load", "y": true } });
     });
     let u: Vec<[f64; 2]> = f0
         .displacement

@@ -376,8 +376,7 @@ impl<'a> Run<'a> {
         let mut kinetic = (method == Some(crate::scene::RelaxationMethod::Kinetic))
             .then(|| super::kinetic::KineticDamping::new(sys, &state));
         if let Some(k) = &mut kinetic {
-            d.section("kinetic", |d| k.restore(d, 2 * n))
-                .map_err(bad)?;
+            d.section("kinetic", |d| k.restore(d, 2 * n)).map_err(bad)?;
         }
         let mut adaptive = (method == Some(crate::scene::RelaxationMethod::Adaptive))
             .then(|| super::adaptive::AdaptiveDamping::new(sys, &state));

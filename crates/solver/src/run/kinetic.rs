@@ -56,7 +56,7 @@ impl KineticDamping {
     ) -> bool {
         let e2 = kinetic_energy(sys, &state.v);
         let [e0, e1] = self.energies;
-        if !(e2 < e1) {
+        if e2.partial_cmp(&e1) != Some(std::cmp::Ordering::Less) {
             self.energies = [e1, e2];
             self.prev_x.copy_from_slice(&state.x);
             return false;

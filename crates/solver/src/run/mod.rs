@@ -25,10 +25,10 @@
 //! the same loop ([`Run::resume_loop`]). A distributed run would reduce its checks' sums
 //! inside its observers' `after_step`. Every hook gets the same [`RunView`].
 
+mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
 mod frames;
-mod adaptive;
 mod histories;
 mod kinetic;
 mod observer;

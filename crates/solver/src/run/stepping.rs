@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use fdem_time::{Integrator, SecondOrderSystem, State};
 
+use super::adaptive::AdaptiveDamping;
 use super::checkpoint_policy::Checkpointing;
 use super::frames::{FrameClock, state_frame};
-use super::adaptive::AdaptiveDamping;
 use super::kinetic::KineticDamping;
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::options::RunOptions;
@@ -90,10 +90,10 @@ impl<'a> Run<'a> {
         let ledger = Books::new(&mut *sys, &state, alpha, book_residuals);
         sys.timers.setup = l.load_s + wall.elapsed().as_secs_f64();
         let method = relaxation_method(l);
-        let kinetic = (method == Some(RelaxationMethod::Kinetic))
-            .then(|| KineticDamping::new(sys, &state));
-        let adaptive = (method == Some(RelaxationMethod::Adaptive))
-            .then(|| AdaptiveDamping::new(sys, &state));
+        let kinetic =
+            (method == Some(RelaxationMethod::Kinetic)).then(|| KineticDamping::new(sys, &state));
+        let adaptive =
+            (method == Some(RelaxationMethod::Adaptive)).then(|| AdaptiveDamping::new(sys, &state));
         Ok(Self {
             loaded: l,
             sys,

@@ -166,11 +166,12 @@ impl Integrator {
     /// The relaxation method of a scene with damping `damping`: the one named, else viscous
     /// when the scene gives a mass-proportional damping, else kinetic.
     pub fn relaxation_method(&self, damping: &Damping) -> RelaxationMethod {
-        self.relaxation.unwrap_or(if damping.mass_proportional > 0.0 {
-            RelaxationMethod::Viscous
-        } else {
-            RelaxationMethod::Kinetic
-        })
+        self.relaxation
+            .unwrap_or(if damping.mass_proportional > 0.0 {
+                RelaxationMethod::Viscous
+            } else {
+                RelaxationMethod::Kinetic
+            })
     }
 
     /// Checks `integrator.relaxation` against the damping: viscous relaxation needs
