@@ -10,7 +10,9 @@
 //! - at 1 mN (1000 times less: the finite-strain relaxation and the small-strain static
 //!   solve then differ by ~1e-6 of the deflection at most) the relaxation stops at its
 //!   round-off floor and its tip deflection equals the static solve's to 1e-6;
-//! - the run is bit-identical on 1 and 2 threads; the energy books balance.
+//! - the run is bit-identical on 1 and 2 threads; the energy books balance;
+//! - on the 360 x 36-cell mesh (25 920 triangles) kinetic damping takes 53 600 steps (the
+//!   20 000 asked for are out of reach: see its test).
 
 use std::path::{Path, PathBuf};
 
@@ -120,6 +122,35 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
             .collect()
     };
     assert!(bits(&o1) == bits(&o2), "1 and 2 threads differ");
+}
+
+/// The 360 x 36-cell cantilever (25 920 triangles) by kinetic damping to 1e-7 of a 1 N tip
+/// load. The target of 20 000 steps is out of reach of any damping of the central difference
+/// here: `omega_max / omega_1` = 12 900 (`omega_1` = 4.54 rad/s from beam theory,
+/// `omega_max = 2 / h_limit`), and the best viscous damping needs about
+/// `(omega_max / omega_1) ln(1/tol) / 2` = 104 000 steps; kinetic damping took 53 600
+/// (2026-11-26, 21 s on 1 core), about half. Reaching 20 000 needs a lower `omega_max /
+/// omega_1` (a coarser mesh) or a preconditioned solver.
+#[test]
+fn kinetic_relaxation_of_the_25k_triangle_cantilever() {
+    let scene = cantilever("kdr-cant-360", (360, 36), "relaxation", 1.0, |_| {});
+    let (o, out) = common::run(&scene);
+    let st = cantilever("kdr-cant-360-static", (360, 36), "static", 1.0, |_| {});
+    let (_, out_st) = common::run(&st);
+    let (u, u_st) = (tip(&out), tip(&out_st));
+    let s = &o.summary;
+    let err = (u / u_st - 1.0).abs();
+    eprintln!(
+        "kinetic relaxation, 360 x 36 cantilever ({} triangles), 1 N: {} steps, residual {:.2e}, tip {u:.9e} vs static {u_st:.9e} ({err:.1e}, the finite-strain terms)",
+        s.triangles,
+        s.steps,
+        s.relative_residual.unwrap()
+    );
+    assert_eq!(s.converged, Some(true));
+    assert!(s.triangles >= 25_000);
+    assert!(s.steps <= 56_000, "{} steps", s.steps);
+    // at 1 N the finite-strain deflection differs from the small-strain one by ~4e-6 (120 x 12)
+    assert!(err < 1e-5, "{err:e}");
 }
 
 #[test]
