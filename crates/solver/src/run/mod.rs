@@ -13,6 +13,11 @@
 //! - [`Histories`]: the probes' rows of `histories.csv`;
 //! - [`ProgressReport`]: the caller's progress callback.
 //!
+//! A relaxation without `damping.mass_proportional` takes the energy out after every step,
+//! before the observers: kinetic damping (`kinetic.rs`: velocities zeroed at a peak of the
+//! kinetic energy, positions moved back to it) or adaptive damping (`adaptive.rs`: the
+//! mass-proportional damping set from a Rayleigh quotient), each saved in the checkpoint.
+//!
 //! The run's own parts are the step control ([`StepControl`], with the [`AdaptiveStep`]),
 //! the energy ledger's books (`crate::ledger::Books`, booked after every step, read by the
 //! observers), and the summary (`summary.json`, written by the run after the observers have
