@@ -242,6 +242,25 @@ fn relaxations_resume_bit_for_bit() {
     straight_and_resumed(&scene, &[1800]);
 }
 
+/// Kinetic and adaptive relaxations of the cantilever (no `damping.mass_proportional`):
+/// stopped at steps with and without a kinetic reset in between, they resume bit for bit and
+/// converge at the same step.
+#[test]
+fn kinetic_and_adaptive_relaxations_resume_bit_for_bit() {
+    for method in ["kinetic", "adaptive"] {
+        let tag = format!("restart-{method}");
+        let scene = common::edited_example("cantilever-relaxation.json", &tag, |v| {
+            v["damping"] = serde_json::json!({});
+            v["integrator"]["relaxation"] = method.into();
+        });
+        let (a, _) = straight_and_resumed(&scene, &[777, 2500]);
+        let v: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(a.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(v["converged"], serde_json::json!(true), "{method}");
+        assert_eq!(v["relaxation"], serde_json::json!(method));
+    }
+}
+
 /// SIGINT in the middle of a run (as Ctrl-C sends it), and SIGTERM (as a batch system sends
 /// it): the run ends its step, writes a checkpoint and a summary marked interrupted with the
 /// signal's name, and exits with code 4; `--resume` completes it identically to a run that

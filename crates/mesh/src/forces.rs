@@ -322,6 +322,38 @@ impl Elements {
             });
     }
 
+    /// Adds to `out` (per DOF, flat) the magnitudes of the terms whose rounding makes up the
+    /// rounding error of the internal force at `(x, v)`, serially in triangle order: each
+    /// triangle's contribution `|f_e,i|` and, for each of its corner coordinates `x_j`, the
+    /// force `|K_e,ij x_j|` of its small-strain stiffness on that coordinate (the positions
+    /// are stored absolute: a rounding of `eps |x_j|` in `x_j` moves the force by
+    /// `K_ij eps |x_j|`). The force of DOF `i` is resolved to about `eps out_i` at best: the
+    /// floor below which an out-of-balance force is round-off.
+    pub fn add_round_off_terms(&self, x: &[[f64; 2]], v: &[[f64; 2]], out: &mut [f64]) {
+        let mats = &self.materials[..];
+        for (k, td) in self.tris.iter().enumerate() {
+            let s0 = self.initial_stress.get(k);
+            let ft = if self.viscous {
+                tri_force::<true>(td, mats, x, v, s0)
+            } else {
+                tri_force::<false>(td, mats, x, v, s0)
+            };
+            let ke = self.element_stiffness(k);
+            let xs = corners(td, x);
+            for (a, p) in ft.iter().enumerate() {
+                for c in 0..2 {
+                    let mut s = p[c].abs();
+                    for (b, xb) in xs.iter().enumerate() {
+                        for (e, xbe) in xb.iter().enumerate() {
+                            s += (ke[2 * a + c][2 * b + e] * xbe).abs();
+                        }
+                    }
+                    out[2 * td.nodes[a] as usize + c] += s;
+                }
+            }
+        }
+    }
+
     /// Adds the nodal forces of the initial stresses alone, taken as Cauchy stresses at the
     /// positions `x`, `f_a += -(t/2) S0 rot(x_c - x_b)`, to `f` (serially, in triangle order).
     /// At the reference positions this is `-int B^T S0`, the right-hand side the initial

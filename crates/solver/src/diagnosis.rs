@@ -392,13 +392,20 @@ pub fn not_converged(scene: &Scene, summary: &Summary) -> Option<RunError> {
     let alpha = scene.damping.mass_proportional;
     let duration = scene.duration.unwrap_or(0.0);
     let tol = scene.integrator.relaxation_tolerance;
+    let damp = match scene.integrator.relaxation_method(&scene.damping) {
+        crate::scene::RelaxationMethod::Viscous => format!(
+            "damp near critically (`damping.mass_proportional`, now {alpha:e} 1/s: about twice the lowest natural frequency), or remove it for kinetic damping (`integrator.relaxation`: \"kinetic\", the default)"
+        ),
+        crate::scene::RelaxationMethod::Kinetic => "kinetic damping (the default) needs about (omega_max / omega_1) ln(1/tol) / 4 steps, omega_1 the lowest natural frequency: a finer mesh or a slender body needs more".into(),
+        crate::scene::RelaxationMethod::Adaptive => "try kinetic damping (`integrator.relaxation`: \"kinetic\", the default), which needed half the steps of adaptive damping on the cantilever".into(),
+    };
     Some(RunError::NotConverged {
         residual: summary.relative_residual.unwrap_or(f64::NAN),
         tolerance: tol,
         steps: summary.steps,
         time: summary.simulated_time,
         fix: format!(
-            "run longer (`duration`, now {duration:e} s), damp near critically (`damping.mass_proportional`, now {alpha:e} 1/s: about twice the lowest natural frequency), or loosen `integrator.relaxation_tolerance` (now {tol:e}); the output written is the state at the end of the duration"
+            "run longer (`duration`, now {duration:e} s), or loosen `integrator.relaxation_tolerance` (now {tol:e}); {damp}; the output written is the state at the end of the duration"
         ),
     })
 }

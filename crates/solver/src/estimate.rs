@@ -564,9 +564,22 @@ impl Released {
 /// `exp(-alpha t / 2)` (the rate of an underdamped mode; an overdamped one is slower), so the
 /// residual falls by `tol` no sooner than `t = 2 ln(1/tol) / alpha`, the expected time (a
 /// lower bound, the answer when the lowest mode is underdamped); the duration caps it.
+/// Kinetic and adaptive damping depend on the lowest natural frequency, which the scene does
+/// not give: the duration's steps, with a line saying so.
 pub fn expected_steps(l: &Loaded) -> (u64, String) {
     let alpha = l.scene.damping.mass_proportional;
     let tol = l.scene.integrator.relaxation_tolerance;
+    if l.scene.analysis == Analysis::Relaxation && alpha == 0.0 {
+        return (
+            l.n_steps,
+            format!(
+                "relaxation ({:?} damping): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
+                l.scene.integrator.relaxation_method(&l.scene.damping),
+                l.n_steps
+            )
+            .to_lowercase(),
+        );
+    }
     if l.scene.analysis == Analysis::Relaxation
         && alpha > 0.0
         && tol > 0.0

@@ -367,6 +367,18 @@ impl Books {
         books
     }
 
+    /// The mass-proportional damping is `alpha` from the state of velocities `v` on (the
+    /// last booked one): an adaptive relaxation.
+    pub fn set_alpha(&mut self, alpha: f64, v: &[f64]) {
+        self.alpha = alpha;
+        self.p_mass = self.mass_damping_power(v);
+    }
+
+    /// Books `e` [J] as removed by a relaxation's kinetic damping (in `mass_damping`).
+    pub fn book_removed(&mut self, e: f64) {
+        self.sums.mass_damping += e;
+    }
+
     /// The initial energy (kinetic, strain, stored at t = 0).
     pub fn initial(&self) -> f64 {
         self.sums.initial_kinetic + self.sums.initial_strain + self.sums.initial_stored

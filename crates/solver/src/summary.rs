@@ -48,6 +48,21 @@ pub struct Summary {
     pub converged: Option<bool>,
     /// Relaxation: final |residual| / |load|.
     pub relative_residual: Option<f64>,
+    /// Relaxation: how it damped (`"kinetic"` or `"viscous"`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relaxation: Option<String>,
+    /// Relaxation: the round-off floor of the relative residual at the last check,
+    /// `4 eps sqrt(sum_i S_i^2) / scale` with `S_i` the sum of the magnitudes of the terms of
+    /// DOF `i`'s force (element contributions, stiffness times the absolute positions, loads);
+    /// the run converges at `max(tolerance, floor)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub residual_floor: Option<f64>,
+    /// Relaxation: kinetic energy over strain plus stored energy at the end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kinetic_to_strain: Option<f64>,
+    /// Kinetic relaxation: the resets (velocities zeroed at a peak of the kinetic energy).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kinetic_resets: Option<u64>,
     /// Largest displacement magnitude at the end [m].
     pub max_displacement: f64,
     /// Threads used.

@@ -234,6 +234,11 @@ impl SceneSystem {
         }
     }
 
+    /// Sets the mass-proportional damping `alpha` [1/s] (an adaptive relaxation).
+    pub fn set_alpha(&mut self, alpha: f64) {
+        self.alpha = alpha;
+    }
+
     /// Turns the per-stage timers on or off (they cost two clock reads per stage).
     pub fn set_timing(&mut self, on: bool) {
         self.timing = on;
@@ -308,6 +313,40 @@ impl SceneSystem {
             self.timers.contributions += secs(s);
         }
         self.evaluations += 1;
+    }
+
+    /// The round-off floor of the out-of-balance force at `(t, x, v)` (flat DOFs):
+    /// `eps sqrt(sum_i S_i^2)` over the free DOFs, with `S_i` the sum of the magnitudes of
+    /// the terms whose rounding makes up the force of DOF `i` (the triangles' contributions
+    /// and their stiffness times the absolute positions,
+    /// `fdem_mesh::Elements::add_round_off_terms`; the loads and gravity): a force summed from
+    /// such terms is resolved to about `eps S_i`. The force terms of the stages (contact,
+    /// joints) are not counted. `buf` is a DOF array (resized once).
+    pub fn force_round_off(&self, t: f64, x: &[f64], v: &[f64], buf: &mut Vec<f64>) -> f64 {
+        buf.clear();
+        buf.resize(x.len(), 0.0);
+        let xn = x.as_chunks::<2>().0;
+        let vn = v.as_chunks::<2>().0;
+        self.elements.add_round_off_terms(xn, vn, buf);
+        for ld in &self.model.loads {
+            let f = ld.factor(t);
+            for &(d, val) in &ld.forces {
+                buf[d as usize] += (f * val).abs();
+            }
+        }
+        if let Some(g) = self.model.gravity {
+            for (i, m) in self.model.mass.iter().enumerate() {
+                buf[2 * i] += (m * g[0]).abs();
+                buf[2 * i + 1] += (m * g[1]).abs();
+            }
+        }
+        let mut s = 0.0;
+        for (d, si) in buf.iter().enumerate() {
+            if !self.model.constrained[d] {
+                s += si * si;
+            }
+        }
+        f64::EPSILON * s.sqrt()
     }
 
     /// Reaction at each DOF: the force the supports apply, `-f` at constrained DOFs (quasi-static

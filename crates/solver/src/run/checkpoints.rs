@@ -209,6 +209,12 @@ impl<'a> Run<'a> {
         e.section("control", |e| self.control.save(e));
         e.section("ledger", |e| self.ledger.save(e));
         e.section("system", |e| self.sys.save(e));
+        if let Some(k) = &self.kinetic {
+            e.section("kinetic", |e| k.save(e));
+        }
+        if let Some(a) = &self.adaptive {
+            e.section("adaptive", |e| a.save(e));
+        }
         for c in &mut self.sys.contributions {
             let name = c.name().to_string();
             let mut saved = Ok(());
@@ -366,6 +372,18 @@ impl<'a> Run<'a> {
             .section("ledger", |d| Books::restore(d, &sys.model))
             .map_err(bad)?;
         d.section("system", |d| sys.restore(d)).map_err(bad)?;
+        let method = super::stepping::relaxation_method(l);
+        let mut kinetic = (method == Some(crate::scene::RelaxationMethod::Kinetic))
+            .then(|| super::kinetic::KineticDamping::new(sys, &state));
+        if let Some(k) = &mut kinetic {
+            d.section("kinetic", |d| k.restore(d, 2 * n)).map_err(bad)?;
+        }
+        let mut adaptive = (method == Some(crate::scene::RelaxationMethod::Adaptive))
+            .then(|| super::adaptive::AdaptiveDamping::new(sys, &state));
+        if let Some(a) = &mut adaptive {
+            d.section("adaptive", |d| a.restore(d, &mut *sys, 2 * n))
+                .map_err(bad)?;
+        }
         for c in &mut sys.contributions {
             let name = c.name().to_string();
             d.section(&name, |d| c.restore(d)).map_err(bad)?;
@@ -390,6 +408,8 @@ impl<'a> Run<'a> {
             wall_before: part.wall,
             ended: part.ended || at_end,
             checkpoints: Checkpointing::new(l, options),
+            kinetic,
+            adaptive,
         };
         run.checkpoints.any = true;
         for o in observers.iter_mut() {

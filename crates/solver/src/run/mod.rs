@@ -13,6 +13,11 @@
 //! - [`Histories`]: the probes' rows of `histories.csv`;
 //! - [`ProgressReport`]: the caller's progress callback.
 //!
+//! A relaxation without `damping.mass_proportional` takes the energy out after every step,
+//! before the observers: kinetic damping (`kinetic.rs`: velocities zeroed at a peak of the
+//! kinetic energy, positions moved back to it) or adaptive damping (`adaptive.rs`: the
+//! mass-proportional damping set from a Rayleigh quotient), each saved in the checkpoint.
+//!
 //! The run's own parts are the step control ([`StepControl`], with the [`AdaptiveStep`]),
 //! the energy ledger's books (`crate::ledger::Books`, booked after every step, read by the
 //! observers), and the summary (`summary.json`, written by the run after the observers have
@@ -25,10 +30,12 @@
 //! the same loop ([`Run::resume_loop`]). A distributed run would reduce its checks' sums
 //! inside its observers' `after_step`. Every hook gets the same [`RunView`].
 
+mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
 mod frames;
 mod histories;
+mod kinetic;
 mod observer;
 mod options;
 mod progress;
@@ -46,7 +53,7 @@ pub use histories::Histories;
 pub use observer::{Flow, Halt, Observer, RunView};
 pub use options::RunOptions;
 pub use progress::{Progress, ProgressReport};
-pub use relaxation::Relaxation;
+pub use relaxation::{ROUND_OFF_FACTOR, Relaxation};
 pub use stability::{CHECK_EVERY, ENERGY_GROWTH_BOUND, StabilityGuard, energy_growth, indicator};
 pub use step_control::{AdaptiveStep, StepControl};
 pub use stepping::{Run, books_residuals, history_interval};
@@ -198,8 +205,13 @@ fn dynamic_run(
     resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let mut histories = Histories::new(l, &sys.model, &options.out_dir);
+    let method = match l.scene.integrator.relaxation_method(&l.scene.damping) {
+        crate::scene::RelaxationMethod::Kinetic => "kinetic",
+        crate::scene::RelaxationMethod::Viscous => "viscous",
+        crate::scene::RelaxationMethod::Adaptive => "adaptive",
+    };
     let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
-        .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance));
+        .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance, method));
     let mut guard = StabilityGuard::new();
     let mut progress = ProgressReport::new(progress);
     let observers: &mut [&mut dyn Observer] = &mut [

@@ -7,8 +7,10 @@ use std::time::Instant;
 
 use fdem_time::{Integrator, SecondOrderSystem, State};
 
+use super::adaptive::AdaptiveDamping;
 use super::checkpoint_policy::Checkpointing;
 use super::frames::{FrameClock, state_frame};
+use super::kinetic::KineticDamping;
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::options::RunOptions;
 use super::step_control::StepControl;
@@ -16,7 +18,7 @@ use crate::diagnosis::{self, InversionWatch};
 use crate::error::RunError;
 use crate::ledger::{Books, Energies};
 use crate::load::Loaded;
-use crate::scene::Probe;
+use crate::scene::{Probe, RelaxationMethod};
 use crate::stages::summed_report;
 use crate::summary::{Outcome, Summary, write_summary};
 use crate::system::SceneSystem;
@@ -45,6 +47,10 @@ pub struct Run<'a> {
     pub(super) ended: bool,
     /// Checkpoints and stops.
     pub(super) checkpoints: Checkpointing,
+    /// A kinetic relaxation's damping (`None` for any other run).
+    pub(super) kinetic: Option<KineticDamping>,
+    /// An adaptive relaxation's damping (`None` for any other run).
+    pub(super) adaptive: Option<AdaptiveDamping>,
 }
 
 impl<'a> Run<'a> {
@@ -83,6 +89,11 @@ impl<'a> Run<'a> {
         let alpha = l.scene.damping.mass_proportional;
         let ledger = Books::new(&mut *sys, &state, alpha, book_residuals);
         sys.timers.setup = l.load_s + wall.elapsed().as_secs_f64();
+        let method = relaxation_method(l);
+        let kinetic =
+            (method == Some(RelaxationMethod::Kinetic)).then(|| KineticDamping::new(sys, &state));
+        let adaptive =
+            (method == Some(RelaxationMethod::Adaptive)).then(|| AdaptiveDamping::new(sys, &state));
         Ok(Self {
             loaded: l,
             sys,
@@ -99,6 +110,8 @@ impl<'a> Run<'a> {
             wall_before: 0.0,
             ended: false,
             checkpoints: Checkpointing::new(l, options),
+            kinetic,
+            adaptive,
         })
     }
 
@@ -123,6 +136,17 @@ impl<'a> Run<'a> {
             let h = self.control.next(self.sys, &self.state, self.steps);
             self.take_step(h);
             self.ledger.step(self.sys, &self.state);
+            if let Some(k) = &mut self.kinetic {
+                k.after_step(
+                    self.sys,
+                    &mut self.state,
+                    &mut *self.integrator,
+                    &mut self.ledger,
+                );
+            }
+            if let Some(a) = &mut self.adaptive {
+                a.after_step(self.sys, &self.state, &mut self.ledger, h);
+            }
             let last = self.control.is_last(self.steps, &self.state);
             let end = match self.notify(observers, last, |o, run| o.after_step(run)) {
                 Ok(end) => end,
@@ -234,6 +258,7 @@ impl<'a> Run<'a> {
         summary.force_evaluations = self.integrator.counters().forces;
         summary.stages = details;
         summary.time_step_range = self.control.range();
+        summary.kinetic_resets = self.kinetic.as_ref().map(|k| k.resets);
         let last = self.control.is_last(self.steps, &self.state);
         let mut run = self.view(last, true);
         for o in observers.iter_mut() {
@@ -300,6 +325,10 @@ impl<'a> Run<'a> {
             frames: 0,
             converged: None,
             relative_residual: None,
+            relaxation: None,
+            residual_floor: None,
+            kinetic_to_strain: None,
+            kinetic_resets: None,
             max_displacement: max_u,
             threads: rayon::current_num_threads(),
             stages: serde_json::Value::Null,
@@ -319,6 +348,12 @@ pub fn history_interval(l: &Loaded) -> u64 {
         .histories
         .every
         .unwrap_or((l.n_steps / 1000).max(1) as usize) as u64
+}
+
+/// The relaxation method of `l` (`None`: not a relaxation).
+pub fn relaxation_method(l: &Loaded) -> Option<RelaxationMethod> {
+    (l.scene.analysis == crate::scene::Analysis::Relaxation)
+        .then(|| l.scene.integrator.relaxation_method(&l.scene.damping))
 }
 
 /// The residuals of the element law and the contact potential are booked when the run records

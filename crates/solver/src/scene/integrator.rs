@@ -18,9 +18,26 @@ pub enum Analysis {
     Dynamic,
     /// Small-strain linear-elastic solve (sparse Cholesky) with the full loads.
     Static,
-    /// Dynamic relaxation: explicit dynamics with mass-proportional damping until the
-    /// out-of-balance force falls below `integrator.relaxation_tolerance` times the applied load.
+    /// Dynamic relaxation: explicit pseudo-dynamics, damped by `integrator.relaxation`
+    /// (kinetic damping by default; mass-proportional damping when the scene gives
+    /// `damping.mass_proportional`), until the out-of-balance force falls below
+    /// `integrator.relaxation_tolerance` times the applied load (or the round-off floor).
     Relaxation,
+}
+
+/// How a relaxation analysis takes the energy out of its pseudo-dynamics
+/// (`integrator.relaxation`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RelaxationMethod {
+    /// Kinetic damping: undamped steps; at each peak of the kinetic energy the velocities are
+    /// zeroed and the positions moved back to the peak.
+    Kinetic,
+    /// Mass-proportional damping `2 omega` set after every step from the Rayleigh quotient
+    /// `omega^2` of the secant stiffness on the present displacement (Underwood).
+    Adaptive,
+    /// Mass-proportional damping `damping.mass_proportional` (> 0) throughout.
+    Viscous,
 }
 
 /// Time step: `"auto"`, `"adaptive"` or a number of seconds.
@@ -101,6 +118,10 @@ pub struct Integrator {
     /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8).
     #[serde(default = "default_tol")]
     pub relaxation_tolerance: f64,
+    /// Relaxation analysis: `"kinetic"` or `"viscous"` (default: `"viscous"` when
+    /// `damping.mass_proportional` > 0, else `"kinetic"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relaxation: Option<RelaxationMethod>,
 }
 
 fn default_scheme() -> String {
@@ -124,6 +145,7 @@ impl Default for Integrator {
             safety: default_safety(),
             adapt_every: default_adapt_every(),
             relaxation_tolerance: default_tol(),
+            relaxation: None,
         }
     }
 }
@@ -141,6 +163,42 @@ pub struct Damping {
 }
 
 impl Integrator {
+    /// The relaxation method of a scene with damping `damping`: the one named, else viscous
+    /// when the scene gives a mass-proportional damping, else kinetic.
+    pub fn relaxation_method(&self, damping: &Damping) -> RelaxationMethod {
+        self.relaxation
+            .unwrap_or(if damping.mass_proportional > 0.0 {
+                RelaxationMethod::Viscous
+            } else {
+                RelaxationMethod::Kinetic
+            })
+    }
+
+    /// Checks `integrator.relaxation` against the damping: viscous relaxation needs
+    /// `damping.mass_proportional` > 0, kinetic damping none.
+    pub(crate) fn validate_relaxation(
+        &self,
+        damping: &Damping,
+        file: &Path,
+    ) -> Result<(), SceneError> {
+        let alpha = damping.mass_proportional;
+        match self.relaxation {
+            Some(RelaxationMethod::Viscous) if alpha <= 0.0 => Err(SceneError::invalid(
+                file,
+                "integrator.relaxation",
+                "\"viscous\" relaxation needs a mass-proportional damping, and `damping.mass_proportional` is 0",
+                "set `damping.mass_proportional` (about twice the lowest natural frequency, 1/s), or use \"kinetic\"",
+            )),
+            Some(m @ (RelaxationMethod::Kinetic | RelaxationMethod::Adaptive)) if alpha > 0.0 => Err(SceneError::invalid(
+                file,
+                "integrator.relaxation",
+                format!("{m:?} relaxation sets its own damping, and `damping.mass_proportional` is {alpha}").to_lowercase(),
+                "remove `damping.mass_proportional`, or use \"viscous\"",
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// Checks the settings that the JSON types cannot (safety factor, a positive fixed step,
     /// `"adaptive"` only for central difference in a dynamic `analysis`, a known scheme);
     /// `file` names the scene in errors.

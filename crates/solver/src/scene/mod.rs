@@ -37,7 +37,7 @@ pub use contact::ContactSection;
 pub use fracture::FractureSection;
 pub use history::HistorySpec;
 pub use initial_stress::{GravityStress, InitialStress};
-pub use integrator::{Analysis, Damping, Integrator, TimeStep};
+pub use integrator::{Analysis, Damping, Integrator, RelaxationMethod, TimeStep};
 pub use mass_scaling::{Loading, MassScaling};
 pub use output::{GroupProbe, Histories, Output, Probe};
 
@@ -166,6 +166,15 @@ impl Scene {
             }
         }
         self.damping.validate(file)?;
+        if self.analysis == Analysis::Relaxation {
+            self.integrator.validate_relaxation(&self.damping, file)?;
+        } else if self.integrator.relaxation.is_some() {
+            return Err(bad(
+                "integrator.relaxation".into(),
+                format!("a {:?} analysis does not relax", self.analysis).to_lowercase(),
+                "remove `integrator.relaxation`, or set \"analysis\": \"relaxation\"",
+            ));
+        }
         self.output.validate(&self.array_offer(), file)?;
         self.histories.validate(file)?;
         if let Some(f) = &self.fracture {
