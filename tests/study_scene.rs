@@ -197,7 +197,7 @@ fn pressed_contact_study_brackets_the_stable_step_with_contact_active() {
 /// run's engaged contact bound peaks, frozen there (velocities zeroed, loads balancing its
 /// forces), so the contact stays engaged through the whole probe, which lasts
 /// `omega_top t` = 5000 of the state's measured top frequency. Central difference only (fast,
-/// 0.3 s). Measured (2026-11-22): the state at t = 6.69e-6 s (contact from 5 us), `r` =
+/// 0.3 s). Measured: the state at t = 6.69e-6 s (contact from 5 us), `r` =
 /// 1.1061, observed [1.2, 1.35) x the active prediction, the smallest contact energy stored
 /// during the probe at 1.01 1.44e-2 J, the measured top frequency 0.747 of the active bound
 /// (the probe 6692 radians of the bound long).
@@ -329,7 +329,7 @@ fn band_probes_find_omf32_unstable_band_on_the_collision_state() {
 /// pressed shut again, and the probes start from that frozen state *with its fracture state*
 /// (the broken joints stay broken, the damaged ones keep their histories, the released pairs
 /// are contact couples from the first force evaluation). Central difference only (about 10 s).
-/// Measured (2026-11-22): the state at t = 259.6 us with 20 broken joints, contact term of the
+/// Measured: the state at t = 259.6 us with 20 broken joints, contact term of the
 /// active bound 3.738e7 rad/s at that state and 3.747e7 rad/s at most during the probe at 1.01
 /// (no joint broke during it), `r` = 0.929, observed [1.115, 1.254) x the a-priori prediction,
 /// [1.2, 1.35) x the active one (probed from rest, joints intact: [2.25, 3); the whole study,
