@@ -125,7 +125,7 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
 }
 
 /// The 360 x 36-cell cantilever (25 920 triangles) by kinetic damping to 1e-7 of a 1 N tip
-/// load. The target of 20 000 steps is out of reach of any damping of the central difference
+/// load. 20 000 steps are out of reach of any damping of the central difference
 /// here: `omega_max / omega_1` = 12 900 (`omega_1` = 4.54 rad/s from beam theory,
 /// `omega_max = 2 / h_limit`), and the best viscous damping needs about
 /// `(omega_max / omega_1) ln(1/tol) / 2` = 104 000 steps; kinetic damping took 53 200

@@ -289,7 +289,7 @@ fn disc_on_rigid_plane_matches_hertz_half_width_and_peak_pressure() {
     // meshes/hertz-disc.msh (6526 triangles, h = a/12.4 at the contact), a = R/20, the
     // default plane penalty p = 10 E, 14000 steps of relaxation (converged from about
     // 12000: the plane carries P to 1e-6). Measured: a +0.08 %, p0 +0.19 % (pole node) and
-    // -0.20 % (fit); asserted within 2 % (the issue asks 5 % on a fine mesh). The error is
+    // -0.20 % (fit); asserted within 2 % (the required tolerance is 5 % on a fine mesh). The error is
     // the penalty layer's compliance, about +0.11 (h/a)(E/p) on a (+0.94 % at p = E,
     // +0.45 % at p = E and h = a/24): docs/validation.md (Hertz).
     let h = relax(&mesh_path("hertz-disc.msh"), 0.05, 10.0, 14000, false);

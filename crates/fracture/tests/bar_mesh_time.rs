@@ -211,6 +211,6 @@ fn bar_from_exploded_mesh_breaks_at_ft_times_its_cross_section() {
         "{:?}",
         sys.events
     );
-    // the tolerance: 2 %
+    // the required tolerance: 2 %
     assert!(err.abs() < 0.02, "peak {peak} vs {expected}");
 }

@@ -147,7 +147,7 @@ fn bar_of_joints_breaks_at_ft_times_its_cross_section() {
             e.energy_released
         );
     }
-    // the tolerance: 2 %
+    // the required tolerance: 2 %
     assert!(
         err.abs() < 0.02,
         "peak {peak} vs ft H t = {expected}: {:.3} %",

@@ -113,7 +113,7 @@ fn pure_tension_follows_the_law_and_dissipates_g_i_times_area() {
     assert_eq!(ev.mode, FractureMode::I);
     assert_eq!(ev.triangles, [4, 9]);
     let g_area = m.g_i * H * T;
-    // trapezoidal work over 20 000 steps: relative error ~1e-8; the issue asks 1 %
+    // trapezoidal work over 20 000 steps: relative error ~1e-8; required: 1 %
     let err = (ev.energy_released - g_area).abs() / g_area;
     assert!(
         err < 1e-6,
