@@ -318,6 +318,9 @@ impl Loaded {
             if let Some((f, _)) = &self.model.mass_scaling {
                 let _ = write!(s, "; mass scaling {f:.4}");
             }
+            if self.model.relaxation_masses.is_some() {
+                let _ = write!(s, "; equal-step masses");
+            }
         }
         s
     }
