@@ -125,7 +125,9 @@ pub fn omega_contact(scene: &Scene, model: &Model) -> f64 {
         let len = |p: [f64; 2], q: [f64; 2]| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
         let lmax = len(a, b).max(len(b, c)).max(len(c, a));
         let h_min = 2.0 * area / lmax;
-        let rho = model.materials[model.tri_material[e] as usize].0.density * model.mass_factor();
+        let rho = model.materials[model.tri_material[e] as usize].0.density
+            * model.mass_factor()
+            * model.density_factor(e);
         let p = p_max[model.tri_body[e] as usize];
         w2 = w2.max(3.0 * p * (2.0 / h_min) * lmax * (2.0 / area) / rho);
     }

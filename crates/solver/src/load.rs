@@ -110,6 +110,9 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
             message: format!("unknown scheme '{}'", scene.integrator.scheme),
             fix: format!("use one of {}", SchemeKind::valid_names()),
         })?;
+    if (scene.integrator).equal_step_masses(scene.analysis, &scene.damping) {
+        model.equal_step_masses();
+    }
     let ms = scene.mass_scaling.clone();
     if let Some(f) = ms.as_ref().and_then(|m| m.factor) {
         model.scale_masses(f);
@@ -314,6 +317,9 @@ impl Loaded {
             );
             if let Some((f, _)) = &self.model.mass_scaling {
                 let _ = write!(s, "; mass scaling {f:.4}");
+            }
+            if self.model.relaxation_masses.is_some() {
+                let _ = write!(s, "; equal-step masses");
             }
         }
         s

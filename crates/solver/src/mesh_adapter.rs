@@ -75,6 +75,19 @@ pub fn elements(model: &Model, xi: f64) -> Result<Elements, String> {
             m
         })
         .collect();
+    if let Some(r) = &model.relaxation_masses {
+        // equal-step masses: each triangle its own row, with the density of its mass
+        let rows: Vec<Material> = (model.tri_material.iter().zip(&r.density_factor))
+            .map(|(&mi, f)| {
+                let mut m = mats[mi as usize];
+                m.density *= f;
+                m
+            })
+            .collect();
+        let ids: Vec<u32> = (0..rows.len() as u32).collect();
+        return Elements::from_arrays(&model.x0, &model.triangles, &ids, &rows)
+            .map_err(|e| e.to_string());
+    }
     Elements::from_arrays(&model.x0, &model.triangles, &model.tri_material, &mats)
         .map_err(|e| e.to_string())
 }

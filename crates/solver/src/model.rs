@@ -96,6 +96,15 @@ fn evaluator(h: Option<&HistorySpec>) -> Option<Arc<History>> {
     h.map(|h| Arc::new(History::new(h)))
 }
 
+/// A relaxation's equal-step masses ([`Model::equal_step_masses`]).
+#[derive(Debug, Clone, Default)]
+pub struct EqualStepMasses {
+    /// The true lumped masses [kg], for the weight.
+    pub true_mass: Vec<f64>,
+    /// Each triangle's mass over its true mass `rho A t`.
+    pub density_factor: Vec<f64>,
+}
+
 /// The whole scene in one node numbering.
 #[derive(Debug, Clone, Default)]
 pub struct Model {
@@ -128,6 +137,8 @@ pub struct Model {
     /// Mass scaling: the factor on every lumped mass and the true masses, which the weight
     /// `m g` uses (`None`: the masses are the true ones).
     pub mass_scaling: Option<(f64, Vec<f64>)>,
+    /// A relaxation's equal-step masses, if it has them ([`Model::equal_step_masses`]).
+    pub relaxation_masses: Option<EqualStepMasses>,
     /// Constrained DOFs (fixed or prescribed velocity), one flag per DOF.
     pub constrained: Vec<bool>,
     /// DOFs with a prescribed nonzero velocity.
@@ -158,9 +169,62 @@ impl Model {
             .sum()
     }
 
-    /// The masses of the weight `m g` [kg]: the true lumped masses, also under mass scaling.
+    /// The masses of the weight `m g` [kg]: the true lumped masses, also under mass scaling
+    /// and with a relaxation's equal-step masses.
     pub fn weight_mass(&self) -> &[f64] {
-        self.mass_scaling.as_ref().map_or(&self.mass, |(_, m)| m)
+        match (&self.relaxation_masses, &self.mass_scaling) {
+            (Some(r), _) => &r.true_mass,
+            (None, Some((_, m))) => m,
+            (None, None) => &self.mass,
+        }
+    }
+
+    /// The factor on the density of triangle `e` that its mass has: the equal-step masses'
+    /// (1 with the true masses), not the mass scaling's.
+    pub fn density_factor(&self, e: usize) -> f64 {
+        self.relaxation_masses
+            .as_ref()
+            .map_or(1.0, |r| r.density_factor[e])
+    }
+
+    /// Gives every triangle the mass `m_e = c E_e t_e` in place of `rho_e A_e t_e`, with one
+    /// `c` for the model that keeps the total mass, and lumps them (a third to each corner):
+    /// a constant-strain triangle's stiffness scales with `E t` alone, so every triangle's
+    /// frequency bound (over `sqrt(m_e)`) is then set by its shape and Poisson's ratio, not
+    /// by its size. The true masses stay for the weight. Call it before any mass scaling.
+    pub fn equal_step_masses(&mut self) {
+        let n = self.triangles.len();
+        let (mut true_total, mut et_total) = (0.0, 0.0);
+        let mut true_tri = Vec::with_capacity(n);
+        for e in 0..n {
+            let mat = &self.materials[self.tri_material[e] as usize].0;
+            let m = mat.density * self.area(e) * self.tri_thickness[e];
+            true_tri.push(m);
+            true_total += m;
+            et_total += mat.young * self.tri_thickness[e];
+        }
+        let c = true_total / et_total;
+        let mut mass = vec![0.0; self.x0.len()];
+        let mut density_factor = Vec::with_capacity(n);
+        for (e, t) in self.triangles.iter().enumerate() {
+            let mat = &self.materials[self.tri_material[e] as usize].0;
+            let m = c * mat.young * self.tri_thickness[e];
+            density_factor.push(m / true_tri[e]);
+            for &i in t {
+                mass[i as usize] += m / 3.0;
+            }
+        }
+        let true_mass = std::mem::replace(&mut self.mass, mass);
+        self.relaxation_masses = Some(EqualStepMasses {
+            true_mass,
+            density_factor,
+        });
+    }
+
+    /// The reference area of triangle `e` [m^2].
+    fn area(&self, e: usize) -> f64 {
+        let [a, b, c] = self.triangles[e].map(|i| self.x0[i as usize]);
+        (0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))).abs()
     }
 
     /// The mass scaling factor (1 without mass scaling).

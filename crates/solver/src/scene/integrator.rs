@@ -40,6 +40,17 @@ pub enum RelaxationMethod {
     Viscous,
 }
 
+/// The masses of a relaxation's pseudo-dynamics (`integrator.relaxation_masses`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RelaxationMasses {
+    /// Each triangle's mass proportional to its `E t` (the total kept): every triangle's
+    /// stable step the same, however graded the mesh.
+    EqualStep,
+    /// The true masses `rho A t`.
+    True,
+}
+
 /// Time step: `"auto"`, `"adaptive"` or a number of seconds.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum TimeStep {
@@ -122,6 +133,10 @@ pub struct Integrator {
     /// `damping.mass_proportional` > 0, else `"kinetic"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relaxation: Option<RelaxationMethod>,
+    /// Relaxation analysis: the masses of the pseudo-dynamics, `"equal-step"` or `"true"`
+    /// (default: `"equal-step"` for the kinetic and adaptive methods, `"true"` for viscous).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relaxation_masses: Option<RelaxationMasses>,
 }
 
 fn default_scheme() -> String {
@@ -146,6 +161,7 @@ impl Default for Integrator {
             adapt_every: default_adapt_every(),
             relaxation_tolerance: default_tol(),
             relaxation: None,
+            relaxation_masses: None,
         }
     }
 }
@@ -174,14 +190,35 @@ impl Integrator {
             })
     }
 
+    /// Whether a scene of kind `analysis` with damping `damping` relaxes with the
+    /// equal-step masses: the ones named, else for the kinetic and adaptive methods.
+    pub fn equal_step_masses(&self, analysis: Analysis, damping: &Damping) -> bool {
+        analysis == Analysis::Relaxation
+            && match self.relaxation_masses {
+                Some(m) => m == RelaxationMasses::EqualStep,
+                None => self.relaxation_method(damping) != RelaxationMethod::Viscous,
+            }
+    }
+
     /// Checks `integrator.relaxation` against the damping: viscous relaxation needs
-    /// `damping.mass_proportional` > 0, kinetic damping none.
+    /// `damping.mass_proportional` > 0, kinetic damping none; and the equal-step masses are
+    /// not for a viscous relaxation (its coefficient is set for the true masses).
     pub(crate) fn validate_relaxation(
         &self,
         damping: &Damping,
         file: &Path,
     ) -> Result<(), SceneError> {
         let alpha = damping.mass_proportional;
+        if self.relaxation_masses == Some(RelaxationMasses::EqualStep)
+            && self.relaxation_method(damping) == RelaxationMethod::Viscous
+        {
+            return Err(SceneError::invalid(
+                file,
+                "integrator.relaxation_masses",
+                "\"equal-step\" masses with a viscous relaxation, whose `damping.mass_proportional` is set for the true masses",
+                "use \"kinetic\" or \"adaptive\" relaxation (they set their own damping), or \"relaxation_masses\": \"true\"",
+            ));
+        }
         match self.relaxation {
             Some(RelaxationMethod::Viscous) if alpha <= 0.0 => Err(SceneError::invalid(
                 file,

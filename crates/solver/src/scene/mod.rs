@@ -37,7 +37,7 @@ pub use contact::ContactSection;
 pub use fracture::FractureSection;
 pub use history::HistorySpec;
 pub use initial_stress::{GravityStress, InitialStress};
-pub use integrator::{Analysis, Damping, Integrator, RelaxationMethod, TimeStep};
+pub use integrator::{Analysis, Damping, Integrator, RelaxationMasses, RelaxationMethod, TimeStep};
 pub use mass_scaling::{Loading, MassScaling};
 pub use output::{GroupProbe, Histories, Output, Probe};
 
@@ -168,11 +168,23 @@ impl Scene {
         self.damping.validate(file)?;
         if self.analysis == Analysis::Relaxation {
             self.integrator.validate_relaxation(&self.damping, file)?;
-        } else if self.integrator.relaxation.is_some() {
+        } else if let Some(path) = [
+            (
+                "integrator.relaxation",
+                self.integrator.relaxation.is_some(),
+            ),
+            (
+                "integrator.relaxation_masses",
+                self.integrator.relaxation_masses.is_some(),
+            ),
+        ]
+        .into_iter()
+        .find_map(|(p, given)| given.then_some(p))
+        {
             return Err(bad(
-                "integrator.relaxation".into(),
+                path.into(),
                 format!("a {:?} analysis does not relax", self.analysis).to_lowercase(),
-                "remove `integrator.relaxation`, or set \"analysis\": \"relaxation\"",
+                &format!("remove `{path}`, or set \"analysis\": \"relaxation\""),
             ));
         }
         self.output.validate(&self.array_offer(), file)?;
