@@ -70,6 +70,8 @@ struct Measured {
     equilibrium: f64,
     /// The stable step limit [s].
     dt_limit: f64,
+    /// The masses the summary names.
+    masses: Option<String>,
 }
 
 fn relax_hertz(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> Measured {
@@ -111,6 +113,7 @@ fn relax_hertz(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> Measured
         p0_ratio: cf[pole][1] / trib / p0_h,
         equilibrium: sf / p_load - 1.0,
         dt_limit,
+        masses: o.summary.relaxation_masses.clone(),
     }
 }
 
@@ -125,7 +128,7 @@ fn hertz_disc_relaxed_through_the_solver_with_equal_step_masses() {
         100.0 * (m.p0_ratio - 1.0),
         m.equilibrium
     );
-    // measured (2026-11-26): 10 000 steps to 1e-5 of the load (the true masses: 49 500 to
+    // measured: 10 000 steps to 1e-5 of the load (the true masses: 49 500 to
     // 1e-4, not at 1e-5 after 780 000); a +0.077 %, p0 +0.185 % (the penalty layer's
     // compliance, as in the contact crate's test); the wall carries the weight to -3.7e-6
     assert_eq!(m.converged, Some(true), "{m:?}");
@@ -133,6 +136,7 @@ fn hertz_disc_relaxed_through_the_solver_with_equal_step_masses() {
     assert!((m.a_ratio - 1.0).abs() < 0.01, "half-width: {m:?}");
     assert!((m.p0_ratio - 1.0).abs() < 0.01, "peak pressure: {m:?}");
     assert!(m.equilibrium.abs() < 1e-5, "{m:?}");
+    assert_eq!(m.masses.as_deref(), Some("equal-step"));
 }
 
 #[test]

@@ -229,6 +229,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         converged: None,
         relative_residual: None,
         relaxation: None,
+        relaxation_masses: None,
         residual_floor: None,
         kinetic_to_strain: None,
         kinetic_resets: None,

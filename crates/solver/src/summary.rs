@@ -51,6 +51,10 @@ pub struct Summary {
     /// Relaxation: how it damped (`"kinetic"` or `"viscous"`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relaxation: Option<String>,
+    /// Relaxation: the masses of its pseudo-dynamics (`"equal-step"` or `"true"`,
+    /// `integrator.relaxation_masses`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relaxation_masses: Option<String>,
     /// Relaxation: the round-off floor of the relative residual at the last check,
     /// `4 eps sqrt(sum_i S_i^2) / scale` with `S_i` the sum of the magnitudes of the terms of
     /// DOF `i`'s force (element contributions, stiffness times the absolute positions, loads);

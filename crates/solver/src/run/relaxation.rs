@@ -119,7 +119,12 @@ impl Observer for Relaxation {
         Ok(Flow::Continue)
     }
 
-    fn finish(&mut self, _run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+    fn finish(&mut self, run: &mut RunView, summary: &mut Summary) -> Result<(), RunError> {
+        let scene = &run.loaded.scene;
+        let equal = scene
+            .integrator
+            .equal_step_masses(scene.analysis, &scene.damping);
+        summary.relaxation_masses = Some(if equal { "equal-step" } else { "true" }.into());
         summary.converged = Some(self.converged);
         summary.relative_residual = self.residual;
         summary.relaxation = Some(self.method.into());

@@ -326,6 +326,7 @@ impl<'a> Run<'a> {
             converged: None,
             relative_residual: None,
             relaxation: None,
+            relaxation_masses: None,
             residual_floor: None,
             kinetic_to_strain: None,
             kinetic_resets: None,
