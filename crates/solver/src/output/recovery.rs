@@ -275,9 +275,10 @@ impl<'a> Patches<'a> {
         (k, interior && k > 0)
     }
 
-    /// The recovered stress at node `i`.
-    fn node(&self, i: u32, method: Method) -> [f64; 4] {
-        let Some(m) = self.node_material(i) else {
+    /// The recovered stress at node `i`, whose material is `material`
+    /// ([`Patches::node_material`]).
+    fn node_in(&self, i: u32, material: Option<u32>, method: Method) -> [f64; 4] {
+        let Some(m) = material else {
             return [0.0; 4];
         };
         let c = self.class[i as usize];
@@ -360,11 +361,67 @@ pub fn recover(
         return vec![[0.0; 4]; n];
     }
     let p = Patches::new(mesh, stress, links);
-    (0..n as u32)
+    let material: Vec<Option<u32>> = (0..n as u32)
         .into_par_iter()
         .with_min_len(1024)
-        .map(|i| p.node(i, method))
-        .collect()
+        .map(|i| p.node_material(i))
+        .collect();
+    let leader = leaders(&p.class, &material, mesh.x0);
+    let mut out: Vec<[f64; 4]> = (0..n as u32)
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|i| {
+            if leader[i as usize] == i {
+                p.node_in(i, material[i as usize], method)
+            } else {
+                [0.0; 4]
+            }
+        })
+        .collect();
+    for i in 0..n {
+        let l = leader[i] as usize;
+        if l != i {
+            out[i] = out[l];
+        }
+    }
+    out
+}
+
+/// Per node, the first node of its class with the same material and the same reference
+/// position (itself when there is none): such nodes (the copies of one vertex in an
+/// exploded mesh, joined by intact joints) have the same patch and the same value, which is
+/// then computed once.
+fn leaders(class: &[u32], material: &[Option<u32>], x0: &[[f64; 2]]) -> Vec<u32> {
+    let n = class.len();
+    // the nodes of each class, in increasing order (CSR)
+    let mut offsets = vec![0u32; n + 1];
+    for &c in class {
+        offsets[c as usize + 1] += 1;
+    }
+    for i in 0..n {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut members = vec![0u32; n];
+    for (i, &c) in class.iter().enumerate() {
+        members[fill[c as usize] as usize] = i as u32;
+        fill[c as usize] += 1;
+    }
+    let same = |a: usize, b: usize| {
+        material[a] == material[b]
+            && x0[a][0].to_bits() == x0[b][0].to_bits()
+            && x0[a][1].to_bits() == x0[b][1].to_bits()
+    };
+    let mut leader: Vec<u32> = (0..n as u32).collect();
+    for c in 0..n {
+        let m = &members[offsets[c] as usize..offsets[c + 1] as usize];
+        for (k, &i) in m.iter().enumerate() {
+            if let Some(&l) = m[..k].iter().find(|&&l| same(l as usize, i as usize)) {
+                leader[i as usize] = leader[l as usize];
+            }
+        }
+    }
+    leader
 }
 
 #[cfg(test)]
