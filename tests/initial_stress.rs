@@ -252,6 +252,33 @@ fn geostatic_column_under_gravity_stays_at_rest() {
     assert!(vmax <= 1e-10 * scale, "{vmax} m/s");
 }
 
+/// The static excavation of the square of `rect.json` in the in-situ stress `s`: rollers on
+/// the left and bottom, `s` held on the right edge, the top traction-free.
+fn excavation(s: [f64; 3]) -> Value {
+    json!({
+        "analysis": "static",
+        "bodies": [{"mesh": "rect.json", "materials": rock()}],
+        "initial_stress": [{"uniform": s}],
+        "boundary_conditions": [
+            {"fixed": {"group": "left", "x": true}},
+            {"fixed": {"group": "bottom", "y": true}},
+            {"traction": {"group": "right", "value": [s[0], s[2]]}}
+        ],
+        "output": {"frames": 1}
+    })
+}
+
+/// The largest difference of a stress component (xx, yy, xy) between the last frames of two
+/// runs [Pa].
+fn stress_difference(a: &fdem_solver::driver::Outcome, b: &fdem_solver::driver::Outcome) -> f64 {
+    a.last_frame
+        .stress
+        .iter()
+        .zip(&b.last_frame.stress)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f64::max)
+}
+
 /// A 1 m square (8 x 8 cells) in the in-situ stress k (-10, -6, 2) MPa, rollers on the left
 /// and bottom, sigma_0 n on the right edge, the top excavated (traction-free): the dynamic
 /// relaxation (mass damping, tolerance 1e-6) reaches the small-strain static solve of the same
@@ -269,17 +296,7 @@ fn relaxation_reaches_the_static_excavation() {
     let mut rel = Vec::new();
     for k in [1.0f64, 0.1] {
         let s: [f64; 3] = [-10e6 * k, -6e6 * k, 2e6 * k];
-        let mut scene = json!({
-            "analysis": "static",
-            "bodies": [{"mesh": "rect.json", "materials": rock()}],
-            "initial_stress": [{"uniform": s}],
-            "boundary_conditions": [
-                {"fixed": {"group": "left", "x": true}},
-                {"fixed": {"group": "bottom", "y": true}},
-                {"traction": {"group": "right", "value": [s[0], s[2]]}}
-            ],
-            "output": {"frames": 1}
-        });
+        let mut scene = excavation(s);
         let (st, _) = common::run(&write(&dir, &format!("static{k}.json"), &scene));
         scene["analysis"] = json!("relaxation");
         scene["duration"] = json!(0.2);
@@ -293,14 +310,7 @@ fn relaxation_reaches_the_static_excavation() {
             "{:?}",
             rl.summary.relative_residual
         );
-        let diff = st
-            .last_frame
-            .stress
-            .iter()
-            .zip(&rl.last_frame.stress)
-            .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
-            .fold(0.0, f64::max)
-            / s[0].abs();
+        let diff = stress_difference(&st, &rl) / s[0].abs();
         eprintln!(
             "relaxation vs static excavation, k = {k}: largest stress difference {diff:.3e} |sxx| (|sxx|/E = {:.1e}, {} steps)",
             s[0].abs() / E,
@@ -503,17 +513,7 @@ fn kinetic_relaxation_reaches_the_static_excavation() {
     let dir = common::temp_dir("insitu-kinetic");
     common::rectangle_with_sides(&dir, 8, 8, 1.0, 1.0);
     let s: [f64; 3] = [-10e6, -6e6, 2e6];
-    let mut scene = json!({
-        "analysis": "static",
-        "bodies": [{"mesh": "rect.json", "materials": rock()}],
-        "initial_stress": [{"uniform": s}],
-        "boundary_conditions": [
-            {"fixed": {"group": "left", "x": true}},
-            {"fixed": {"group": "bottom", "y": true}},
-            {"traction": {"group": "right", "value": [s[0], s[2]]}}
-        ],
-        "output": {"frames": 1}
-    });
+    let mut scene = excavation(s);
     let (st, _) = common::run(&write(&dir, "static.json", &scene));
     scene["analysis"] = json!("relaxation");
     scene["duration"] = json!(0.2);
@@ -524,14 +524,7 @@ fn kinetic_relaxation_reaches_the_static_excavation() {
     assert_eq!(sm.converged, Some(true), "{:?}", sm.relative_residual);
     assert_eq!(sm.relaxation.as_deref(), Some("kinetic"));
     assert_eq!(sm.relaxation_masses.as_deref(), Some("equal-step"));
-    let diff = st
-        .last_frame
-        .stress
-        .iter()
-        .zip(&rl.last_frame.stress)
-        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
-        .fold(0.0, f64::max)
-        / s[0].abs();
+    let diff = stress_difference(&st, &rl) / s[0].abs();
     let e = &sm.energy;
     eprintln!(
         "kinetic relaxation vs static excavation: largest stress difference {diff:.3e} |sxx| (|sxx|/E = {:.1e}), {} steps, {:?} resets, ledger error {:.2e} of in_play",
