@@ -82,7 +82,10 @@ def test_the_2d_arrays_equal_the_raw_dump():
     for fr in o.frames:
         raw = json.loads(fr.file.with_suffix(".json").read_text())
         assert fr.time == raw["time"]
-        as_f = lambda k: np.asarray(raw[k], dtype=np.float64)  # noqa: E731
+
+        def as_f(k: str, raw: dict = raw) -> np.ndarray:
+            return np.asarray(raw[k], dtype=np.float64)
+
         assert bits(fr.points) == bits(as_f("points"))
         assert bits(fr.triangles) == bits(np.asarray(raw["triangles"], dtype=np.int64))
         for k in ["displacement", "velocity", "force", "reaction"]:

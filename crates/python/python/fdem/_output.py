@@ -338,7 +338,9 @@ class _Table:
         return {h: self.values(c) for c, h in enumerate(self.head)}
 
 
-_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|inf|infinity|nan)$", re.I)
+_NUMBER = re.compile(
+    r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|inf|infinity|nan)$", re.IGNORECASE
+)
 
 
 def _number(s: str) -> float:
@@ -569,17 +571,16 @@ class Output:
                         u += np.abs(w.values(c))
                 return np.abs(u), np.abs(w.values(f))
         if hist is not None:
-            h = hist
             for axis in ("y", "x"):
                 prefix = f"reaction_{axis}["
-                for i, col in enumerate(h.head):
+                for i, col in enumerate(hist.head):
                     if not (col.startswith(prefix) and col[len(prefix) :].endswith("]")):
                         continue
                     group = col[len(prefix) : -1]
-                    h.col(col)
-                    cu = h.col(f"u_{axis}[{group}]")
+                    hist.col(col)
+                    cu = hist.col(f"u_{axis}[{group}]")
                     if cu is not None:
-                        return np.abs(h.values(cu)), np.abs(h.values(i))
+                        return np.abs(hist.values(cu)), np.abs(hist.values(i))
         raise CurveError(
             f"{d}: no load-displacement data: no moving wall in walls.csv, and histories.csv "
             'has no group with both a "reaction" and a "displacement" probe (add them to the '

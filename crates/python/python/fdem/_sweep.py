@@ -74,22 +74,17 @@ def parse_key_path(key_path: str) -> List[Union[str, int]]:
     pos = 0
     expect_name = True
     for m in _TOKEN.finditer(key_path):
-        if m.start() != pos:
+        name, index, dot = m.groups()
+        # a name after a dot (or first), an index or a dot after a name or an index
+        if m.start() != pos or (name is not None) != expect_name:
             break
         pos = m.end()
-        name, index, dot = m.groups()
         if name is not None:
-            if not expect_name:
-                break
             keys.append(name)
             expect_name = False
         elif index is not None:
-            if expect_name:
-                break
             keys.append(int(index))
         else:
-            if expect_name:
-                break
             expect_name = True
     if pos != len(key_path) or expect_name or not keys:
         raise ValueError(
@@ -113,7 +108,9 @@ def _step(node: Any, key: Union[str, int], done: str, key_path: str) -> Tuple[An
         return node, i
     if isinstance(node, dict):
         if isinstance(key, int):
-            raise KeyError(f"{key_path}: {done or 'the scene'} is an object, not a list: no [{key}]")
+            raise KeyError(
+                f"{key_path}: {done or 'the scene'} is an object, not a list: no [{key}]"
+            )
         return node, key
     raise KeyError(
         f"{key_path}: {done} is a {type(node).__name__} ({node!r}), not an object or a list"
@@ -283,7 +280,7 @@ def sweep(
         _pandas()
     base_dict, base = _source(scene)
     keep = out is not None
-    root = Path(out) if keep else Path(tempfile.mkdtemp(prefix="fdem-sweep-"))
+    root = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix="fdem-sweep-"))
     root.mkdir(parents=True, exist_ok=True)
     width = max(3, len(str(len(variants) - 1)))
     run = runner if runner is not None else fdem_runner
@@ -310,9 +307,9 @@ def sweep(
                         jobs.append((head, None, None, e))
                         continue
                     folder = os.fspath(root / f"variant_{i:0{width}d}")
-                    fut = ex.submit(_run_variant, run, d, base, folder, threads, metric, keep)
-                    jobs.append((head, folder, fut, None))
-                for head, folder, fut, err in jobs:
+                    job = ex.submit(_run_variant, run, d, base, folder, threads, metric, keep)
+                    jobs.append((head, folder, job, None))
+                for head, kept, fut, err in jobs:
                     if fut is not None:
                         try:
                             head.update(fut.result())
@@ -327,7 +324,7 @@ def sweep(
                     if metric is not None:
                         head["metric"] = None
                     # a kept folder holds what the failed run wrote
-                    head["out"] = folder if keep else None
+                    head["out"] = kept if keep else None
                     head["error"] = _error_text(err) if err is not None else "unknown error"
                     rows.append(head)
             except BaseException:

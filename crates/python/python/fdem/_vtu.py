@@ -35,7 +35,7 @@ __all__ = ["VtuData", "VtuFormatError", "read_vtu"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-_TYPES = {
+_TYPES: Dict[str, np.dtype] = {
     "Float64": np.dtype("<f8"),
     "Float32": np.dtype("<f4"),
     "Int64": np.dtype("<i8"),
