@@ -103,6 +103,8 @@ def test_a_bad_variant_gives_a_row_with_its_error(tmp_path):
         sweep(scene, variants[:2], processes=2, runner=cli_runner, raise_errors=True)
     with pytest.raises(TypeError, match="list of dicts"):
         sweep(scene, {YOUNG: 1.0}, runner=cli_runner)
+    with pytest.raises(TypeError, match="not a lambda"):
+        sweep(scene, variants, runner=cli_runner, metric=lambda o: o.peak_load)
     with pytest.raises(ValueError, match="processes"):
         sweep(scene, variants, processes=0, runner=cli_runner)
 

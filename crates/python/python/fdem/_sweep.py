@@ -22,6 +22,7 @@ import copy
 import json
 import multiprocessing
 import os
+import pickle
 import re
 import shutil
 import tempfile
@@ -259,6 +260,9 @@ def sweep(
 
     Returns:
         A list of row dicts (see the module's docs), or a DataFrame with ``as_frame``.
+
+    The workers are started with ``spawn``: they import the calling script's main module
+    again, so a script calls ``sweep`` under ``if __name__ == "__main__":``.
     """
     if isinstance(variants, Mapping) or not isinstance(variants, Sequence):
         raise TypeError(
@@ -274,6 +278,19 @@ def sweep(
         raise ValueError(f"processes = {processes!r}: give a whole number >= 1")
     if threads is not None and (not isinstance(threads, int) or threads < 1):
         raise ValueError(f"threads = {threads!r}: give a whole number >= 1, or None")
+    for what, f in (("metric", metric), ("runner", runner)):
+        if f is None:
+            continue
+        if not callable(f):
+            raise TypeError(f"{what} is a {type(f).__name__}: give a function")
+        try:
+            pickle.dumps(f)
+        except Exception as e:
+            raise TypeError(
+                f"{what} {f!r} cannot be sent to the worker processes ({e}): give a function "
+                "defined at the top level of an importable module, not a lambda or a local "
+                "function"
+            ) from None
     if as_frame:
         from ._output import _pandas
 
