@@ -95,6 +95,17 @@ def test_the_2d_arrays_equal_the_raw_dump():
         assert bits(fr.principal_stress) == bits(as_f("principal"))
         assert bits(fr.von_mises) == bits(as_f("von_mises"))
         assert bits(fr.material) == bits(np.asarray(raw["material"], dtype=np.int32))
+    # the run's last-frame arrays are the last frame's
+    last = json.loads(o.frames[-1].file.with_suffix(".json").read_text())
+    for attr, key in [("positions", "points"), ("displacements", "displacement"),
+                      ("velocities", "velocity"), ("forces", "force"),
+                      ("reactions", "reaction"), ("cell_stress", "stress"),
+                      ("nodal_stress", "nodal_stress"), ("principal_stress", "principal"),
+                      ("von_mises", "von_mises")]:
+        assert bits(getattr(o, attr)) == bits(np.asarray(last[key], dtype=np.float64)), attr
+    assert bits(o.triangles) == bits(np.asarray(last["triangles"], dtype=np.int64))
+    assert bits(o.body) == bits(np.asarray(last["body"], dtype=np.int32))
+    assert o.joints is None
 
 
 def test_frames_are_the_pvds_and_joint_frames_only_with_fracture():
@@ -122,6 +133,9 @@ def test_frames_are_the_pvds_and_joint_frames_only_with_fracture():
     assert len(broken) > 0
     assert sorted(fr["joint"].tolist()) == broken.tolist()
     assert set(fr["mode"].tolist()) <= {"I", "II", "mixed"}
+    j = notched.joints
+    assert bits(j["broken"]) == bits(last.cell_data["broken"])
+    assert bits(j["points"]) == bits(last.points) and len(j["damage"]) == n
     rows = (notched.out / "fractures.csv").read_text().splitlines()[1:]
     assert fr["time"].tolist() == [float(r.split(",")[0]) for r in rows]
 

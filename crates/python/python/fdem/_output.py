@@ -12,7 +12,12 @@ access and cached. ``read(out)`` (or ``Output(out)``) gives:
   the same as pandas DataFrames;
 - ``fractures`` (``fractures.csv``: one row per broken joint): dict of arrays (``time``, ``x``,
   ``y``, ``mode_mix``, ``energy_released`` float64, ``joint`` int64, ``mode`` str);
-- ``load_displacement()``: the curve ``fdem plot load-displacement`` draws, ``peak_load``.
+- ``load_displacement()``: the curve ``fdem plot load-displacement`` draws, ``peak_load``;
+- the last frame's arrays as fdem's 2D arrays: ``positions``, ``displacements``,
+  ``velocities``, ``forces``, ``reactions``, ``cell_stress``, ``principal_stress``,
+  ``von_mises``, ``nodal_stress``, ``triangles``, ``material``, ``body`` (None when the run
+  wrote no frames, or the frames do not carry that array: ``output.arrays``), and ``joints``
+  (the last joint frame's arrays).
 
 How the 3D arrays of the ``.vtu`` files map back to fdem's 2D arrays (the convenience
 properties of :class:`Frame`): a point vector (``displacement``, ``velocity``, ``force``,
@@ -429,6 +434,87 @@ class Output:
             return Frames(p, JointFrame) if p.exists() else None
 
         return self._cached("joint_frames", make)
+
+    @property
+    def last_frame(self) -> Optional[Frame]:
+        """The last frame of ``results.pvd``, None when the run wrote no frames."""
+        frames = self.frames
+        return frames[-1] if len(frames) else None
+
+    def _last(self, name: str) -> Any:
+        f = self.last_frame
+        return None if f is None else getattr(f, name)
+
+    @property
+    def positions(self) -> Optional[np.ndarray]:
+        """Last frame: node positions [m] ``(n, 2)`` (None without frames, as the others)."""
+        return self._last("points")
+
+    @property
+    def displacements(self) -> Optional[np.ndarray]:
+        """Last frame: nodal displacements [m] ``(n, 2)``."""
+        return self._last("displacement")
+
+    @property
+    def velocities(self) -> Optional[np.ndarray]:
+        """Last frame: nodal velocities [m/s] ``(n, 2)``."""
+        return self._last("velocity")
+
+    @property
+    def forces(self) -> Optional[np.ndarray]:
+        """Last frame: total nodal forces [N] ``(n, 2)``."""
+        return self._last("force")
+
+    @property
+    def reactions(self) -> Optional[np.ndarray]:
+        """Last frame: support reactions [N] ``(n, 2)``."""
+        return self._last("reaction")
+
+    @property
+    def cell_stress(self) -> Optional[np.ndarray]:
+        """Last frame: cell stresses ``(sxx, syy, sxy, szz)`` [Pa] ``(m, 4)``."""
+        return self._last("stress")
+
+    @property
+    def principal_stress(self) -> Optional[np.ndarray]:
+        """Last frame: cell principal stresses ``(s1, s2)`` [Pa] ``(m, 2)``."""
+        return self._last("principal_stress")
+
+    @property
+    def von_mises(self) -> Optional[np.ndarray]:
+        """Last frame: cell von Mises stress [Pa] ``(m,)``."""
+        return self._last("von_mises")
+
+    @property
+    def nodal_stress(self) -> Optional[np.ndarray]:
+        """Last frame: recovered nodal stresses ``(sxx, syy, sxy, szz)`` [Pa] ``(n, 4)``."""
+        return self._last("nodal_stress")
+
+    @property
+    def triangles(self) -> Optional[np.ndarray]:
+        """The triangles' node indices, int64 ``(m, 3)``."""
+        return self._last("triangles")
+
+    @property
+    def material(self) -> Optional[np.ndarray]:
+        """Last frame: each triangle's material index, int32 ``(m,)``."""
+        return self._last("material")
+
+    @property
+    def body(self) -> Optional[np.ndarray]:
+        """Last frame: each triangle's body index, int32 ``(m,)``."""
+        return self._last("body")
+
+    @property
+    def joints(self) -> Optional[Dict[str, np.ndarray]]:
+        """The joints' arrays of the last joint frame (``damage``, ``broken``, ...: one value
+        per joint) and ``points`` ``(2 n, 2)`` (joint ``j`` from ``points[2j]`` to
+        ``points[2j + 1]``); None when the run has no joint frames."""
+        jf = self.joint_frames
+        if jf is None or not len(jf):
+            return None
+        last = jf[-1]
+        return {"points": last.points, **last.cell_data}
 
     def _table(self, name: str) -> Optional[_Table]:
         def make() -> Optional[_Table]:
