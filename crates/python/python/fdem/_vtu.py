@@ -93,8 +93,8 @@ def _u64(data: memoryview, at: int, count: int, fail: Callable[[str], NoReturn])
 
 def _decode(
     data: memoryview, offset: int, zlib_blocks: bool, name: str, fail: Callable[[str], NoReturn]
-) -> bytes:
-    """The bytes of the array at ``offset`` of the appended data."""
+) -> bytearray:
+    """The bytes of the array at ``offset`` of the appended data (a fresh buffer)."""
     if zlib_blocks:
         n, block, partial = (int(v) for v in _u64(data, offset, 3, fail))
         sizes = _u64(data, offset + 24, n, fail)
@@ -113,11 +113,11 @@ def _decode(
                 fail(f"array {name}: block {b} is {len(chunk)} bytes, not {want}")
             out += chunk
             pos += size
-        return bytes(out)
+        return out
     (n,) = (int(v) for v in _u64(data, offset, 1, fail))
     if offset + 8 + n > len(data):
         fail(f"array {name}: the appended data ends early")
-    return bytes(data[offset + 8 : offset + 8 + n])
+    return bytearray(data[offset + 8 : offset + 8 + n])
 
 
 def read_vtu(path: PathLike) -> VtuData:
@@ -187,7 +187,8 @@ def read_vtu(path: PathLike) -> VtuData:
             fail(
                 f"array {name} has {len(b)} bytes, not {tuples} x {comps} x {ty.itemsize}"
             )
-        a = np.frombuffer(b, dtype=ty).astype(ty.newbyteorder("="), copy=True)
+        # a view of the fresh buffer (writable), in the machine's byte order
+        a = np.frombuffer(b, dtype=ty).astype(ty.newbyteorder("="), copy=False)
         return a.reshape(tuples, comps) if comps > 1 else a
 
     def section(tag: str, tuples: int) -> Dict[str, np.ndarray]:
