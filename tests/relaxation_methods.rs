@@ -40,7 +40,7 @@ fn cantilever_mesh(dir: &Path, nx: usize, ny: usize) -> PathBuf {
 
 /// The cantilever scene (analysis `analysis`, tip load `load` N, `edit` applied) in a fresh
 /// folder `tag`.
-fn cantilever(
+pub(crate) fn cantilever(
     tag: &str,
     n: (usize, usize),
     analysis: &str,
@@ -72,13 +72,13 @@ fn cantilever(
     p
 }
 
-fn tip(out: &Path) -> f64 {
+pub(crate) fn tip(out: &Path) -> f64 {
     let (h, rows) = common::histories(out);
     *common::column(&h, &rows, "u_y[tip]").last().unwrap()
 }
 
 /// Runs `scene` on a pool of `threads` threads.
-fn run_on(threads: usize, scene: &Path) -> (fdem_solver::driver::Outcome, PathBuf) {
+pub(crate) fn run_on(threads: usize, scene: &Path) -> (fdem_solver::driver::Outcome, PathBuf) {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -573,8 +573,8 @@ pub fn expected_steps(l: &Loaded) -> (u64, String) {
         return (
             l.n_steps,
             format!(
-                "relaxation ({:?} damping): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
-                l.scene.integrator.relaxation_method(&l.scene.damping),
+                "relaxation ({} damping): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
+                l.scene.integrator.relaxation_method(&l.scene.damping).name(),
                 l.n_steps
             )
             .to_lowercase(),
