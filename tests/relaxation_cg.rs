@@ -5,8 +5,8 @@
 //! disc of `relaxation_masses.rs`:
 //! - the 360 x 36-cell cantilever (25 920 triangles) reaches 1e-7 of its 1 N tip load in
 //!   4 800 iterations (kinetic damping: 53 200 steps), the 120 x 12 one in 1 700 (kinetic:
-//!   17 300); a linear preconditioned CG on the small-strain system takes 2 251 and 752:
-//!   the finite-strain (corotated) forces cost the difference, which grows with the load;
+//!   17 300); the finite-strain (corotated) forces change the stiffness between iterations
+//!   and cost iterations at small residuals, the more the larger the load;
 //! - its tip equals the static solve's to the geometric nonlinearity, and the books close
 //!   with the energy taken out equal to the strain energy (Clapeyron);
 //! - bit-identical on 1 and 2 threads; a stopped run resumes byte for byte;

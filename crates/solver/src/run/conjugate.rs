@@ -154,15 +154,17 @@ impl ConjugateGradient {
         } else {
             num / self.zf_prev
         };
-        let restart = !self.fresh && !(beta > 0.0);
-        let beta = if beta > 0.0 { beta } else { 0.0 };
+        // Polak-Ribiere+: a beta that is not positive restarts
+        let conjugate = beta > 0.0;
+        let beta = if conjugate { beta } else { 0.0 };
         let mut s0 = 0.0;
         for d in 0..f.len() {
             self.p[d] = im[d] * f[d] + beta * self.p[d];
             s0 += f[d] * self.p[d];
         }
-        let mut restarted = restart;
-        if beta > 0.0 && !(s0 > 0.0) {
+        let mut restarted = !self.fresh && !conjugate;
+        let descent = s0 > 0.0;
+        if conjugate && !descent {
             // not a descent direction
             for d in 0..f.len() {
                 self.p[d] = im[d] * f[d];
