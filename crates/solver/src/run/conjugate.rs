@@ -109,18 +109,21 @@ impl ConjugateGradient {
             self.evaluations += 1;
             let s1 = dot(sys.force.as_flattened(), &self.p);
             let den = s0 - s1;
-            step = if den > 0.0 {
+            let curved = den > 0.0;
+            step = if curved {
                 a_t * (s0 / den)
             } else {
                 // no positive curvature along p: the trial's length, and a restart
-                self.fresh = true;
                 a_t
             };
+            if !curved || !step.is_finite() {
+                self.fresh = true;
+                self.restarts += 1;
+            }
             if step.is_finite() && step > 0.0 {
                 self.alpha = step;
             } else {
                 step = 0.0;
-                self.fresh = true;
             }
         }
         let constrained = &sys.model.constrained;
