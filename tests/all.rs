@@ -68,6 +68,8 @@ mod parity;
 mod prestressed_joints;
 #[path = "quasi_static.rs"]
 mod quasi_static;
+#[path = "relaxation_cg.rs"]
+mod relaxation_cg;
 #[path = "relaxation_masses.rs"]
 mod relaxation_masses;
 #[path = "relaxation_methods.rs"]

@@ -27,7 +27,7 @@ const RHO: f64 = 1000.0;
 
 /// The Hertz disc scene in a temporary folder: gravity `g` (about `a = R / 20` at 27 470
 /// m/s^2), `edit` applied last.
-fn hertz_scene(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
+pub(crate) fn hertz_scene(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {
     let mesh = common::root().join("meshes/hertz-disc.msh");
     let estar = E / (1.0 - NU * NU);
     let a = R / 20.0;
@@ -59,22 +59,22 @@ fn hertz_scene(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf 
 
 /// What a Hertz relaxation measured.
 #[derive(Debug)]
-struct Measured {
-    steps: u64,
-    converged: Option<bool>,
+pub(crate) struct Measured {
+    pub(crate) steps: u64,
+    pub(crate) converged: Option<bool>,
     /// Half-width over Hertz's.
-    a_ratio: f64,
+    pub(crate) a_ratio: f64,
     /// Peak pressure (pole node) over Hertz's.
-    p0_ratio: f64,
+    pub(crate) p0_ratio: f64,
     /// The wall's resultant over the weight, minus 1.
-    equilibrium: f64,
+    pub(crate) equilibrium: f64,
     /// The stable step limit [s].
-    dt_limit: f64,
+    pub(crate) dt_limit: f64,
     /// The masses the summary names.
-    masses: Option<String>,
+    pub(crate) masses: Option<String>,
 }
 
-fn relax_hertz(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> Measured {
+pub(crate) fn relax_hertz(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> Measured {
     let scene = hertz_scene(tag, edit);
     let l = driver::load(&scene).unwrap_or_else(|e| panic!("{e}"));
     let g = l.scene.gravity.unwrap()[1];

@@ -77,7 +77,7 @@ fn assert_same_results(a: &Path, b: &Path) -> usize {
 
 /// Runs `scene` straight into `dir/straight`, then stopped after each step of `stops` and
 /// resumed, into `dir/resumed`; asserts both wrote the same results. Returns the folders.
-fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, PathBuf) {
+pub(crate) fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, PathBuf) {
     let dir = scene.parent().unwrap();
     // the same folder name (a plot's legend shows it)
     let (a, b) = (dir.join("straight/run"), dir.join("resumed/run"));

@@ -12,7 +12,7 @@ use crate::error::SceneError;
 use crate::limits::{self, stable_step};
 use crate::load::Loaded;
 use crate::model;
-use crate::scene::Analysis;
+use crate::scene::{Analysis, RelaxationMethod};
 use crate::system::{ForceContribution, SceneSystem};
 
 /// `fdem check`'s report: the stable step of every scheme and the estimated run time
@@ -573,8 +573,11 @@ pub fn expected_steps(l: &Loaded) -> (u64, String) {
         return (
             l.n_steps,
             format!(
-                "relaxation ({:?} damping): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
-                l.scene.integrator.relaxation_method(&l.scene.damping),
+                "relaxation ({}): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
+                match l.scene.integrator.relaxation_method(&l.scene.damping) {
+                    RelaxationMethod::ConjugateGradient => "conjugate gradient".to_string(),
+                    m => format!("{} damping", m.name()),
+                },
                 l.n_steps
             )
             .to_lowercase(),

@@ -233,6 +233,8 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         residual_floor: None,
         kinetic_to_strain: None,
         kinetic_resets: None,
+        cg_restarts: None,
+        cg_largest_rise: None,
         max_displacement: max_u,
         threads: rayon::current_num_threads(),
         stages: serde_json::Value::Null,

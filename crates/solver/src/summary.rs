@@ -48,7 +48,8 @@ pub struct Summary {
     pub converged: Option<bool>,
     /// Relaxation: final |residual| / |load|.
     pub relative_residual: Option<f64>,
-    /// Relaxation: how it damped (`"kinetic"` or `"viscous"`).
+    /// Relaxation: its method (`"kinetic"`, `"adaptive"`, `"viscous"` or
+    /// `"conjugate-gradient"`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relaxation: Option<String>,
     /// Relaxation: the masses of its pseudo-dynamics (`"equal-step"` or `"true"`,
@@ -67,6 +68,15 @@ pub struct Summary {
     /// Kinetic relaxation: the resets (velocities zeroed at a peak of the kinetic energy).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kinetic_resets: Option<u64>,
+    /// Conjugate-gradient relaxation: the restarts (the search direction reset to the
+    /// preconditioned force).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cg_restarts: Option<u64>,
+    /// Conjugate-gradient relaxation: the largest rise of the total potential energy in one
+    /// iteration [J] (0 when none rose; a minimiser's iteration lowers it, so a rise is the
+    /// round-off of the energy sums, or a scene whose energy is not conservative).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cg_largest_rise: Option<f64>,
     /// Largest displacement magnitude at the end [m].
     pub max_displacement: f64,
     /// Threads used.

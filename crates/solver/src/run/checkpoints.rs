@@ -215,6 +215,9 @@ impl<'a> Run<'a> {
         if let Some(a) = &self.adaptive {
             e.section("adaptive", |e| a.save(e));
         }
+        if let Some(c) = &self.conjugate {
+            e.section("conjugate-gradient", |e| c.save(e));
+        }
         for c in &mut self.sys.contributions {
             let name = c.name().to_string();
             let mut saved = Ok(());
@@ -384,6 +387,12 @@ impl<'a> Run<'a> {
             d.section("adaptive", |d| a.restore(d, &mut *sys, 2 * n))
                 .map_err(bad)?;
         }
+        let mut conjugate = (method == Some(crate::scene::RelaxationMethod::ConjugateGradient))
+            .then(|| super::conjugate::ConjugateGradient::sized(2 * n, l.dt));
+        if let Some(c) = &mut conjugate {
+            d.section("conjugate-gradient", |d| c.restore(d, 2 * n))
+                .map_err(bad)?;
+        }
         for c in &mut sys.contributions {
             let name = c.name().to_string();
             d.section(&name, |d| c.restore(d)).map_err(bad)?;
@@ -410,6 +419,7 @@ impl<'a> Run<'a> {
             checkpoints: Checkpointing::new(l, options),
             kinetic,
             adaptive,
+            conjugate,
         };
         run.checkpoints.any = true;
         for o in observers.iter_mut() {

@@ -16,7 +16,10 @@
 //! A relaxation without `damping.mass_proportional` takes the energy out after every step,
 //! before the observers: kinetic damping (`kinetic.rs`: velocities zeroed at a peak of the
 //! kinetic energy, positions moved back to it) or adaptive damping (`adaptive.rs`: the
-//! mass-proportional damping set from a Rayleigh quotient), each saved in the checkpoint.
+//! mass-proportional damping set from a Rayleigh quotient), each saved in the checkpoint. A
+//! conjugate-gradient relaxation (`conjugate.rs`) replaces the scheme's step by one
+//! iteration of a preconditioned nonlinear conjugate-gradient minimisation (velocities
+//! zero), and books the energy it takes out after each.
 //!
 //! The run's own parts are the step control ([`StepControl`], with the [`AdaptiveStep`]),
 //! the energy ledger's books (`crate::ledger::Books`, booked after every step, read by the
@@ -33,6 +36,7 @@
 mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
+mod conjugate;
 mod frames;
 mod histories;
 mod kinetic;
@@ -205,11 +209,11 @@ fn dynamic_run(
     resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let mut histories = Histories::new(l, &sys.model, &options.out_dir);
-    let method = match l.scene.integrator.relaxation_method(&l.scene.damping) {
-        crate::scene::RelaxationMethod::Kinetic => "kinetic",
-        crate::scene::RelaxationMethod::Viscous => "viscous",
-        crate::scene::RelaxationMethod::Adaptive => "adaptive",
-    };
+    let method = l
+        .scene
+        .integrator
+        .relaxation_method(&l.scene.damping)
+        .name();
     let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
         .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance, method));
     let mut guard = StabilityGuard::new();

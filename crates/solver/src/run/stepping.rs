@@ -9,6 +9,7 @@ use fdem_time::{Integrator, SecondOrderSystem, State};
 
 use super::adaptive::AdaptiveDamping;
 use super::checkpoint_policy::Checkpointing;
+use super::conjugate::ConjugateGradient;
 use super::frames::{FrameClock, state_frame};
 use super::kinetic::KineticDamping;
 use super::observer::{Flow, Halt, Observer, RunView};
@@ -51,6 +52,9 @@ pub struct Run<'a> {
     pub(super) kinetic: Option<KineticDamping>,
     /// An adaptive relaxation's damping (`None` for any other run).
     pub(super) adaptive: Option<AdaptiveDamping>,
+    /// A conjugate-gradient relaxation's minimiser (`None` for any other run): its
+    /// iteration replaces the scheme's step.
+    pub(super) conjugate: Option<ConjugateGradient>,
 }
 
 impl<'a> Run<'a> {
@@ -94,6 +98,8 @@ impl<'a> Run<'a> {
             (method == Some(RelaxationMethod::Kinetic)).then(|| KineticDamping::new(sys, &state));
         let adaptive =
             (method == Some(RelaxationMethod::Adaptive)).then(|| AdaptiveDamping::new(sys, &state));
+        let conjugate = (method == Some(RelaxationMethod::ConjugateGradient))
+            .then(|| ConjugateGradient::new(sys, &state, &ledger, l.dt));
         Ok(Self {
             loaded: l,
             sys,
@@ -112,6 +118,7 @@ impl<'a> Run<'a> {
             checkpoints: Checkpointing::new(l, options),
             kinetic,
             adaptive,
+            conjugate,
         })
     }
 
@@ -146,6 +153,9 @@ impl<'a> Run<'a> {
             }
             if let Some(a) = &mut self.adaptive {
                 a.after_step(self.sys, &self.state, &mut self.ledger, h);
+            }
+            if let Some(c) = &mut self.conjugate {
+                c.book(self.sys, &self.state, &mut self.ledger);
             }
             let last = self.control.is_last(self.steps, &self.state);
             let end = match self.notify(observers, last, |o, run| o.after_step(run)) {
@@ -182,10 +192,13 @@ impl<'a> Run<'a> {
         self.finish(observers)
     }
 
-    /// One step of the scheme, timed.
+    /// One step of the scheme (or one conjugate-gradient iteration), timed.
     fn take_step(&mut self, h: f64) {
         let s = Instant::now();
-        self.integrator.step(&mut *self.sys, &mut self.state, h);
+        match &mut self.conjugate {
+            Some(c) => c.iterate(self.sys, &mut self.state, h),
+            None => self.integrator.step(&mut *self.sys, &mut self.state, h),
+        }
         self.step_time += s.elapsed().as_secs_f64();
         self.steps += 1;
     }
@@ -255,10 +268,15 @@ impl<'a> Run<'a> {
             c.finish();
         }
         let mut summary = self.summary(self.energies(Some(&report)));
-        summary.force_evaluations = self.integrator.counters().forces;
+        summary.force_evaluations = match &self.conjugate {
+            Some(c) => c.evaluations,
+            None => self.integrator.counters().forces,
+        };
         summary.stages = details;
         summary.time_step_range = self.control.range();
         summary.kinetic_resets = self.kinetic.as_ref().map(|k| k.resets);
+        summary.cg_restarts = self.conjugate.as_ref().map(|c| c.restarts);
+        summary.cg_largest_rise = self.conjugate.as_ref().map(|c| c.largest_rise);
         let last = self.control.is_last(self.steps, &self.state);
         let mut run = self.view(last, true);
         for o in observers.iter_mut() {
@@ -330,6 +348,8 @@ impl<'a> Run<'a> {
             residual_floor: None,
             kinetic_to_strain: None,
             kinetic_resets: None,
+            cg_restarts: None,
+            cg_largest_rise: None,
             max_displacement: max_u,
             threads: rayon::current_num_threads(),
             stages: serde_json::Value::Null,

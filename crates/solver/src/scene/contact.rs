@@ -132,6 +132,40 @@ pub struct WallSpec {
 }
 
 impl ContactSection {
+    /// Refuses a law with friction (a conjugate-gradient relaxation minimises a potential
+    /// energy, and Coulomb friction has none: its slip depends on the path), naming the
+    /// first such law's `friction`; `file` names the scene.
+    pub(crate) fn refuse_friction(&self, file: &Path) -> Result<(), SceneError> {
+        let laws = std::iter::once(("contact.default".to_string(), &self.default))
+            .chain(
+                self.pairs
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| p.enabled)
+                    .map(|(i, p)| (format!("contact.pairs[{i}].law"), &p.law)),
+            )
+            .chain(
+                self.walls
+                    .iter()
+                    .enumerate()
+                    .map(|(i, w)| (format!("contact.walls[{i}].law"), &w.law)),
+            );
+        for (path, law) in laws {
+            if law.friction > 0.0 {
+                return Err(SceneError::invalid(
+                    file,
+                    format!("{path}.friction"),
+                    format!(
+                        "friction {} with a \"conjugate-gradient\" relaxation, which minimises a potential energy: friction has none (its slip depends on the path)",
+                        law.friction
+                    ),
+                    "use \"kinetic\" relaxation (`integrator.relaxation`), or frictionless contact",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Checks the values (the body names are resolved by [`crate::resolve`]); `file` names
     /// the scene in errors.
     pub fn validate(&self, file: &Path) -> Result<(), SceneError> {

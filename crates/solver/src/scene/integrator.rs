@@ -38,6 +38,22 @@ pub enum RelaxationMethod {
     Adaptive,
     /// Mass-proportional damping `damping.mass_proportional` (> 0) throughout.
     Viscous,
+    /// No pseudo-dynamics: a nonlinear conjugate-gradient minimisation of the total
+    /// potential energy (Polak-Ribiere+, a secant line search), preconditioned by the lumped
+    /// masses, one iteration per step.
+    ConjugateGradient,
+}
+
+impl RelaxationMethod {
+    /// The method's name in the scene and the summary.
+    pub fn name(self) -> &'static str {
+        match self {
+            RelaxationMethod::Kinetic => "kinetic",
+            RelaxationMethod::Adaptive => "adaptive",
+            RelaxationMethod::Viscous => "viscous",
+            RelaxationMethod::ConjugateGradient => "conjugate-gradient",
+        }
+    }
 }
 
 /// The masses of a relaxation's pseudo-dynamics (`integrator.relaxation_masses`).
@@ -129,12 +145,14 @@ pub struct Integrator {
     /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8).
     #[serde(default = "default_tol")]
     pub relaxation_tolerance: f64,
-    /// Relaxation analysis: `"kinetic"` or `"viscous"` (default: `"viscous"` when
+    /// Relaxation analysis: `"kinetic"`, `"adaptive"`, `"viscous"` or
+    /// `"conjugate-gradient"` (default: `"viscous"` when
     /// `damping.mass_proportional` > 0, else `"kinetic"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relaxation: Option<RelaxationMethod>,
     /// Relaxation analysis: the masses of the pseudo-dynamics, `"equal-step"` or `"true"`
-    /// (default: `"equal-step"` for the kinetic and adaptive methods, `"true"` for viscous).
+    /// (default: `"equal-step"` for the kinetic, adaptive and conjugate-gradient methods,
+    /// `"true"` for viscous).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relaxation_masses: Option<RelaxationMasses>,
 }
@@ -191,7 +209,8 @@ impl Integrator {
     }
 
     /// Whether a scene of kind `analysis` with damping `damping` relaxes with the
-    /// equal-step masses: the ones named, else for the kinetic and adaptive methods.
+    /// equal-step masses: the ones named, else for the kinetic, adaptive and
+    /// conjugate-gradient methods.
     pub fn equal_step_masses(&self, analysis: Analysis, damping: &Damping) -> bool {
         analysis == Analysis::Relaxation
             && match self.relaxation_masses {
@@ -226,10 +245,17 @@ impl Integrator {
                 "\"viscous\" relaxation needs a mass-proportional damping, and `damping.mass_proportional` is 0",
                 "set `damping.mass_proportional` (about twice the lowest natural frequency, 1/s), or use \"kinetic\"",
             )),
-            Some(m @ (RelaxationMethod::Kinetic | RelaxationMethod::Adaptive)) if alpha > 0.0 => Err(SceneError::invalid(
+            Some(
+                m @ (RelaxationMethod::Kinetic
+                | RelaxationMethod::Adaptive
+                | RelaxationMethod::ConjugateGradient),
+            ) if alpha > 0.0 => Err(SceneError::invalid(
                 file,
                 "integrator.relaxation",
-                format!("{m:?} relaxation sets its own damping, and `damping.mass_proportional` is {alpha}").to_lowercase(),
+                format!(
+                    "{} relaxation sets its own damping, and `damping.mass_proportional` is {alpha}",
+                    m.name()
+                ),
                 "remove `damping.mass_proportional`, or use \"viscous\"",
             )),
             _ => Ok(()),

@@ -168,6 +168,12 @@ impl Scene {
         self.damping.validate(file)?;
         if self.analysis == Analysis::Relaxation {
             self.integrator.validate_relaxation(&self.damping, file)?;
+            if self.integrator.relaxation_method(&self.damping)
+                == integrator::RelaxationMethod::ConjugateGradient
+                && let Some(c) = self.contact.as_ref().filter(|c| c.enabled)
+            {
+                c.refuse_friction(file)?;
+            }
         } else if let Some(path) = [
             (
                 "integrator.relaxation",
