@@ -169,7 +169,9 @@ struct Done {
 /// - `raw`: also write each frame's arrays as JSON (`--raw`);
 /// - `progress`: None, or a callable `f(step, steps, time)` called about ten times a second;
 ///   an exception it raises stops the run as Ctrl-C does, and is raised;
-/// - `resume`: continue the run in `out_dir` from its checkpoint (`--resume`).
+/// - `resume`: continue the run in `out_dir` from its checkpoint (`--resume`);
+/// - `stop_after`: stop after this many steps in all, with a checkpoint (`--stop-after`):
+///   raises `RunError` of kind `"interrupted"`.
 ///
 /// Returns a dict: `describe`, `summary` (the JSON text of `summary.json`), `frame` (the last
 /// frame's arrays), `joints` (the last frame's joints, None without a fracture section),
@@ -179,7 +181,7 @@ struct Done {
 /// `KeyboardInterrupt` after a Ctrl-C (the folder holds the checkpoint and the interrupted
 /// summary).
 #[pyfunction]
-#[pyo3(signature = (text, file, out_dir, threads = None, raw = false, progress = None, resume = false))]
+#[pyo3(signature = (text, file, out_dir, threads = None, raw = false, progress = None, resume = false, stop_after = None))]
 pub fn run<'py>(
     py: Python<'py>,
     text: String,
@@ -189,6 +191,7 @@ pub fn run<'py>(
     raw: bool,
     progress: Option<Bound<'py, PyAny>>,
     resume: bool,
+    stop_after: Option<u64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pool = match threads {
         None => None,
@@ -213,7 +216,12 @@ pub fn run<'py>(
         let run_stop = Arc::clone(&stop);
         let (text, file, out_dir) = (&text, &file, &out_dir);
         let handle = s.spawn(move || {
-            let work = || execute(text, file, out_dir, raw, resume, &run_stop, &tx);
+            let how = How {
+                raw,
+                resume,
+                stop_after,
+            };
+            let work = || execute(text, file, out_dir, how, &run_stop, &tx);
             match &pool {
                 Some(p) => p.install(work),
                 None => work(),
@@ -280,25 +288,32 @@ pub fn run<'py>(
     Ok(d)
 }
 
+/// The options of [`run`] that go to the solver's [`RunOptions`].
+#[derive(Clone, Copy)]
+struct How {
+    raw: bool,
+    resume: bool,
+    stop_after: Option<u64>,
+}
+
 /// The run itself, on its own thread: load, run, the summary as JSON text.
 fn execute(
     text: &str,
     file: &Path,
     out_dir: &Path,
-    raw: bool,
-    resume: bool,
+    how: How,
     stop: &Arc<AtomicUsize>,
     tx: &mpsc::Sender<Progress>,
 ) -> Result<Done, RunError> {
     let mut l = driver::load_text(text, file)?;
     let options = RunOptions {
         out_dir: out_dir.to_path_buf(),
-        raw,
+        raw: how.raw,
         checkpoint_every: None,
         // a static solve is one step: nothing to stop, as on the command line
         stop: (l.scene.analysis != Analysis::Static).then(|| Arc::clone(stop)),
-        stop_after: None,
-        resume,
+        stop_after: how.stop_after,
+        resume: how.resume,
     };
     let outcome = driver::run_outcome(&mut l, &options, &mut |p: &Progress| {
         // the receiver is gone only once the caller stopped waiting: nothing to tell

@@ -35,6 +35,7 @@ def run(
     raw: bool = False,
     progress: Optional[Callable[[int, int, float], Any]] = None,
     resume: bool = False,
+    stop_after: Optional[int] = None,
 ) -> Dict[str, Any]:
     """Runs the scene ``text`` into ``out_dir`` as ``fdem run`` does, the GIL released;
     ``summary`` (JSON text), ``frame``, ``joints``, ``joint_state``, ``error``."""

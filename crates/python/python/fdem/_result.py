@@ -128,6 +128,8 @@ class CheckReport:
     text: str
     #: The scene's description (the first part of ``text``).
     describe: str
+    #: The stable steps of every scheme and the estimated run time (the rest of ``text``).
+    report: str
     #: The analysis: ``"dynamic"``, ``"static"`` or ``"relaxation"``.
     analysis: str
     #: The time-integration scheme.
@@ -196,6 +198,7 @@ def run(
     threads: Optional[int] = None,
     raw: bool = False,
     resume: bool = False,
+    stop_after: Optional[int] = None,
 ) -> Result:
     """Runs a scene as ``fdem run SCENE --out OUT`` does and returns its :class:`Result`.
 
@@ -207,7 +210,10 @@ def run(
       the run, with a checkpoint, and is raised);
     - ``threads``: rayon threads for this run (None: rayon's default or RAYON_NUM_THREADS);
     - ``raw``: also write each frame's arrays as JSON (``frame_NNNN.json``);
-    - ``resume``: continue the run in ``out`` from its checkpoint.
+    - ``resume``: continue the run in ``out`` from its checkpoint;
+    - ``stop_after``: stop after this many steps in all, with a checkpoint, as
+      ``fdem run --stop-after`` (a run split into parts): raises RunError of kind
+      ``"interrupted"``; ``resume=True`` continues it.
 
     The GIL is released while the run steps. Ctrl-C stops it after its current step: it
     writes its checkpoint and an interrupted summary into ``out`` and KeyboardInterrupt is
@@ -234,7 +240,14 @@ def run(
     folder = Path(tempfile.mkdtemp(prefix="fdem-run-")) if temporary else Path(out)
     try:
         data = _core.run(
-            s.to_json(), str(s.error_file), str(folder), threads, bool(raw), cb, bool(resume)
+            s.to_json(),
+            str(s.error_file),
+            str(folder),
+            threads,
+            bool(raw),
+            cb,
+            bool(resume),
+            stop_after,
         )
     except BaseException:
         if temporary:
