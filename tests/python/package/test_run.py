@@ -151,3 +151,40 @@ def test_ctrl_c_stops_the_run_with_a_checkpoint_and_raises_keyboard_interrupt(tm
     assert summary["interrupted"]["reason"] == "SIGINT"
     assert 0 < summary["steps"]
     assert (out / "checkpoint.fdem").exists()
+
+
+def test_a_relaxation_that_did_not_converge_raises_with_its_written_result(tmp_path):
+    s = fdem.Scene(REPO / "examples" / "brazilian-disc-relaxation.json")
+    s = s.edit({"duration": 2e-5, "output.frames": 1})
+    with pytest.raises(fdem.RunError) as e:
+        fdem.run(s, out=tmp_path, progress=False)
+    assert e.value.kind == "not_converged" and "duration" in e.value.fix
+    r = e.value.result
+    assert r.out == tmp_path and r.summary["converged"] is False
+    assert (tmp_path / "results.pvd").exists()
+
+
+def test_other_python_threads_run_while_fdem_steps(short_runs, tmp_path):
+    import threading
+
+    s = short_runs[0]
+    count = [0]
+    done = threading.Event()
+
+    def spin():
+        while not done.is_set():
+            count[0] += 1
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        started = time.monotonic()
+        r = fdem.run(s, out=tmp_path, threads=1, progress=False)
+        seconds = time.monotonic() - started
+    finally:
+        done.set()
+        t.join()
+    assert r.summary["steps"] > 0
+    # a Python loop counts millions a second when it has the interpreter; with the GIL held
+    # by the run it would count almost nothing
+    assert count[0] > 50_000 * seconds, (count[0], seconds)
