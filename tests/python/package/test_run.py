@@ -9,15 +9,24 @@ import subprocess
 import sys
 import time
 
+import fdem
 import numpy as np
 import pytest
-
-import fdem
 from conftest import DISC, REPO
 
 ARRAYS = [
-    "positions", "displacements", "velocities", "forces", "reactions", "cell_stress",
-    "principal_stress", "von_mises", "nodal_stress", "triangles", "material", "body",
+    "positions",
+    "displacements",
+    "velocities",
+    "forces",
+    "reactions",
+    "cell_stress",
+    "principal_stress",
+    "von_mises",
+    "nodal_stress",
+    "triangles",
+    "material",
+    "body",
 ]
 
 

@@ -6,7 +6,6 @@ import json
 
 import meshio
 import numpy as np
-
 from conftest import last_file
 
 
@@ -58,8 +57,15 @@ def test_last_joint_frame_equals_the_cli_joint_vtu(disc_runs):
     assert r.joints is not None
     assert np.array_equal(vec2(m.points), r.joints["points"])
     names = [
-        "damage", "mode", "mode_mix", "broken", "time_of_failure",
-        "opening", "sliding", "normal_traction", "shear_traction",
+        "damage",
+        "mode",
+        "mode_mix",
+        "broken",
+        "time_of_failure",
+        "opening",
+        "sliding",
+        "normal_traction",
+        "shear_traction",
     ]
     for name in names:
         assert np.array_equal(m.cell_data[name][0], r.joints[name]), name
@@ -78,7 +84,9 @@ def test_every_output_file_is_byte_for_byte_the_cli_one(disc_runs):
     skip = {"summary.json", "load_displacement.png", "load_displacement.svg"}
     names = sorted(f.name for f in cli_out.iterdir() if f.name not in skip)
     assert sorted(f.name for f in py_out.iterdir() if f.name not in skip) == names
-    assert {"results.pvd", "joints.pvd", "walls.csv", "histories.csv", "fractures.csv"} <= set(names)
+    assert {"results.pvd", "joints.pvd", "walls.csv", "histories.csv", "fractures.csv"} <= set(
+        names
+    )
     for n in names:
         assert (cli_out / n).read_bytes() == (py_out / n).read_bytes(), n
 

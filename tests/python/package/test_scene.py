@@ -5,10 +5,9 @@ and TypeErrors with the fix for what is not a scene at all."""
 import json
 import math
 
+import fdem
 import numpy as np
 import pytest
-
-import fdem
 from conftest import DISC, ELASTIC, EXAMPLES, cli
 
 YOUNG = "bodies[0].materials.body.young"

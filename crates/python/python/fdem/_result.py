@@ -81,14 +81,15 @@ class Result:
         #: The joints' history at the end (``point_damage`` (j, 2), ``broken``,
         #: ``broken_at``, ``work``, ``stored``, ``dissipated``), or None without joints.
         self.joint_state: Optional[Dict[str, np.ndarray]] = data.get("joint_state")
-        self._finalizer: Optional[weakref.finalize] = None
+        self._finalizer: Optional[Any] = None  # a weakref.finalize
         if temporary:
             self._finalizer = weakref.finalize(self, shutil.rmtree, str(self.out), True)
 
     @property
     def energy(self) -> Dict[str, Any]:
         """The energy ledger of the run (``summary["energy"]``) [J]."""
-        return self.summary.get("energy", {})
+        energy: Dict[str, Any] = self.summary.get("energy", {})
+        return energy
 
     @property
     def is_temporary(self) -> bool:
@@ -237,7 +238,7 @@ def run(
     temporary = out is None
     if resume and temporary:
         raise ValueError("resume=True needs the folder of the run: give out=FOLDER")
-    folder = Path(tempfile.mkdtemp(prefix="fdem-run-")) if temporary else Path(out)
+    folder = Path(tempfile.mkdtemp(prefix="fdem-run-")) if out is None else Path(out)
     try:
         data = _core.run(
             s.to_json(),

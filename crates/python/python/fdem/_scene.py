@@ -15,7 +15,7 @@ import os
 import re
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Iterator, List, Optional, Union
+from typing import Any, Dict, Iterator, List, Optional, Union
 
 from . import _core
 
@@ -132,7 +132,7 @@ def _to_json_value(value: Any, path: str, file: str) -> Any:
     )
 
 
-def _scene_error(file: str, path: Optional[str], message: str, fix: str) -> Exception:
+def _scene_error(file: str, path: Optional[str], message: str, fix: str) -> SceneError:
     """A SceneError made on the Python side, with the attributes of the extension's."""
     at = f": at `{path}`" if path else ""
     e = SceneError(f"{file}{at}: {message}\n  fix: {fix}")
@@ -162,6 +162,11 @@ class Scene:
     """
 
     __slots__ = ("_data", "_base", "_file", "_name", "_text")
+    _data: Dict[str, Any]
+    _base: Path
+    _file: Optional[Path]
+    _name: str
+    _text: Optional[str]
 
     def __init__(
         self,
@@ -189,7 +194,7 @@ class Scene:
                 )
                 err.kind = "io"
                 raise err from None
-            self._file: Optional[Path] = file
+            self._file = file
             self._base = file.parent if base is None else Path(base).resolve()
             self._name = file.name if name is None else name
             # the file's own text goes to the checks: their line and column are the file's
@@ -208,8 +213,9 @@ class Scene:
             return
         raise TypeError(
             f"Scene() takes a path of a scene file (str or os.PathLike) or a dict, not "
-            f"{type(source).__name__}: {source!r}\n  fix: fdem.Scene('examples/brazilian-disc-fracture.json') "
-            f"or fdem.Scene({{'bodies': [...], ...}}, base=FOLDER_OF_THE_MESHES)"
+            f"{type(source).__name__}: {source!r}\n"
+            f"  fix: fdem.Scene('examples/brazilian-disc-fracture.json') or "
+            f"fdem.Scene({{'bodies': [...], ...}}, base=FOLDER_OF_THE_MESHES)"
         )
 
     # -- making ----------------------------------------------------------------------------
@@ -340,11 +346,11 @@ class Scene:
 
     # -- out -------------------------------------------------------------------------------
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> Dict[str, Any]:
         """The scene as a dict (a deep copy)."""
         return copy.deepcopy(self._data)
 
-    def with_absolute_meshes(self) -> dict:
+    def with_absolute_meshes(self) -> Dict[str, Any]:
         """The scene's dict with every body's mesh path made absolute (against ``base``)."""
         d = self.to_dict()
         for body in d.get("bodies", []):
@@ -356,7 +362,9 @@ class Scene:
         """Writes the scene as a JSON file at ``path`` with absolute mesh paths (so that it
         runs from anywhere: ``fdem run PATH``); returns the path."""
         p = Path(path)
-        p.write_text(json.dumps(self.with_absolute_meshes(), indent=indent) + "\n", encoding="utf-8")
+        p.write_text(
+            json.dumps(self.with_absolute_meshes(), indent=indent) + "\n", encoding="utf-8"
+        )
         return p
 
     def keys(self) -> Iterator[str]:
