@@ -160,3 +160,14 @@ def test_check_reports_as_the_command_line_does():
     assert r.steps > 0 and 0 < r.time_step <= r.time_step_limit
     assert r.steps * r.time_step == pytest.approx(r.duration, rel=1e-12)
     assert f"{r.steps} steps" in r.describe
+
+
+def test_scene_errors_cross_process_boundaries_with_their_attributes():
+    # a sweep's worker process sends its errors back pickled
+    import pickle
+
+    with pytest.raises(fdem.SceneError) as e:
+        fdem.Scene({"bodies": 3}, base=EXAMPLES)
+    back = pickle.loads(pickle.dumps(e.value))
+    assert type(back) is fdem.SceneError and str(back) == str(e.value)
+    assert (back.path, back.fix, back.kind) == ("bodies", e.value.fix, "parse")
