@@ -69,7 +69,7 @@ pub mod driver {
     };
     pub use crate::ledger::Energies;
     pub use crate::limits::stable_step;
-    pub use crate::load::{Loaded, load, step_count};
+    pub use crate::load::{Loaded, load, load_text, step_count};
     pub use crate::output::{frame_from_parts, make_frame};
     pub use crate::run::{
         ENERGY_GROWTH_BOUND, Progress, RunOptions, energy_growth, run, run_outcome,

@@ -64,9 +64,25 @@ pub struct Loaded {
 /// Order: the scene, the meshes, then every name the scene refers to ([`crate::resolve`]),
 /// then the fracturing bodies are exploded and the model built, and last the derived
 /// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
+/// The file is read and handed to [`load_text`].
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let started = std::time::Instant::now();
-    let mut scene = Scene::from_file(file)?;
+    let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
+        file: file.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut loaded = load_text(&text, file)?;
+    loaded.load_s = started.elapsed().as_secs_f64();
+    Ok(loaded)
+}
+
+/// Loads a scene given as JSON `text` as [`load`] loads a file: `file` names the scene in
+/// every error message, and its folder is the one that relative mesh paths are resolved
+/// against (the file itself need not exist). For callers that hold a scene in memory (an
+/// edited scene, a scene built by a program).
+pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
+    let started = std::time::Instant::now();
+    let mut scene = Scene::from_json(text, file)?;
     static_checks::check_sections(&scene, file)?;
     // The schemes' stability limits (computed once per process, the same numbers on any
     // thread) are found on a thread of their own while the meshes are read, when more than
@@ -323,5 +339,65 @@ impl Loaded {
             }
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The repository's `examples/` folder.
+    fn examples() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+    }
+
+    #[test]
+    fn load_text_of_a_file_equals_load_of_it() {
+        // a fracturing scene with a relative mesh path: the joints, the contact walls and the
+        // step all come from the text and the file's folder
+        let file = examples().join("brazilian-disc-fracture.json");
+        let text = std::fs::read_to_string(&file).unwrap();
+        let a = load(&file).unwrap();
+        let b = load_text(&text, &file).unwrap();
+        assert_eq!(a.file, b.file);
+        assert_eq!(a.dt.to_bits(), b.dt.to_bits());
+        assert_eq!(a.dt_limit.to_bits(), b.dt_limit.to_bits());
+        assert_eq!(a.n_steps, b.n_steps);
+        assert_eq!(a.model.triangles, b.model.triangles);
+        assert_eq!(a.model.x0, b.model.x0);
+        assert_eq!(a.model.mass, b.model.mass);
+        assert_eq!(a.describe(), b.describe());
+        assert_eq!(
+            serde_json::to_string(&a.scene).unwrap(),
+            serde_json::to_string(&b.scene).unwrap()
+        );
+    }
+
+    #[test]
+    fn load_text_resolves_meshes_from_the_named_files_folder_and_names_it_in_errors() {
+        let file = examples().join("brazilian-disc-fracture.json");
+        let text = std::fs::read_to_string(&file).unwrap();
+        // the same text said to live elsewhere: its relative mesh is looked for there
+        let elsewhere = examples().join("no-such-folder/scene.json");
+        let e = load_text(&text, &elsewhere)
+            .err()
+            .expect("the mesh is not there");
+        assert!(
+            matches!(&e, SceneError::Mesh { file, path, .. } if file == &elsewhere && path == "bodies[0].mesh"),
+            "{e}"
+        );
+        // a type error names the file given and the JSON path
+        let bad = text.replace("\"young\": 30e9", "\"young\": \"abc\"");
+        let e = load_text(&bad, &file)
+            .err()
+            .expect("a string is not a modulus");
+        assert!(
+            e.to_string().contains("brazilian-disc-fracture.json"),
+            "{e}"
+        );
+        assert!(
+            matches!(&e, SceneError::Parse { path, .. } if path.contains("young")),
+            "{e}"
+        );
     }
 }
