@@ -14,6 +14,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Union
 import numpy as np
 
 from . import _core
+from ._output import Output
 from ._scene import PathLike, Scene, as_scene
 
 RunError = _core.RunError
@@ -22,62 +23,56 @@ RunError = _core.RunError
 ProgressCallable = Callable[[int, int, float], Any]
 
 
-class Result:
-    """A finished run: its output folder and the last frame's arrays, as numpy arrays.
+class Result(Output):
+    """A finished run: its output folder, read lazily as :class:`Output` reads any run folder
+    (``summary``, ``energy``, ``frames``, ``joint_frames``, ``histories``, ``walls``,
+    ``fractures``, ``load_displacement()``, ``peak_load``), and the state at the end of the
+    run as numpy arrays held in memory.
 
     Vectors are float64 ``(n, 2)`` arrays, stresses ``(m, 4)`` (sxx, syy, sxy, szz) [Pa],
-    the very values of the run's last ``.vtu`` frame. ``out`` is the output folder; a run
-    given no folder owns a temporary one, deleted with the Result unless kept
-    (:meth:`keep`).
+    the very values of the run's last ``.vtu`` frame (when the run writes one at its end).
+    ``out`` is the output folder; a run given no folder owns a temporary one, deleted with the
+    Result unless kept (:meth:`keep`).
     """
 
     def __init__(self, out: PathLike, data: Mapping[str, Any], temporary: bool = False) -> None:
-        self.out: Path = Path(out)
+        super().__init__(out)
         frame: Dict[str, Any] = dict(data["frame"])
-        #: summary.json as a dict.
-        self.summary: Dict[str, Any] = json.loads(data["summary"])
+        # the summary and the last frame's arrays as the run returned them (Output reads the
+        # same values from the folder's files)
+        self._cache["summary"] = json.loads(data["summary"])
+        self._end: Dict[str, Any] = {
+            name: frame[key]
+            for name, key in (
+                ("points", "points"),
+                ("displacement", "displacement"),
+                ("velocity", "velocity"),
+                ("force", "force"),
+                ("reaction", "reaction"),
+                ("stress", "stress"),
+                ("principal_stress", "principal_stress"),
+                ("von_mises", "von_mises"),
+                ("nodal_stress", "nodal_stress"),
+                ("triangles", "triangles"),
+                ("material", "material"),
+                ("body", "body"),
+            )
+        }
         #: The scene's description (bodies, model size, analysis, time step).
         self.describe: str = data.get("describe", "")
-        #: Simulated time of the last frame [s].
+        #: Simulated time at the end of the run [s].
         self.time: float = frame["time"]
-        #: Current node positions [m], (n, 2).
-        self.positions: np.ndarray = frame["points"]
-        #: Node displacements from the reference configuration [m], (n, 2).
-        self.displacements: np.ndarray = frame["displacement"]
-        #: Node velocities [m/s], (n, 2).
-        self.velocities: np.ndarray = frame["velocity"]
-        #: Total nodal forces (internal + external) [N], (n, 2).
-        self.forces: np.ndarray = frame["force"]
-        #: Reactions at constrained DOFs [N], (n, 2).
-        self.reactions: np.ndarray = frame["reaction"]
-        #: Cauchy stress per triangle: sxx, syy, sxy, szz [Pa], (m, 4).
-        self.cell_stress: np.ndarray = frame["stress"]
-        #: Principal in-plane stresses s1 >= s2 per triangle [Pa], (m, 2).
-        self.principal_stress: np.ndarray = frame["principal_stress"]
-        #: von Mises stress per triangle [Pa], (m,).
-        self.von_mises: np.ndarray = frame["von_mises"]
         #: Strain energy density per reference area [J/m^3], (m,).
         self.strain_energy_density: np.ndarray = frame["strain_energy_density"]
-        #: Recovered nodal stress sxx, syy, sxy, szz [Pa], (n, 4), or None.
-        self.nodal_stress: Optional[np.ndarray] = frame["nodal_stress"]
         #: Principal stresses of the nodal stress [Pa], (n, 2), or None.
         self.nodal_principal_stress: Optional[np.ndarray] = frame["nodal_principal_stress"]
         #: von Mises stress of the nodal stress [Pa], (n,), or None.
         self.nodal_von_mises: Optional[np.ndarray] = frame["nodal_von_mises"]
-        #: Triangles (node indices, counter-clockwise), int64 (m, 3).
-        self.triangles: np.ndarray = frame["triangles"]
-        #: Material id per triangle, int32 (m,).
-        self.material: np.ndarray = frame["material"]
-        #: Body id per triangle, int32 (m,).
-        self.body: np.ndarray = frame["body"]
         #: Further point arrays of the frame by name (``contact_force`` with contact).
         self.point_extra: Dict[str, np.ndarray] = dict(frame["point_extra"])
         #: Further cell arrays of the frame by name (``contact_active``, ``young``).
         self.cell_extra: Dict[str, np.ndarray] = dict(frame["cell_extra"])
-        #: The last frame's joints as ``joints_NNNN.vtu`` holds them (one entry per joint:
-        #: ``damage``, ``mode``, ``broken``, ``opening``, ...; ``points`` two rows per joint),
-        #: or None for a scene without a fracture section.
-        self.joints: Optional[Dict[str, np.ndarray]] = data.get("joints")
+        self._joints: Optional[Dict[str, np.ndarray]] = data.get("joints")
         #: The joints' history at the end (``point_damage`` (j, 2), ``broken``,
         #: ``broken_at``, ``work``, ``stored``, ``dissipated``), or None without joints.
         self.joint_state: Optional[Dict[str, np.ndarray]] = data.get("joint_state")
@@ -85,11 +80,19 @@ class Result:
         if temporary:
             self._finalizer = weakref.finalize(self, shutil.rmtree, str(self.out), True)
 
+    def _last(self, name: str) -> Any:
+        # the state at the end of the run, in memory (the positions, displacements, ...,
+        # triangles of Output's properties)
+        if name in self._end:
+            return self._end[name]
+        return super()._last(name)
+
     @property
-    def energy(self) -> Dict[str, Any]:
-        """The energy ledger of the run (``summary["energy"]``) [J]."""
-        energy: Dict[str, Any] = self.summary.get("energy", {})
-        return energy
+    def joints(self) -> Optional[Dict[str, np.ndarray]]:
+        """The joints at the end of the run as ``joints_NNNN.vtu`` holds them (one entry per
+        joint: ``damage``, ``mode``, ``broken``, ``opening``, ...; ``points`` two rows per
+        joint), or None for a scene without a fracture section."""
+        return self._joints
 
     @property
     def is_temporary(self) -> bool:
@@ -117,7 +120,7 @@ class Result:
         s = self.summary
         return (
             f"<fdem.Result {self.out}: {s.get('steps')} steps, t = {s.get('simulated_time')} s, "
-            f"{len(self.positions)} nodes, {len(self.triangles)} triangles>"
+            f"{len(self._end['points'])} nodes, {len(self._end['triangles'])} triangles>"
         )
 
 
