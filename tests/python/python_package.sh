@@ -3,7 +3,8 @@
 # `pip install ./crates/python` (maturin), but only when its sources or the solver's changed
 # (a hash of them is kept in .venv: a warm run does not build), then runs its pytest suite
 # tests/python/package: fdem.run's arrays and files against `fdem run`'s bit for bit, the
-# scene errors with their JSON paths, threads, Ctrl-C, stop and resume.
+# scene errors with their JSON paths, threads, Ctrl-C, stop and resume, the readers, sweeps and
+# examples; and the package's type hints and stubs with mypy --strict.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/python/lib/venv.sh
@@ -19,3 +20,5 @@ if [ "$(cat .venv/fdem-package.hash 2>/dev/null)" != "$hash" ] || ! .venv/bin/py
   echo "$hash" > .venv/fdem-package.hash
 fi
 FDEM_BIN="$PWD/target/release/fdem" .venv/bin/python -m pytest -q -p no:cacheprovider tests/python/package
+.venv/bin/python -m mypy --strict --no-error-summary crates/python/python/fdem
+echo "mypy --strict: the package's types check"

@@ -40,17 +40,22 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import (
     Any,
+    Callable,
     Dict,
     Iterator,
     List,
     Optional,
     Sequence,
     Tuple,
+    TypeVar,
     Union,
+    cast,
     overload,
 )
 
 import numpy as np
+
+_T = TypeVar("_T")
 
 from ._vtu import VtuData, VtuFormatError, read_vtu
 
@@ -359,7 +364,7 @@ def _number(s: str) -> float:
 
 def _pandas() -> Any:
     try:
-        import pandas
+        import pandas  # type: ignore[import-untyped,unused-ignore]
     except ImportError:
         raise ImportError(f"this needs pandas, which is not installed: {_PANDAS_FIX}") from None
     return pandas
@@ -391,10 +396,10 @@ class Output:
     def __repr__(self) -> str:
         return f"{type(self).__name__}('{self.out}')"
 
-    def _cached(self, key: str, make: Any) -> Any:
+    def _cached(self, key: str, make: Callable[[], _T]) -> _T:
         if key not in self._cache:
             self._cache[key] = make()
-        return self._cache[key]
+        return cast(_T, self._cache[key])
 
     @property
     def summary(self) -> Dict[str, Any]:
@@ -411,7 +416,8 @@ class Output:
                     "killed); an interrupted run writes one, a finished one too"
                 )
             with open(p, encoding="utf-8") as f:
-                return json.load(f)
+                summary: Dict[str, Any] = json.load(f)
+            return summary
 
         return self._cached("summary", make)
 
@@ -441,9 +447,9 @@ class Output:
         frames = self.frames
         return frames[-1] if len(frames) else None
 
-    def _last(self, name: str) -> Any:
+    def _last(self, name: str) -> Optional[np.ndarray]:
         f = self.last_frame
-        return None if f is None else getattr(f, name)
+        return None if f is None else cast(Optional[np.ndarray], getattr(f, name))
 
     @property
     def positions(self) -> Optional[np.ndarray]:

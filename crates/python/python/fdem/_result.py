@@ -9,7 +9,7 @@ import tempfile
 import weakref
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Mapping, Optional, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Union, cast
 
 import numpy as np
 
@@ -80,11 +80,11 @@ class Result(Output):
         if temporary:
             self._finalizer = weakref.finalize(self, shutil.rmtree, str(self.out), True)
 
-    def _last(self, name: str) -> Any:
+    def _last(self, name: str) -> Optional[np.ndarray]:
         # the state at the end of the run, in memory (the positions, displacements, ...,
         # triangles of Output's properties)
         if name in self._end:
-            return self._end[name]
+            return cast(Optional[np.ndarray], self._end[name])
         return super()._last(name)
 
     @property

@@ -310,7 +310,7 @@ def sweep(
         ) as ex:
             try:
                 jobs: List[
-                    Tuple[Dict[str, Any], Optional[str], Optional[Future], Optional[BaseException]]
+                    Tuple[Dict[str, Any], Optional[str], Optional[Future[Any]], Optional[BaseException]]
                 ] = []
                 for i, v in enumerate(variants):
                     head = {k: copy.deepcopy(val) for k, val in v.items()}
