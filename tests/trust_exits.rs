@@ -1,7 +1,8 @@
 //! No input gives a wrong answer without a word: static analyses the supports do not hold
 //! (case 2) or that carry sections the solve cannot honour (case 3), output folders shared by
 //! two runs (case 5), a relaxation that does not converge (case 9), huge tokens in input files
-//! (case 10), the instability message of an absurd load, and the exit codes of every
+//! (case 10), the instability message of an absurd load, a run started as several processes
+//! of a parallel launcher, and the exit codes of every
 //! subcommand (0 success, 2 bad input with nothing written, 3 a run that did not reach its
 //! goal, 1 anything else).
 
@@ -715,4 +716,52 @@ fn exit_codes_are_documented_in_help() {
             assert!(out.contains(line), "{args:?}: lacks {line:?}:\n{out}");
         }
     }
+}
+
+/// `mpirun -np 2 fdem run SCENE` (or `srun -n 2`) would start two processes that each run the
+/// whole scene and write the same files: each is refused (exit code 2, nothing written),
+/// whichever launcher's variable says so; a launch of one process runs as usual.
+#[test]
+fn a_run_started_as_one_of_several_launcher_processes_is_refused() {
+    let scene = common::root().join("examples/cantilever-static.json");
+    let dir = common::temp_dir("parallel-launch");
+    for var in ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"] {
+        let out = dir.join(var);
+        let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+            .args([
+                "run".as_ref(),
+                scene.as_os_str(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ])
+            .env(var, "2")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{var}: {err}");
+        assert!(
+            err.contains(&format!("one of 2 processes ({var}=2")),
+            "{err}"
+        );
+        assert!(err.contains("fix: start it once"), "{err}");
+        assert!(!out.exists(), "{var}: the run wrote {}", out.display());
+    }
+    let out = dir.join("one");
+    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+        .args([
+            "run".as_ref(),
+            scene.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+        .env("OMPI_COMM_WORLD_SIZE", "1")
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.join("summary.json").exists());
 }
