@@ -725,18 +725,22 @@ fn exit_codes_are_documented_in_help() {
 fn a_run_started_as_one_of_several_launcher_processes_is_refused() {
     let scene = common::root().join("examples/cantilever-static.json");
     let dir = common::temp_dir("parallel-launch");
-    for var in ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"] {
-        let out = dir.join(var);
-        let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+    // `fdem run SCENE --out OUT` with the launcher variable `var` set to `n`
+    let launch = |var: &str, n: &str, out: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_fdem"))
             .args([
                 "run".as_ref(),
                 scene.as_os_str(),
                 "--out".as_ref(),
                 out.as_os_str(),
             ])
-            .env(var, "2")
+            .env(var, n)
             .output()
-            .unwrap();
+            .unwrap()
+    };
+    for var in ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"] {
+        let out = dir.join(var);
+        let o = launch(var, "2", &out);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{var}: {err}");
         assert!(
@@ -747,16 +751,7 @@ fn a_run_started_as_one_of_several_launcher_processes_is_refused() {
         assert!(!out.exists(), "{var}: the run wrote {}", out.display());
     }
     let out = dir.join("one");
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args([
-            "run".as_ref(),
-            scene.as_os_str(),
-            "--out".as_ref(),
-            out.as_os_str(),
-        ])
-        .env("OMPI_COMM_WORLD_SIZE", "1")
-        .output()
-        .unwrap();
+    let o = launch("OMPI_COMM_WORLD_SIZE", "1", &out);
     assert_eq!(
         o.status.code(),
         Some(0),

@@ -1,5 +1,5 @@
 """Helpers of the package's tests: runs of the command line `fdem run` (the reference the
-Python readers are checked against), made once per test session and cached, and a sweep
+Python readers are checked against), made once per test run and cached, and a sweep
 runner that runs a variant through the command line (so the sweep is tested without the
 compiled extension)."""
 
@@ -77,7 +77,7 @@ def run_cli(scene: Dict[str, Any], out: Path, threads: Optional[int] = None,
 
 def example_run(name: str, edits: Optional[Dict[str, Any]] = None, raw: bool = False) -> Path:
     """The folder of `fdem run examples/NAME.json` with `edits` ({dotted key: value}), run
-    once per session."""
+    once per test run."""
     key = (name, json.dumps(edits or {}, sort_keys=True), raw)
     if key not in _RUNS:
         src = REPO / "examples" / f"{name}.json"
