@@ -218,6 +218,20 @@ fn a_frictional_collision_resumes_bit_for_bit() {
     }
 }
 
+/// The frictional collision of the signal test stopped at step 6 692, where the contact
+/// model's last force pass differs from the forces the nodal work books were at (they are
+/// saved in the checkpoint, not rebuilt from that pass): the energy probe's `contact_residual`
+/// continues bit for bit.
+#[test]
+fn a_stop_where_the_last_contact_pass_is_not_the_booked_one_resumes_bit_for_bit() {
+    let scene = common::edited_example("disc-collision.json", "restart-6692", |v| {
+        oblique_collision(v);
+        v["duration"] = serde_json::json!(4.8e-3);
+        v["output"]["frames"] = serde_json::json!(40);
+    });
+    straight_and_resumed(&scene, &[6692]);
+}
+
 /// Gear PC-5 (its scaled derivatives are history) on the vibrating cantilever, stopped
 /// three times.
 #[test]
@@ -366,6 +380,10 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
     newer[8..12].copy_from_slice(&(fdem_solver::checkpoint::FORMAT + 1).to_le_bytes());
     std::fs::write(&ck, &newer).unwrap();
     refused(&b, None, "newer than this fdem reads");
+    let mut older = good.clone();
+    older[8..12].copy_from_slice(&(fdem_solver::checkpoint::FORMAT - 1).to_le_bytes());
+    std::fs::write(&ck, &older).unwrap();
+    refused(&b, None, "written by an older fdem");
     let mut flipped = good.clone();
     let k = good.len() - 100;
     flipped[k] ^= 0x10;

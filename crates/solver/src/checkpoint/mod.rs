@@ -26,8 +26,8 @@ pub use pack::{Dec, DecodeError, Enc, Pack};
 
 /// The checkpoint file's name in a run folder.
 pub const FILE_NAME: &str = "checkpoint.fdem";
-/// The format version this fdem writes; it reads this one and none newer.
-pub const FORMAT: u32 = 1;
+/// The format version this fdem writes and the only one it reads.
+pub const FORMAT: u32 = 2;
 const MAGIC: &[u8; 8] = b"FDEMCKPT";
 
 /// What a checkpoint says of itself before its state.
@@ -159,6 +159,16 @@ pub fn decode_file(file: &Path, bytes: &[u8]) -> Result<Checkpoint, CheckpointEr
                 env!("CARGO_PKG_VERSION")
             ),
             "resume it with the fdem version that wrote it, or a newer one",
+        ));
+    }
+    if format < FORMAT {
+        return Err(CheckpointError::new(
+            file,
+            format!(
+                "the checkpoint has format {format}, written by an older fdem (this one reads {FORMAT}, fdem {})",
+                env!("CARGO_PKG_VERSION")
+            ),
+            "resume it with the fdem version that wrote it, or run the scene afresh",
         ));
     }
     if bytes.len() < 12 + 8 + 8 {

@@ -5,16 +5,17 @@
 //! trapezoid of the wall work), whether the bonded list was handed over, the release timer and
 //! the switch-jump energy, the shared report (maxima, counters, wall work, wall forces and
 //! displacements, first error, largest active bound), the step count (walls.csv rows), the
-//! damping books, the nodal work books (work, positions of the last booked state, the energy
-//! stored at t = 0) and the length of walls.csv.
+//! damping books, the nodal work books (work, positions and contact forces of the last booked
+//! state, the energy stored at t = 0) and the length of walls.csv. The booked forces are saved,
+//! not rebuilt from the model's last force pass, which need not be the booked one (rebuilding
+//! them moved `node_work` after a stop at step 6 692 of the frictional collision of
+//! tests/restart.rs).
 //!
 //! Not saved, rebuilt identically by the attach: the mesh arrays, body labels, laws, wall
 //! motions, masses, sampling intervals. Scratch that is written before it is read: the wall
 //! reactions (`Contact::wall_reactions` fills them), the released pairs being handed over
 //! (emptied after each hand-over), the active bound's rows, the current nodal forces
-//! (`node_force_now`, zeroed and refilled at each end of step). The nodal forces of the last
-//! booked state (`node_force`) are, between steps, those of the last force pass: restored by
-//! scattering the restored pass (the same sums in the same order). `damped` and `book_work`
+//! (`node_force_now`, zeroed and refilled at each end of step). `damped` and `book_work`
 //! come from the scene: they are saved as a check that the checkpoint is this scene's.
 
 use fdem_contact::{ContactSnapshot, ContactStats, CoupleForce, WallForce};
@@ -195,6 +196,7 @@ struct Books {
     damping_power: Option<(f64, f64)>,
     node_work: f64,
     node_x: Vec<[f64; 2]>,
+    node_force: Vec<[f64; 2]>,
     stored0: f64,
     csv_len: Option<u64>,
 }
@@ -227,6 +229,7 @@ impl ContactStage {
             e.put(&self.damping_power);
             e.put(&self.node_work);
             e.put(&self.node_x);
+            e.put(&self.node_force);
             e.put(&self.stored0);
             e.put(&self.book_work);
             e.put(&csv_len);
@@ -290,6 +293,14 @@ impl ContactStage {
                 node_x.len()
             )));
         }
+        let node_force: Vec<[f64; 2]> = d.get()?;
+        if node_force.len() != node_x.len() {
+            return Err(d.error(format!(
+                "nodal work books of {} forces for {} positions",
+                node_force.len(),
+                node_x.len()
+            )));
+        }
         let stored0 = d.get()?;
         let book_work: bool = d.get()?;
         if book_work != self.book_work {
@@ -312,6 +323,7 @@ impl ContactStage {
             damping_power,
             node_work,
             node_x,
+            node_force,
             stored0,
             csv_len,
         })
@@ -348,12 +360,8 @@ impl ContactStage {
             self.damping_dissipated = b.damping_dissipated;
             self.damping_power = b.damping_power;
             self.node_work = b.node_work;
-            let n = b.node_x.len();
-            self.node_force_now = vec![[0.0; 2]; n];
-            self.node_force = vec![[0.0; 2]; n];
-            if n > 0 {
-                self.contact.add_forces(&self.tris, &mut self.node_force);
-            }
+            self.node_force_now = vec![[0.0; 2]; b.node_x.len()];
+            self.node_force = b.node_force;
             self.node_x = b.node_x;
             self.stored0 = b.stored0;
             Ok(())
