@@ -218,10 +218,11 @@ fn a_frictional_collision_resumes_bit_for_bit() {
     }
 }
 
-/// The frictional collision of the signal test stopped at step 6 692, where the contact
-/// model's last force pass differs from the forces the nodal work books were at (they are
-/// saved in the checkpoint, not rebuilt from that pass): the energy probe's `contact_residual`
-/// continues bit for bit.
+/// The frictional collision of the signal test stopped at step 6 692, a frame step during
+/// the contact: the frame writer's force pass there (after the step's commit of the friction
+/// springs) differs from the forces the nodal work books were at, which the checkpoint saves
+/// rather than rebuilds from that pass: the energy probe's `contact_residual` continues bit
+/// for bit.
 #[test]
 fn a_stop_where_the_last_contact_pass_is_not_the_booked_one_resumes_bit_for_bit() {
     let scene = common::edited_example("disc-collision.json", "restart-6692", |v| {

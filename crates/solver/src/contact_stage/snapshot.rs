@@ -7,9 +7,10 @@
 //! displacements, first error, largest active bound), the step count (walls.csv rows), the
 //! damping books, the nodal work books (work, positions and contact forces of the last booked
 //! state, the energy stored at t = 0) and the length of walls.csv. The booked forces are saved,
-//! not rebuilt from the model's last force pass, which need not be the booked one (rebuilding
-//! them moved `node_work` after a stop at step 6 692 of the frictional collision of
-//! tests/restart.rs).
+//! not rebuilt from the model's last force pass, which need not be the booked one: the frame
+//! writer evaluates the force at a frame's state after the step's commit, and with friction
+//! that pass differs from the step's own (rebuilding the booked forces from it moved
+//! `node_work` after a stop at a frame step during contact).
 //!
 //! Not saved, rebuilt identically by the attach: the mesh arrays, body labels, laws, wall
 //! motions, masses, sampling intervals. Scratch that is written before it is read: the wall
