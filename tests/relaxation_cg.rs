@@ -92,14 +92,10 @@ fn cg_relaxation_is_thread_independent_and_equals_the_static_solve() {
     assert!(s.steps <= 3_000, "{} steps", s.steps);
     let (o2, _) = run_on(2, &scene);
     assert_eq!(o2.summary.steps, s.steps);
-    let bits = |o: &fdem_solver::driver::Outcome| -> Vec<u64> {
-        o.last_frame
-            .displacement
-            .iter()
-            .flat_map(|d| [d[0].to_bits(), d[1].to_bits()])
-            .collect()
-    };
-    assert!(bits(&o1) == bits(&o2), "1 and 2 threads differ");
+    assert!(
+        common::state_bits(&o1) == common::state_bits(&o2),
+        "1 and 2 threads differ"
+    );
 
     let st = cantilever("cg-static-120", (120, 12), "static", 1.0, |_| {});
     let w_st = tip(&common::run(&st).1);

@@ -113,15 +113,10 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
     assert!(s.kinetic_to_strain.unwrap() < 1e-9);
     let (o2, _) = run_on(2, &scene);
     assert_eq!(o2.summary.steps, s.steps);
-    let bits = |o: &fdem_solver::driver::Outcome| -> Vec<u64> {
-        o.last_frame
-            .displacement
-            .iter()
-            .chain(&o.last_frame.velocity)
-            .flat_map(|d| [d[0].to_bits(), d[1].to_bits()])
-            .collect()
-    };
-    assert!(bits(&o1) == bits(&o2), "1 and 2 threads differ");
+    assert!(
+        common::state_bits(&o1) == common::state_bits(&o2),
+        "1 and 2 threads differ"
+    );
 }
 
 /// The 360 x 36-cell cantilever (25 920 triangles) by kinetic damping to 1e-7 of a 1 N tip

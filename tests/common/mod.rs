@@ -345,3 +345,14 @@ pub fn matching_tractions(s: [f64; 3]) -> Vec<serde_json::Value> {
         serde_json::json!({"traction": {"group": "bottom", "value": [-s[2], -s[1]]}}),
     ]
 }
+
+/// The bits of the last frame's displacements and velocities: equal for two runs that are
+/// the same run bit for bit (threads, resumes).
+pub fn state_bits(o: &fdem_solver::driver::Outcome) -> Vec<u64> {
+    o.last_frame
+        .displacement
+        .iter()
+        .chain(&o.last_frame.velocity)
+        .flat_map(|d| [d[0].to_bits(), d[1].to_bits()])
+        .collect()
+}
