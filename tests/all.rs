@@ -38,6 +38,8 @@ mod contact_scenes;
 mod cracks;
 #[path = "disc_relaxation.rs"]
 mod disc_relaxation;
+#[path = "distributed.rs"]
+mod distributed;
 #[path = "extremes.rs"]
 mod extremes;
 #[path = "fracture_extremes.rs"]

@@ -159,6 +159,43 @@ impl Elements {
                 eta: 2.0 * m.damping_ratio * h * (m.youngs_modulus * m.density).sqrt(),
             });
         }
+        Ok(Elements::assemble(tris, consts, size, n_nodes, Vec::new()))
+    }
+
+    /// The elements of the triangles `keep` (increasing ids) of `self`, on the same nodes
+    /// (global node numbering, the same materials and initial stresses): the force pass of
+    /// a part of the mesh. A node's force sums its slots in increasing triangle order, as in
+    /// `self`, so a node all of whose triangles are kept gets the same force bit for bit.
+    /// Panics if `keep` is not increasing or names a triangle that does not exist.
+    pub fn subset(&self, keep: &[u32]) -> Elements {
+        assert!(
+            keep.windows(2).all(|w| w[0] < w[1]),
+            "triangles in increasing order"
+        );
+        let tris = keep.iter().map(|&t| self.tris[t as usize]).collect();
+        let size = keep.iter().map(|&t| self.size[t as usize]).collect();
+        let s0 = if self.initial_stress.is_empty() {
+            Vec::new()
+        } else {
+            keep.iter()
+                .map(|&t| self.initial_stress[t as usize])
+                .collect()
+        };
+        let mut e = Elements::assemble(tris, self.materials.clone(), size, self.n_nodes, s0);
+        // a part never takes the kernel of a wholly exploded mesh: its node ids are not 3t..3t+3
+        e.owned_nodes = false;
+        e
+    }
+
+    /// The elements from their triangles: the node -> slot list of the gather and the node
+    /// blocks of the owner-computes kernel.
+    fn assemble(
+        tris: Vec<TriData>,
+        consts: Vec<MaterialConsts>,
+        size: Vec<f64>,
+        n_nodes: usize,
+        initial_stress: Vec<Sym2>,
+    ) -> Elements {
         // Node -> slot CSR, slots in increasing order (counting sort).
         let mut offsets = vec![0u32; n_nodes + 1];
         for td in &tris {
@@ -214,7 +251,7 @@ impl Elements {
                 let b = 3 * t as u32;
                 td.nodes == [b, b + 1, b + 2]
             });
-        Ok(Elements {
+        Elements {
             tris,
             materials: consts,
             size,
@@ -226,8 +263,8 @@ impl Elements {
             block_offsets,
             block_tris,
             owned_nodes,
-            initial_stress: Vec::new(),
-        })
+            initial_stress,
+        }
     }
 
     /// Sets the initial stress of every triangle (`[xx, yy, xy]` [Pa] each, in triangle

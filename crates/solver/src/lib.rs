@@ -32,6 +32,7 @@ pub mod checkpoint;
 pub mod contact_stage;
 pub mod cracks;
 pub mod diagnosis;
+pub mod distributed;
 pub mod error;
 pub mod estimate;
 pub mod fracture_stage;
@@ -72,7 +73,7 @@ pub mod driver {
     pub use crate::load::{Loaded, load, load_text, step_count};
     pub use crate::output::{frame_from_parts, make_frame};
     pub use crate::run::{
-        ENERGY_GROWTH_BOUND, Progress, RunOptions, energy_growth, run, run_outcome,
+        ENERGY_GROWTH_BOUND, Progress, RunOptions, energy_growth, run, run_distributed, run_outcome,
     };
     pub use crate::summary::{Outcome, Summary};
 }

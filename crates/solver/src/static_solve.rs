@@ -243,6 +243,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
         loading_rate: None,
         quasi_static: None,
         interrupted: None,
+        distributed: None,
     };
     Ok((frame, summary))
 }

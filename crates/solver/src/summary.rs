@@ -98,6 +98,10 @@ pub struct Summary {
     /// and the checkpoint to resume from.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub interrupted: Option<Interrupted>,
+    /// Present for a distributed run: the ranks, this rank's share of the work and how often
+    /// the ranks exchanged (`crate::distributed`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distributed: Option<serde_json::Value>,
 }
 
 /// The quasi-static indicator: the ratio `K / (U + S)` of the kinetic energy of the free

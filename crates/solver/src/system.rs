@@ -196,6 +196,9 @@ pub struct SceneSystem {
     /// Time of the last evaluation's external loads [s].
     pub evaluations: u64,
     timing: bool,
+    /// This system's part in a distributed run (`None`: the whole system on one process).
+    pub dist: Option<crate::distributed::Distribution>,
+    dist_scratch: ForceScratch,
 }
 
 impl SceneSystem {
@@ -231,7 +234,18 @@ impl SceneSystem {
             contribution_end_times: Vec::new(),
             evaluations: 0,
             timing: true,
+            dist: None,
+            dist_scratch: ForceScratch::default(),
         }
+    }
+
+    /// Makes this system one rank's part of a distributed run: from now on it evaluates the
+    /// forces of its part's triangles at positions whose ghost entries come from their owners,
+    /// and the scheme holds the DOFs of the nodes it does not own
+    /// ([`crate::distributed`]).
+    pub fn distribute(&mut self, d: crate::distributed::Distribution) {
+        self.dist_scratch = ForceScratch::new(&d.local);
+        self.dist = Some(d);
     }
 
     /// Sets the mass-proportional damping `alpha` [1/s] (an adaptive relaxation).
@@ -271,8 +285,24 @@ impl SceneSystem {
         let clock = |on: bool| on.then(Instant::now);
         let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
         let s = clock(self.timing);
-        self.elements
-            .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+        let (xn, vn) = match &mut self.dist {
+            None => {
+                self.elements
+                    .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+                (xn, vn)
+            }
+            Some(d) => {
+                let with_v = self.elements.viscous
+                    || self.alpha > 0.0
+                    || self.contributions.iter().any(|c| c.reads_velocities());
+                d.patch(x, v, with_v);
+                let xn = d.xp.as_chunks::<2>().0;
+                let vn = if with_v { d.vp.as_chunks::<2>().0 } else { vn };
+                d.local
+                    .set_internal_forces(xn, vn, &mut self.force, &mut self.dist_scratch);
+                (xn, vn)
+            }
+        };
         if !self.internal_force.is_empty() {
             self.internal_force.copy_from_slice(&self.force);
         }
@@ -399,7 +429,10 @@ impl SecondOrderSystem for SceneSystem {
     }
 
     fn prescribed_dofs(&self) -> &[usize] {
-        &self.constrained_dofs
+        match &self.dist {
+            Some(d) => &d.layout.frozen_dofs,
+            None => &self.constrained_dofs,
+        }
     }
 
     fn prescribe(&mut self, t: f64, x: &mut [f64], v: &mut [f64]) {

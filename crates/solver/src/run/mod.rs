@@ -232,3 +232,62 @@ fn dynamic_run(
         None => Run::start(l, sys, options, &options.out_dir, wall)?.execute(observers),
     }
 }
+
+/// Runs a loaded dynamic scene as rank `comm.rank()` of `comm.size()` processes
+/// ([`crate::distributed`]): every rank takes its part of the work, and rank 0 writes the
+/// output (frames, histories, summary), identical to the single-process run's but for the
+/// summary's timings. Scenes and options a distributed run does not support are refused
+/// before anything is written ([`crate::distributed::check`]): checkpoints and `resume` are
+/// not distributed, so `options.checkpoint_every`, `stop_after`, `resume` and `stop` must be
+/// unset. Returns the outcome on every rank (the last frame is the whole state on each).
+pub fn run_distributed(
+    l: &mut Loaded,
+    options: &RunOptions,
+    comm: Box<dyn crate::distributed::Comm>,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<Outcome, RunError> {
+    use crate::distributed::{Distribution, Layout};
+    crate::distributed::check(l, comm.size())?;
+    assert!(
+        !options.resume && options.stop_after.is_none() && options.stop.is_none(),
+        "checkpoints are not distributed"
+    );
+    let options = RunOptions {
+        checkpoint_every: Some(crate::checkpoint::Every::Off),
+        ..options.clone()
+    };
+    let wall = Instant::now();
+    let (rank, size) = (comm.rank(), comm.size());
+    let mut writer = if rank == 0 {
+        Some(FrameWriter::new(&options, &l.scene.output)?)
+    } else {
+        None
+    };
+    let alpha = l.scene.damping.mass_proportional;
+    let model = std::mem::take(&mut l.model);
+    let elements = std::mem::take(&mut l.elements);
+    let mut sys = SceneSystem::new(model, elements, alpha);
+    let layout = Layout::new(&sys.model, &sys.elements, rank, size);
+    let part = Distribution::new(layout, comm, &sys.elements);
+    sys.distribute(part);
+    let outcome = {
+        let mut histories = if rank == 0 {
+            Histories::new(l, &sys.model, &options.out_dir)
+        } else {
+            None
+        };
+        let mut guard = StabilityGuard::new();
+        let mut progress = ProgressReport::new(progress);
+        let mut none = None::<ProgressReport>;
+        let observers: &mut [&mut dyn Observer] = if rank == 0 {
+            &mut [&mut guard, &mut writer, &mut histories, &mut progress]
+        } else {
+            &mut [&mut guard, &mut none]
+        };
+        Run::start(l, &mut sys, &options, &options.out_dir, wall)
+            .and_then(|run| run.execute(observers))
+    };
+    l.model = std::mem::take(&mut sys.model);
+    l.elements = std::mem::take(&mut sys.elements);
+    outcome
+}

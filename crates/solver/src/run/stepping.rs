@@ -83,7 +83,7 @@ impl<'a> Run<'a> {
             v0[d] = 0.0;
         }
         sys.prescribe(0.0, &mut x0, &mut v0);
-        let state = State::new(0.0, x0, v0);
+        let mut state = State::new(0.0, x0, v0);
         let integrator = l.scheme.build(2 * n);
         let control = StepControl::new(l, sys);
         let book_residuals = books_residuals(l);
@@ -91,6 +91,12 @@ impl<'a> Run<'a> {
         let mut acc = vec![0.0; 2 * n];
         sys.acceleration(0.0, &state.x, &state.v, &mut acc);
         let alpha = l.scene.damping.mass_proportional;
+        if let Some(d) = &mut sys.dist {
+            // the books sum over every node in every step: the whole state shared each step
+            d.every_step = alpha > 0.0 || sys.elements.viscous || !sys.internal_force.is_empty();
+            let State { x, v, .. } = &mut state;
+            d.sync(x, v, &mut sys.force, &mut sys.internal_force);
+        }
         let ledger = Books::new(&mut *sys, &state, alpha, book_residuals);
         sys.timers.setup = l.load_s + wall.elapsed().as_secs_f64();
         let method = relaxation_method(l);
@@ -142,6 +148,7 @@ impl<'a> Run<'a> {
         while !self.ended && !self.control.done(self.steps) {
             let h = self.control.next(self.sys, &self.state, self.steps);
             self.take_step(h);
+            self.share_state();
             self.ledger.step(self.sys, &self.state);
             if let Some(k) = &mut self.kinetic {
                 k.after_step(
@@ -203,6 +210,35 @@ impl<'a> Run<'a> {
         self.steps += 1;
     }
 
+    /// A distributed run after a step: the whole state shared when an observer reads it
+    /// after this step (the checks, a history row, a frame, the last step) or the books
+    /// need every node; otherwise the nodes of the loads and prescribed motions only.
+    fn share_state(&mut self) {
+        let sys = &mut *self.sys;
+        let Some(d) = &mut sys.dist else {
+            return;
+        };
+        let step = self.steps;
+        let last = self.control.is_last(step, &self.state);
+        let observed = d.every_step
+            || last
+            || step.is_multiple_of(super::CHECK_EVERY)
+            || step.is_multiple_of(history_interval(self.loaded))
+            || self.frames.due(step, self.state.t, last);
+        let State { x, v, .. } = &mut self.state;
+        if observed {
+            d.sync(x, v, &mut sys.force, &mut sys.internal_force);
+        } else {
+            d.sync_watched(x, v, &mut sys.force);
+        }
+    }
+
+    /// Whether this process writes the run's files: always, except on the ranks other than
+    /// 0 of a distributed run.
+    pub(super) fn writes(&self) -> bool {
+        self.sys.dist.as_ref().is_none_or(|d| d.rank() == 0)
+    }
+
     /// Calls `hook` on every observer in order with a view of the run (`end`: the run ends
     /// after this step; an observer's [`Flow::Stop`] sets it for those after it); returns
     /// whether the run ends.
@@ -213,13 +249,26 @@ impl<'a> Run<'a> {
         mut hook: impl FnMut(&mut dyn Observer, &mut RunView) -> Result<Flow, Halt>,
     ) -> Result<bool, Halt> {
         let last = self.steps > 0 && self.control.is_last(self.steps, &self.state);
+        // a distributed run's observers see the whole state (shared after the steps they
+        // read) and evaluate on it as the single process does, with no exchange
+        let dist = self.sys.dist.take();
         let mut run = self.view(last, end);
+        let mut result = Ok(end);
         for o in observers.iter_mut() {
-            if hook(&mut **o, &mut run)? == Flow::Stop {
-                run.end = true;
+            match hook(&mut **o, &mut run) {
+                Ok(Flow::Stop) => run.end = true,
+                Ok(Flow::Continue) => {}
+                Err(halt) => {
+                    result = Err(halt);
+                    break;
+                }
             }
         }
-        Ok(run.end)
+        if result.is_ok() {
+            result = Ok(run.end);
+        }
+        self.sys.dist = dist;
+        result
     }
 
     pub(super) fn view(&mut self, last: bool, end: bool) -> RunView<'_> {
@@ -248,7 +297,9 @@ impl<'a> Run<'a> {
         for o in observers.iter_mut() {
             o.stopped(&mut summary);
         }
-        let _ = write_summary(self.out_dir, &summary);
+        if self.writes() {
+            let _ = write_summary(self.out_dir, &summary);
+        }
         let (scene, model) = (&self.loaded.scene, &self.sys.model);
         diagnosis::unstable(
             scene,
@@ -277,12 +328,21 @@ impl<'a> Run<'a> {
         summary.kinetic_resets = self.kinetic.as_ref().map(|k| k.resets);
         summary.cg_restarts = self.conjugate.as_ref().map(|c| c.restarts);
         summary.cg_largest_rise = self.conjugate.as_ref().map(|c| c.largest_rise);
+        summary.distributed = self.sys.dist.as_ref().map(|d| d.report());
         let last = self.control.is_last(self.steps, &self.state);
+        let writes = self.writes();
+        let dist = self.sys.dist.take();
         let mut run = self.view(last, true);
         for o in observers.iter_mut() {
-            o.finish(&mut run, &mut summary)?;
+            if let Err(e) = o.finish(&mut run, &mut summary) {
+                self.sys.dist = dist;
+                return Err(e);
+            }
         }
-        write_summary(self.out_dir, &summary)?;
+        self.sys.dist = dist;
+        if writes {
+            write_summary(self.out_dir, &summary)?;
+        }
         let mut last_frame = state_frame(self.sys, &self.state);
         for c in &self.sys.contributions {
             c.frame_fields(self.state.x_nodes(), &mut last_frame);
@@ -358,6 +418,7 @@ impl<'a> Run<'a> {
             loading_rate: l.scene.loading.as_ref().map(|x| x.rate),
             quasi_static: None,
             interrupted: None,
+            distributed: None,
         }
     }
 }

@@ -1,0 +1,151 @@
+//! Which rank does what ([`Layout`]): the triangles cut into parts by recursive coordinate
+//! bisection, each node owned by the rank of its lowest-numbered triangle, and what each rank
+//! must receive from the others to evaluate the forces on its own nodes exactly.
+
+use fdem_mesh::Elements;
+
+use super::partition::rcb;
+use crate::model::Model;
+
+/// The decomposition of a model over `size` ranks, as seen from `rank`. Every rank derives
+/// the same decomposition from the same model, so the lengths of all messages are known to
+/// both sides.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// This rank.
+    pub rank: usize,
+    /// The number of ranks.
+    pub size: usize,
+    /// The part of each triangle (recursive coordinate bisection of the centroids).
+    pub tri_part: Vec<u32>,
+    /// The rank that owns each node: the part of its lowest-numbered triangle (rank 0 for a
+    /// node of no triangle).
+    pub node_owner: Vec<u32>,
+    /// The nodes of each rank, increasing.
+    pub owned_by: Vec<Vec<u32>>,
+    /// The triangles this rank evaluates: every triangle with a node of its own, increasing.
+    /// A node's triangles are then all evaluated on its owner, in the serial order.
+    pub local_tris: Vec<u32>,
+    /// The ranks this rank exchanges ghost nodes with (symmetric), increasing.
+    pub peers: Vec<usize>,
+    /// Per peer: this rank's nodes that the peer's triangles use, increasing.
+    pub send_nodes: Vec<Vec<u32>>,
+    /// Per peer: the peer's nodes that this rank's triangles use (its ghosts), increasing.
+    pub recv_nodes: Vec<Vec<u32>>,
+    /// Nodes whose state and force every rank keeps current after every step (the loaded and
+    /// the prescribed DOFs' nodes, which the energy books read every step), per owning rank,
+    /// increasing.
+    pub watched_by: Vec<Vec<u32>>,
+    /// The DOFs this rank does not integrate: the constrained ones and those of nodes it does
+    /// not own, increasing.
+    pub frozen_dofs: Vec<usize>,
+}
+
+impl Layout {
+    /// The decomposition of `model` (with its `elements`) over `size` ranks, seen from `rank`.
+    pub fn new(model: &Model, elements: &Elements, rank: usize, size: usize) -> Layout {
+        assert!(rank < size);
+        let n = model.n_nodes();
+        let centroids: Vec<[f64; 2]> = elements
+            .tris
+            .iter()
+            .map(|t| {
+                let p = t.nodes.map(|k| model.x0[k as usize]);
+                [
+                    (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                    (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+                ]
+            })
+            .collect();
+        let tri_part = rcb(&centroids, &vec![1.0; centroids.len()], size);
+        let mut node_owner = vec![u32::MAX; n];
+        for (t, td) in elements.tris.iter().enumerate() {
+            for &k in &td.nodes {
+                if node_owner[k as usize] == u32::MAX {
+                    node_owner[k as usize] = tri_part[t];
+                }
+            }
+        }
+        for o in &mut node_owner {
+            if *o == u32::MAX {
+                *o = 0;
+            }
+        }
+        let mut owned_by: Vec<Vec<u32>> = vec![Vec::new(); size];
+        for (k, &o) in node_owner.iter().enumerate() {
+            owned_by[o as usize].push(k as u32);
+        }
+        // need[q][r]: nodes owned by r that rank q's triangles use (q != r)
+        let mut local_tris = Vec::new();
+        let mut recv: Vec<Vec<u32>> = vec![Vec::new(); size];
+        let mut send: Vec<Vec<u32>> = vec![Vec::new(); size];
+        for (t, td) in elements.tris.iter().enumerate() {
+            let owners = td.nodes.map(|k| node_owner[k as usize] as usize);
+            for (a, &q) in owners.iter().enumerate() {
+                if owners[..a].contains(&q) {
+                    continue;
+                }
+                // triangle t is evaluated on rank q
+                if q == rank {
+                    local_tris.push(t as u32);
+                }
+                for (&k, &r) in td.nodes.iter().zip(&owners) {
+                    if r == q {
+                        continue;
+                    }
+                    if q == rank {
+                        recv[r].push(k);
+                    } else if r == rank {
+                        send[q].push(k);
+                    }
+                }
+            }
+        }
+        let mut peers = Vec::new();
+        let (mut send_nodes, mut recv_nodes) = (Vec::new(), Vec::new());
+        for (p, (mut s, mut r)) in send.into_iter().zip(recv).enumerate() {
+            s.sort_unstable();
+            s.dedup();
+            r.sort_unstable();
+            r.dedup();
+            if !s.is_empty() || !r.is_empty() {
+                peers.push(p);
+                send_nodes.push(s);
+                recv_nodes.push(r);
+            }
+        }
+        let mut watched: Vec<u32> = model
+            .loads
+            .iter()
+            .flat_map(|ld| ld.forces.iter().map(|(d, _)| d / 2))
+            .chain(model.prescribed.iter().map(|p| p.dof / 2))
+            .collect();
+        watched.sort_unstable();
+        watched.dedup();
+        let mut watched_by: Vec<Vec<u32>> = vec![Vec::new(); size];
+        for k in watched {
+            watched_by[node_owner[k as usize] as usize].push(k);
+        }
+        let frozen_dofs = (0..2 * n)
+            .filter(|&d| model.constrained[d] || node_owner[d / 2] as usize != rank)
+            .collect();
+        Layout {
+            rank,
+            size,
+            tri_part,
+            node_owner,
+            owned_by,
+            local_tris,
+            peers,
+            send_nodes,
+            recv_nodes,
+            watched_by,
+            frozen_dofs,
+        }
+    }
+
+    /// The nodes of this rank.
+    pub fn owned(&self) -> &[u32] {
+        &self.owned_by[self.rank]
+    }
+}

@@ -1,0 +1,261 @@
+//! Distributed runs: one scene on several processes (ranks), with results identical bit for
+//! bit to the single-process run.
+//!
+//! Every rank loads the whole scene. The triangles are cut into parts by recursive coordinate
+//! bisection ([`partition::rcb`]); each node is owned by the rank of its lowest-numbered
+//! triangle ([`Layout`]). A rank evaluates the forces of every triangle with a node of its own
+//! (its own triangles and one layer of ghost triangles), so that each of its nodes sums the
+//! forces of all its triangles in the serial order, and it integrates only its own nodes:
+//! the other DOFs are held like prescribed ones. Before each force evaluation the ranks
+//! exchange the positions (and, where the forces read them, the velocities) of the nodes
+//! their ghost triangles share ([`Distribution::patch`]). After every step the nodes of the
+//! loads and prescribed motions are shared with every rank (the energy books read them), and
+//! after each step that an observer reads (checks, histories, frames, the last step) the
+//! whole state is ([`Distribution::sync`]): every rank then holds the serial run's state,
+//! bit for bit, and the observers run on it unchanged.
+//!
+//! The transport is a [`Comm`]: MPI in the `fdem-mpi` crate, or threads of one process
+//! ([`ThreadComm`]).
+
+mod comm;
+mod layout;
+pub mod partition;
+
+pub use comm::{Comm, ThreadComm};
+pub use layout::Layout;
+
+use fdem_mesh::Elements;
+
+/// A system's part in a distributed run: its layout, transport, the elements it evaluates and
+/// the buffers of the exchanges.
+pub struct Distribution {
+    /// Who owns what.
+    pub layout: Layout,
+    comm: Box<dyn Comm>,
+    /// The triangles this rank evaluates (global node numbering).
+    pub local: Elements,
+    /// Positions as the force evaluation reads them: this rank's DOFs from the scheme's
+    /// state, the ghosts' from their owners.
+    pub xp: Vec<f64>,
+    /// Velocities, likewise (only when the forces read them).
+    pub vp: Vec<f64>,
+    send: Vec<Vec<f64>>,
+    recv: Vec<Vec<f64>>,
+    mine: Vec<f64>,
+    all: Vec<f64>,
+    /// The whole state is shared after every step (the energy books sum over every node in
+    /// every step: mass damping, element viscosity, the work of the element forces).
+    pub every_step: bool,
+    /// Exchanges done: ghost patches, watched-node and whole-state shares.
+    pub counts: [u64; 3],
+}
+
+impl Distribution {
+    /// The part of `layout`'s rank, talking through `comm`, of a system with the elements
+    /// `elements` (all triangles).
+    pub fn new(layout: Layout, comm: Box<dyn Comm>, elements: &Elements) -> Distribution {
+        assert_eq!(comm.rank(), layout.rank);
+        assert_eq!(comm.size(), layout.size);
+        let local = elements.subset(&layout.local_tris);
+        let np = layout.peers.len();
+        let n = elements.n_nodes;
+        Distribution {
+            layout,
+            comm,
+            local,
+            xp: vec![0.0; 2 * n],
+            vp: vec![0.0; 2 * n],
+            send: vec![Vec::new(); np],
+            recv: vec![Vec::new(); np],
+            mine: Vec::new(),
+            all: Vec::new(),
+            every_step: false,
+            counts: [0; 3],
+        }
+    }
+
+    /// The summary's `distributed` part: the ranks, rank 0's nodes, triangles evaluated and
+    /// ghost nodes, the largest of each over the ranks, and the exchanges.
+    pub fn report(&self) -> serde_json::Value {
+        let l = &self.layout;
+        let ghosts: usize = l.recv_nodes.iter().map(Vec::len).sum();
+        let largest = l.owned_by.iter().map(Vec::len).max().unwrap_or(0);
+        serde_json::json!({
+            "ranks": l.size,
+            "partition": "recursive coordinate bisection of the triangles",
+            "nodes_per_rank_max": largest,
+            "nodes_per_rank_min": l.owned_by.iter().map(Vec::len).min().unwrap_or(0),
+            "rank0_nodes": l.owned().len(),
+            "rank0_triangles_evaluated": l.local_tris.len(),
+            "rank0_ghost_nodes": ghosts,
+            "rank0_peers": l.peers.len(),
+            "ghost_exchanges": self.counts[0],
+            "watched_shares": self.counts[1],
+            "whole_state_shares": self.counts[2],
+        })
+    }
+
+    /// This rank.
+    pub fn rank(&self) -> usize {
+        self.layout.rank
+    }
+
+    /// Fills [`Distribution::xp`] (and, with `with_v`, [`Distribution::vp`]) for a force
+    /// evaluation at `(x, v)`: this rank's nodes from `x` and `v`, the ghosts from their
+    /// owners' calls.
+    pub fn patch(&mut self, x: &[f64], v: &[f64], with_v: bool) {
+        let w = if with_v { 4 } else { 2 };
+        for &k in self.layout.owned() {
+            let d = 2 * k as usize;
+            self.xp[d] = x[d];
+            self.xp[d + 1] = x[d + 1];
+            if with_v {
+                self.vp[d] = v[d];
+                self.vp[d + 1] = v[d + 1];
+            }
+        }
+        for (s, nodes) in self.send.iter_mut().zip(&self.layout.send_nodes) {
+            s.clear();
+            for &k in nodes {
+                let d = 2 * k as usize;
+                s.extend_from_slice(&x[d..d + 2]);
+                if with_v {
+                    s.extend_from_slice(&v[d..d + 2]);
+                }
+            }
+        }
+        for (r, nodes) in self.recv.iter_mut().zip(&self.layout.recv_nodes) {
+            r.resize(w * nodes.len(), 0.0);
+        }
+        self.comm
+            .exchange(&self.layout.peers, &self.send, &mut self.recv);
+        for (r, nodes) in self.recv.iter().zip(&self.layout.recv_nodes) {
+            for (c, &k) in r.chunks_exact(w).zip(nodes) {
+                let d = 2 * k as usize;
+                self.xp[d..d + 2].copy_from_slice(&c[..2]);
+                if with_v {
+                    self.vp[d..d + 2].copy_from_slice(&c[2..4]);
+                }
+            }
+        }
+        self.counts[0] += 1;
+    }
+
+    /// Shares the whole state after a step: every node's position, velocity and force (and
+    /// the kept internal force `fi`, when there is one) from its owner to every rank.
+    pub fn sync(&mut self, x: &mut [f64], v: &mut [f64], f: &mut [[f64; 2]], fi: &mut [[f64; 2]]) {
+        let by = std::mem::take(&mut self.layout.owned_by);
+        self.share(&by, x, v, f, fi);
+        self.layout.owned_by = by;
+        self.counts[2] += 1;
+    }
+
+    /// Shares the watched nodes' state and force (the loads' and prescribed motions' nodes)
+    /// after a step.
+    pub fn sync_watched(&mut self, x: &mut [f64], v: &mut [f64], f: &mut [[f64; 2]]) {
+        if self.layout.watched_by.iter().all(Vec::is_empty) {
+            return;
+        }
+        let by = std::mem::take(&mut self.layout.watched_by);
+        self.share(&by, x, v, f, &mut []);
+        self.layout.watched_by = by;
+        self.counts[1] += 1;
+    }
+
+    /// Each rank's nodes `by[rank]` from that rank to every rank.
+    fn share(
+        &mut self,
+        by: &[Vec<u32>],
+        x: &mut [f64],
+        v: &mut [f64],
+        f: &mut [[f64; 2]],
+        fi: &mut [[f64; 2]],
+    ) {
+        let w = if fi.is_empty() { 6 } else { 8 };
+        self.mine.clear();
+        for &k in &by[self.layout.rank] {
+            let (d, k) = (2 * k as usize, k as usize);
+            self.mine.extend_from_slice(&x[d..d + 2]);
+            self.mine.extend_from_slice(&v[d..d + 2]);
+            self.mine.extend_from_slice(&f[k]);
+            if !fi.is_empty() {
+                self.mine.extend_from_slice(&fi[k]);
+            }
+        }
+        let counts: Vec<usize> = by.iter().map(|b| w * b.len()).collect();
+        self.all.resize(counts.iter().sum(), 0.0);
+        self.comm.all_gather(&self.mine, &counts, &mut self.all);
+        let mut at = 0;
+        for (r, nodes) in by.iter().enumerate() {
+            for &k in nodes {
+                if r != self.layout.rank {
+                    let (d, k) = (2 * k as usize, k as usize);
+                    let c = &self.all[at..at + w];
+                    x[d..d + 2].copy_from_slice(&c[..2]);
+                    v[d..d + 2].copy_from_slice(&c[2..4]);
+                    f[k] = [c[4], c[5]];
+                    if !fi.is_empty() {
+                        fi[k] = [c[6], c[7]];
+                    }
+                }
+                at += w;
+            }
+        }
+    }
+}
+
+/// Refuses what a distributed run does not do yet, before anything is written: each error
+/// names the scene's field and the fix. `size` is the number of ranks.
+pub fn check(l: &crate::load::Loaded, size: usize) -> Result<(), crate::error::SceneError> {
+    use crate::scene::{Analysis, TimeStep};
+    let file = &l.file;
+    let one = "run it as one process (`fdem run SCENE`, or `srun -n 1` in a job): its \
+               threads use the machine's cores";
+    let bad = |path: &str, what: &str| {
+        Err(crate::error::SceneError::invalid(
+            file,
+            path,
+            format!("{what}; this scene cannot be run on {size} processes"),
+            one,
+        ))
+    };
+    let tris = l.elements.len();
+    if size > tris {
+        return Err(crate::error::SceneError::invalid(
+            file,
+            "bodies",
+            format!(
+                "{size} processes for {tris} triangles: each process needs a triangle of its own"
+            ),
+            format!("start at most {tris} processes (`mpirun -np {tris}`)"),
+        ));
+    }
+    if l.scene.analysis == Analysis::Static {
+        return bad(
+            "analysis",
+            "a static analysis is one sparse solve, done by one process",
+        );
+    }
+    if l.scene.analysis == Analysis::Relaxation {
+        return bad("analysis", "a relaxation runs on one process");
+    }
+    if l.scene.contact.is_some() {
+        return bad("contact", "contact is not yet detected across processes");
+    }
+    if l.scene.fracture.is_some() || !l.contributions.is_empty() {
+        return bad("fracture", "joints are not yet evaluated across processes");
+    }
+    if l.scheme != fdem_time::SchemeKind::CentralDifference {
+        return bad(
+            "integrator.scheme",
+            "a distributed run steps with central difference only",
+        );
+    }
+    if l.scene.integrator.time_step == TimeStep::Adaptive {
+        return bad(
+            "integrator.time_step",
+            "an adaptive step is not distributed",
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! Distributed runs against the single-process run. The ranks here are threads of the test
+//! process talking through channels (`ThreadComm`): the same decomposition, exchanges and
+//! output as under MPI (`tests/mpi/mpi_runs.sh` runs them through `mpirun`). Known answer:
+//! the single-process run's files, byte for byte.
+
+use std::path::{Path, PathBuf};
+
+use fdem_solver::distributed::ThreadComm;
+use fdem_solver::driver::{self, Outcome, RunOptions};
+
+use crate::common::{edited_example, root, temp_dir};
+
+/// Runs `scene` on `size` ranks (threads) into `out`; the outcome of each rank.
+fn run_ranks(scene: &Path, size: usize, out: &Path) -> Vec<Result<Outcome, String>> {
+    let comms = ThreadComm::ranks(size);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = comms
+            .into_iter()
+            .map(|c| {
+                s.spawn(move || {
+                    let mut l = driver::load(scene).map_err(|e| e.to_string())?;
+                    let options = RunOptions {
+                        out_dir: out.to_path_buf(),
+                        ..Default::default()
+                    };
+                    driver::run_distributed(&mut l, &options, Box::new(c), &mut |_| {})
+                        .map_err(|e| e.to_string())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+/// Runs `scene` in one process into `out`.
+fn run_serial(scene: &Path, out: &Path) -> Outcome {
+    let mut l = driver::load(scene).unwrap();
+    let options = RunOptions {
+        out_dir: out.to_path_buf(),
+        ..Default::default()
+    };
+    driver::run_outcome(&mut l, &options, &mut |_| {}).unwrap()
+}
+
+/// The files of a run folder but `summary.json` (its timings differ from run to run), sorted.
+fn files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap() != "summary.json")
+        .collect();
+    v.sort();
+    v
+}
+
+/// Asserts that the folders hold the same files with the same bytes; returns their number.
+fn assert_same_files(serial: &Path, other: &Path) -> usize {
+    let (a, b) = (files(serial), files(other));
+    let names = |v: &[PathBuf]| -> Vec<String> {
+        v.iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect()
+    };
+    assert_eq!(names(&a), names(&b), "the same files");
+    for (p, q) in a.iter().zip(&b) {
+        let (x, y) = (std::fs::read(p).unwrap(), std::fs::read(q).unwrap());
+        assert!(
+            x == y,
+            "{} differs from the single-process run's",
+            q.display()
+        );
+    }
+    a.len()
+}
+
+/// The single-process run and the runs on 2, 3 and 4 ranks of `scene`: the same files, the
+/// same end state and the same summary but for its timings.
+/// Returns, per rank count, how often the whole state was shared.
+fn compare(scene: &Path, tag: &str) -> Vec<u64> {
+    let mut shares = Vec::new();
+    let dir = temp_dir(tag);
+    let serial = run_serial(scene, &dir.join("np1"));
+    for size in [2, 3, 4] {
+        let out = dir.join(format!("np{size}"));
+        let outcomes = run_ranks(scene, size, &out);
+        let n = assert_same_files(&dir.join("np1"), &out);
+        assert!(n >= 3, "frames, pvd and histories compared ({n} files)");
+        for o in outcomes {
+            let o = o.unwrap_or_else(|e| panic!("{size} ranks: {e}"));
+            assert_eq!(
+                crate::common::state_bits(&o),
+                crate::common::state_bits(&serial)
+            );
+            assert_eq!(o.summary.steps, serial.summary.steps);
+            assert_eq!(
+                o.summary.energy.error.to_bits(),
+                serial.summary.energy.error.to_bits()
+            );
+        }
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["steps"], serde_json::json!(serial.summary.steps));
+        let d = &summary["distributed"];
+        assert_eq!(d["ranks"], serde_json::json!(size));
+        shares.push(d["whole_state_shares"].as_u64().unwrap());
+    }
+    shares
+}
+
+#[test]
+fn the_bar_pulse_on_2_3_and_4_ranks_writes_the_single_process_files_byte_for_byte() {
+    // a pressure on the left end (loaded DOFs, shared with every rank after each step),
+    // histories every step (the whole state shared after each step)
+    let shares = compare(&root().join("examples/bar-pulse.json"), "dist-bar");
+    assert!(
+        shares.iter().all(|&s| s > 1000),
+        "shared after every step: {shares:?}"
+    );
+}
+
+#[test]
+fn the_cantilever_with_sparse_histories_on_2_3_and_4_ranks_is_the_single_process_run() {
+    // a clamped end and a tip load; histories every 37 steps and 7 frames, so that most steps
+    // share only the ghosts and the loaded nodes
+    let scene = edited_example("cantilever-vibration.json", "dist-cantilever", |v| {
+        // without the energy probe, whose work of the element forces sums over every node
+        // in every step (and so shares the whole state after each)
+        v["histories"] = serde_json::json!({
+            "every": 37, "probes": [ { "displacement": { "group": "tip" } } ]
+        });
+        v["output"]["frames"] = serde_json::json!(7);
+    });
+    let shares = compare(&scene, "dist-cantilever-runs");
+    // the whole state after 1 step in 27 (checks every 100, rows every 37, frames, the last)
+    assert!(
+        shares.iter().all(|&s| s < 1000),
+        "shared when observed only: {shares:?}"
+    );
+}
+
+#[test]
+fn what_a_distributed_run_does_not_do_is_refused_with_its_field_before_anything_is_written() {
+    let dir = temp_dir("dist-refused");
+    let cases = [
+        ("disc-collision.json", 2, "at `contact`"),
+        ("notched-beam-fracture.json", 2, "at `fracture`"),
+        ("cantilever-relaxation.json", 2, "at `analysis`"),
+        ("cantilever-static.json", 2, "at `analysis`"),
+    ];
+    for (name, size, path) in cases {
+        let out = dir.join(name);
+        let errors = run_ranks(&root().join("examples").join(name), size, &out);
+        for e in errors {
+            let e = e.err().expect(name);
+            assert!(
+                e.contains(path) && e.contains("fix: run it as one process"),
+                "{name}: {e}"
+            );
+        }
+        assert!(!out.exists(), "{name}: nothing written");
+    }
+    // more ranks than triangles: a bar of 2 triangles on 3 ranks
+    let scene = crate::common::edited_example("bar-pulse.json", "dist-tiny", |_| {});
+    let mesh = scene.parent().unwrap().join("two.json");
+    std::fs::write(
+        &mesh,
+        serde_json::json!({
+            "nodes": [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+            "triangles": [[0, 1, 2], [0, 2, 3]],
+            "groups": [
+                { "name": "bar", "dim": 2, "triangles": [0, 1] },
+                { "name": "left", "dim": 1, "edges": [[3, 0]] }
+            ]
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    v["bodies"][0]["mesh"] = serde_json::json!(mesh.display().to_string());
+    v["histories"] = serde_json::json!({ "every": 1, "probes": [] });
+    v["output"] = serde_json::json!({ "frames": 1 });
+    std::fs::write(&scene, v.to_string()).unwrap();
+    let out = dir.join("tiny");
+    for e in run_ranks(&scene, 3, &out) {
+        let e = e.err().expect("3 ranks for 2 triangles");
+        assert!(
+            e.contains("3 processes for 2 triangles") && e.contains("at most 2"),
+            "{e}"
+        );
+    }
+    assert!(!out.exists());
+}
