@@ -7,8 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --workspace --locked --release
-if compgen -G "tests/python/*.sh" >/dev/null; then
-  for t in tests/python/*.sh; do
+if compgen -G "tests/python/*.sh" >/dev/null || compgen -G "tests/mpi/*.sh" >/dev/null; then
+  for t in tests/python/*.sh tests/mpi/*.sh; do
     echo "== $t"
     bash "$t"
   done

@@ -131,10 +131,13 @@ fn main() -> ExitCode {
         Err(e) => {
             // The whole chain of causes on one line, no backtrace: the message says the fix.
             // (Messages quote input through `fdem_solver::excerpt`; `shorten` is a last guard.)
-            eprintln!(
-                "error: {}",
-                fdem_solver::shorten_to(&format!("{e:#}"), 4000)
-            );
+            // (a distributed run's error is printed by rank 0 only)
+            if !cmd::run_mpi::QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+                eprintln!(
+                    "error: {}",
+                    fdem_solver::shorten_to(&format!("{e:#}"), 4000)
+                );
+            }
             ExitCode::from(exit_code(&e))
         }
     }

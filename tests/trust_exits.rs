@@ -747,7 +747,10 @@ fn a_run_started_as_one_of_several_launcher_processes_is_refused() {
             err.contains(&format!("one of 2 processes ({var}=2")),
             "{err}"
         );
-        assert!(err.contains("fix: start it once"), "{err}");
+        assert!(
+            err.contains("fix: build it with MPI") && err.contains("or start it once"),
+            "{err}"
+        );
         assert!(!out.exists(), "{var}: the run wrote {}", out.display());
     }
     let out = dir.join("one");

@@ -4,3 +4,4 @@ pub mod check;
 pub mod info;
 pub mod plot;
 pub mod run;
+pub mod run_mpi;

@@ -60,38 +60,13 @@ fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBuf> {
     Ok(scene)
 }
 
-/// The variables a parallel launcher sets in each process it starts, with the number of
-/// processes: Open MPI's `mpirun`, MPICH and Intel MPI (`PMI_SIZE`), and a Slurm job step
-/// (`srun -n N`).
-const LAUNCHER_SIZES: [&str; 3] = ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "SLURM_STEP_NUM_TASKS"];
-
-/// Refuses a run started as one of several processes of a parallel launcher (`mpirun -np N`,
-/// `srun -n N`): this build runs a scene in one process, so each process would run the whole
-/// scene and all would write the same files at once.
-fn refuse_parallel_launch() -> Result<()> {
-    for var in LAUNCHER_SIZES {
-        let Some(n) = std::env::var(var)
-            .ok()
-            .and_then(|v| v.trim().parse::<u64>().ok())
-        else {
-            continue;
-        };
-        if n > 1 {
-            return Err(crate::bad_input(format!(
-                "fdem was started as one of {n} processes ({var}={n}: `mpirun -np {n}` or \
-                 `srun -n {n}`), but it runs a scene in one process, on threads: the {n} \
-                 processes would each run the whole scene and write the same files at once\n  \
-                 fix: start it once (`fdem run SCENE`, `srun -n 1` in a job); its threads are \
-                 the cores (RAYON_NUM_THREADS sets them)"
-            )));
-        }
-    }
-    Ok(())
-}
-
 /// Runs a scene (or resumes a run), writing into `out` (default `results/<scene name>`).
 pub fn run(args: RunArgs) -> Result<()> {
-    refuse_parallel_launch()?;
+    // one of several processes of a parallel launcher (`mpirun -np N`, `srun -n N`): a
+    // distributed run, or its refusal in a build without MPI
+    if let Some((n, var)) = fdem_mpi::launched_among().filter(|&(n, _)| n > 1) {
+        return super::run_mpi::run(args, n, var);
+    }
     let RunArgs {
         scene,
         out,

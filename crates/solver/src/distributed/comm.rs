@@ -10,7 +10,7 @@ use std::time::Duration;
 /// operations in the same order; the lengths of the messages are agreed beforehand (both sides
 /// derive them from the same partition), so a length that does not match is a programming
 /// error (a panic).
-pub trait Comm: Send {
+pub trait Comm {
     /// This process's rank.
     fn rank(&self) -> usize;
     /// The number of ranks.

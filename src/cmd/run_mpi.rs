@@ -1,0 +1,110 @@
+//! `mpirun -np N fdem run SCENE` (or `srun -n N`): one distributed run over the job's
+//! processes (`fdem_solver::distributed`), through MPI (`fdem-mpi`, built with the `mpi`
+//! feature). Rank 0 prints and writes; the other ranks compute their parts and stay quiet.
+
+use std::sync::atomic::AtomicBool;
+
+use anyhow::Result;
+
+use super::run::RunArgs;
+
+/// Set on the ranks other than 0 of a distributed run: they print no error (rank 0 prints it
+/// once).
+pub static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Runs `args` as one of the `n` processes the launcher's variable `var` announced.
+pub fn run(args: RunArgs, n: usize, var: &str) -> Result<()> {
+    // the launcher's rank of this process: only rank 0 prints an error
+    let rank = ["OMPI_COMM_WORLD_RANK", "PMI_RANK", "SLURM_PROCID"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.trim().parse::<u64>().ok());
+    QUIET.store(
+        rank.is_some_and(|r| r > 0),
+        std::sync::atomic::Ordering::Relaxed,
+    );
+    if !fdem_mpi::BUILT_WITH_MPI {
+        return Err(crate::bad_input(format!(
+            "fdem was started as one of {n} processes ({var}={n}: `mpirun -np {n}` or \
+             `srun -n {n}`), but this fdem was built without MPI: the {n} processes would each \
+             run the whole scene and write the same files at once\n  fix: build it with MPI \
+             (`cargo build --release --features mpi`, with Open MPI's development files and \
+             libclang installed: docs/howto-distributed.md), or start it once (`fdem run \
+             SCENE`); its threads are the cores (RAYON_NUM_THREADS sets them)"
+        )));
+    }
+    if args.resume.is_some() || args.stop_after.is_some() || args.checkpoint_every.is_some() {
+        return Err(crate::bad_input(
+            "--resume, --stop-after and --checkpoint-every are not distributed: a run on \
+             several processes writes no checkpoint\n  fix: leave them out, or run as one \
+             process (`fdem run SCENE ...`)",
+        ));
+    }
+    let mpi = fdem_mpi::Mpi::init().map_err(anyhow::Error::msg)?;
+    run_on(&mpi, args)
+}
+
+#[cfg(feature = "mpi")]
+fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
+    use fdem_solver::distributed::Comm;
+    use fdem_solver::driver::{self, Progress, RunOptions};
+    use std::path::PathBuf;
+    use std::sync::atomic::Ordering;
+    let comm = mpi.comm();
+    let (rank, size) = (comm.rank(), comm.size());
+    QUIET.store(rank != 0, Ordering::Relaxed);
+    let scene = args.scene.expect("clap requires a scene without --resume");
+    let out = args.out.unwrap_or_else(|| {
+        let stem = scene
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into());
+        PathBuf::from("results").join(stem)
+    });
+    // every rank loads the scene (the same checks, so a bad scene fails on every rank alike)
+    let mut loaded = driver::load(&scene)?;
+    if rank == 0 {
+        eprintln!("{}", loaded.describe());
+        eprintln!("distributed over {size} processes");
+    }
+    let options = RunOptions {
+        out_dir: out.clone(),
+        raw: args.raw,
+        ..Default::default()
+    };
+    let mut last = -1.0f64;
+    let start = std::time::Instant::now();
+    let mut progress = |p: &Progress| {
+        let f = p.fraction();
+        if rank == 0 && (f - last >= 0.1 || f >= 1.0 && last < 1.0) {
+            last = f;
+            eprintln!(
+                "{:5.1}%  t = {:.4e} s  step {}  wall {:.1} s",
+                100.0 * f,
+                p.time,
+                p.step,
+                start.elapsed().as_secs_f64()
+            );
+        }
+    };
+    match driver::run_distributed(&mut loaded, &options, Box::new(comm), &mut progress) {
+        Ok(outcome) => {
+            if rank == 0 {
+                println!("{}", outcome.summary.describe());
+                println!("results in {}", out.display());
+            }
+            Ok(())
+        }
+        // a file rank 0 could not write: the other ranks do not know, so the job ends here
+        Err(e @ fdem_solver::RunError::Output { .. }) => {
+            eprintln!("error: {e}");
+            mpi.abort(1)
+        }
+        // the scene's refusals and the run's checks fail on every rank alike
+        Err(e) => Err(e.into()),
+    }
+}
+
+#[cfg(not(feature = "mpi"))]
+fn run_on(_: &fdem_mpi::Mpi, _: RunArgs) -> Result<()> {
+    unreachable!("Mpi::init fails without the mpi feature")
+}
