@@ -51,10 +51,15 @@ fn split(
         cut += 1;
     }
     // each side keeps at least as many points as it has parts, where it can
-    let cut = cut.clamp(
+    let (lo, hi) = (
         left_parts.min(ids.len()),
-        ids.len() - (parts - left_parts).min(ids.len()),
+        ids.len().saturating_sub(parts - left_parts),
     );
+    let cut = if lo <= hi {
+        cut.clamp(lo, hi)
+    } else {
+        ids.len() * left_parts / parts
+    };
     let (l, r) = ids.split_at_mut(cut);
     split(points, weights, l, first, left_parts, part);
     split(

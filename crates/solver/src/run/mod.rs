@@ -37,6 +37,7 @@ mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
 mod conjugate;
+pub mod distributed;
 mod frames;
 mod histories;
 mod kinetic;
@@ -237,7 +238,7 @@ fn dynamic_run(
 /// ([`crate::distributed`]): every rank takes its part of the work, and rank 0 writes the
 /// output (frames, histories, summary), identical to the single-process run's but for the
 /// summary's timings. Scenes and options a distributed run does not support are refused
-/// before anything is written ([`crate::distributed::check`]): checkpoints and `resume` are
+/// before anything is written ([`distributed::check`]): checkpoints and `resume` are
 /// not distributed, so `options.checkpoint_every`, `stop_after`, `resume` and `stop` must be
 /// unset. Returns the outcome on every rank (the last frame is the whole state on each).
 pub fn run_distributed(
@@ -247,7 +248,7 @@ pub fn run_distributed(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Outcome, RunError> {
     use crate::distributed::{Distribution, Layout};
-    crate::distributed::check(l, comm.size())?;
+    distributed::check(l, comm.size())?;
     assert!(
         !options.resume && options.stop_after.is_none() && options.stop.is_none(),
         "checkpoints are not distributed"

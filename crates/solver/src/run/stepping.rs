@@ -222,7 +222,7 @@ impl<'a> Run<'a> {
         let last = self.control.is_last(step, &self.state);
         let observed = d.every_step
             || last
-            || step.is_multiple_of(super::CHECK_EVERY)
+            || step.is_multiple_of(super::stability::CHECK_EVERY)
             || step.is_multiple_of(history_interval(self.loaded))
             || self.frames.due(step, self.state.t, last);
         let State { x, v, .. } = &mut self.state;
