@@ -472,6 +472,14 @@ impl SceneSystem {
             }
         };
         if !self.contributions.is_empty() {
+            // a distributed run's stages see the whole state, gathered from the owners
+            let (x, v) = match &mut self.dist {
+                Some(d) if d.stages_replicated => {
+                    d.gather_all(x, v, true);
+                    (&d.xp[..], &d.vp[..])
+                }
+                _ => (x, v),
+            };
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
             if self.timing {

@@ -48,6 +48,9 @@ pub struct Distribution {
     pub every_step: bool,
     /// Exchanges done: ghost patches, watched-node and whole-state shares.
     pub counts: [u64; 3],
+    /// The stages (contact, joints) run whole on every rank: every force evaluation and
+    /// end of step gathers the whole positions and velocities first.
+    pub stages_replicated: bool,
 }
 
 impl Distribution {
@@ -71,7 +74,47 @@ impl Distribution {
             all: Vec::new(),
             every_step: false,
             counts: [0; 3],
+            stages_replicated: false,
         }
+    }
+
+    /// With `on`, the system's stages (contact, joints) run whole on every rank, on the whole
+    /// positions and velocities gathered before each force evaluation and end of step; the
+    /// whole state is then also shared after every step.
+    pub fn replicate_stages(&mut self, on: bool) {
+        self.stages_replicated = on;
+        self.every_step |= on;
+    }
+
+    /// Gathers the whole positions and velocities from their owners into
+    /// [`Distribution::xp`] and [`Distribution::vp`] (`with_v`: the velocities too).
+    pub fn gather_all(&mut self, x: &[f64], v: &[f64], with_v: bool) {
+        let w = if with_v { 4 } else { 2 };
+        let rank = self.layout.rank;
+        self.mine.clear();
+        for &k in &self.layout.owned_by[rank] {
+            let d = 2 * k as usize;
+            self.mine.extend_from_slice(&x[d..d + 2]);
+            if with_v {
+                self.mine.extend_from_slice(&v[d..d + 2]);
+            }
+        }
+        let counts: Vec<usize> = self.layout.owned_by.iter().map(|b| w * b.len()).collect();
+        self.all.resize(counts.iter().sum(), 0.0);
+        self.comm.all_gather(&self.mine, &counts, &mut self.all);
+        let mut at = 0;
+        for nodes in &self.layout.owned_by {
+            for &k in nodes {
+                let d = 2 * k as usize;
+                let c = &self.all[at..at + w];
+                self.xp[d..d + 2].copy_from_slice(&c[..2]);
+                if with_v {
+                    self.vp[d..d + 2].copy_from_slice(&c[2..4]);
+                }
+                at += w;
+            }
+        }
+        self.counts[0] += 1;
     }
 
     /// The summary's `distributed` part: the ranks, rank 0's nodes, triangles evaluated and
@@ -104,6 +147,9 @@ impl Distribution {
     /// evaluation at `(x, v)`: this rank's nodes from `x` and `v`, the ghosts from their
     /// owners' calls.
     pub fn patch(&mut self, x: &[f64], v: &[f64], with_v: bool) {
+        if self.stages_replicated {
+            return self.gather_all(x, v, with_v);
+        }
         let w = if with_v { 4 } else { 2 };
         for &k in self.layout.owned() {
             let d = 2 * k as usize;

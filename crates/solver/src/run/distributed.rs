@@ -36,12 +36,6 @@ pub fn check(l: &crate::load::Loaded, size: usize) -> Result<(), crate::error::S
     if l.scene.analysis == Analysis::Relaxation {
         return bad("analysis", "a relaxation runs on one process");
     }
-    if l.scene.contact.is_some() {
-        return bad("contact", "contact is not yet detected across processes");
-    }
-    if l.scene.fracture.is_some() || !l.contributions.is_empty() {
-        return bad("fracture", "joints are not yet evaluated across processes");
-    }
     if l.scheme != fdem_time::SchemeKind::CentralDifference {
         return bad(
             "integrator.scheme",

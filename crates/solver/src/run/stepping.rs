@@ -68,14 +68,25 @@ impl<'a> Run<'a> {
         out_dir: &'a Path,
         wall: Instant,
     ) -> Result<Self, RunError> {
-        crate::stages::attach(
+        // the stages' files (walls.csv, fractures.csv) are written by rank 0 of a
+        // distributed run only
+        let stage_dir = sys
+            .dist
+            .as_ref()
+            .is_none_or(|d| d.rank() == 0)
+            .then_some(out_dir);
+        crate::stages::attach_to(
             &l.scene,
             &l.file,
             &mut *sys,
             l.dt,
-            out_dir,
+            stage_dir,
             history_interval(l),
+            false,
         )?;
+        if let Some(d) = &mut sys.dist {
+            d.replicate_stages(!sys.contributions.is_empty());
+        }
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -93,7 +104,10 @@ impl<'a> Run<'a> {
         let alpha = l.scene.damping.mass_proportional;
         if let Some(d) = &mut sys.dist {
             // the books sum over every node in every step: the whole state shared each step
-            d.every_step = alpha > 0.0 || sys.elements.viscous || !sys.internal_force.is_empty();
+            d.every_step = d.every_step
+                || alpha > 0.0
+                || sys.elements.viscous
+                || !sys.internal_force.is_empty();
             let State { x, v, .. } = &mut state;
             d.sync(x, v, &mut sys.force, &mut sys.internal_force);
         }
