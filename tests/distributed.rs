@@ -164,6 +164,23 @@ fn the_fracturing_disc_on_2_and_4_ranks_writes_the_single_process_files_byte_for
         "dist-disc",
         &[2, 4],
     );
+    // each rank evaluated its own joints and those that cross to another rank only
+    let dir = temp_dir("dist-disc-share");
+    let out = dir.join("np2");
+    let o = run_ranks(
+        &root().join("examples/brazilian-disc-fracture.json"),
+        2,
+        &out,
+    );
+    let rank0 = o[0].as_ref().unwrap().summary.stages["fracture"].clone();
+    let (all, mine) = (
+        rank0["joints"].as_u64().unwrap(),
+        rank0["rank_joints"].as_u64().unwrap(),
+    );
+    assert!(
+        mine < all * 3 / 5,
+        "rank 0 of 2 evaluates {mine} of {all} joints"
+    );
 }
 
 #[test]

@@ -90,6 +90,14 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
         Ok(outcome) => {
             if rank == 0 {
                 println!("{}", outcome.summary.describe());
+                // the load-displacement curve of a fracturing scene, as a single process draws it
+                if out.join("fractures.csv").exists() {
+                    let dirs = std::slice::from_ref(&out);
+                    match super::plot::load_displacement(dirs, None, None, None, None) {
+                        Ok(files) => println!("load-displacement curve: {}", files[0].display()),
+                        Err(e) => eprintln!("no load-displacement curve: {e:#}"),
+                    }
+                }
                 println!("results in {}", out.display());
             }
             Ok(())

@@ -51,7 +51,8 @@ json.dump(s, open(sys.argv[1], "w"))
 PY
 
 checked=0
-for scene in examples/bar-pulse.json "$work/cantilever.json"; do
+for scene in examples/bar-pulse.json "$work/cantilever.json" examples/disc-collision.json \
+  examples/brazilian-disc-fracture.json examples/block-compression-fracture.json; do
   name=$(basename "$scene" .json)
   "$bin" run "$scene" --out "$work/$name-np1" >/dev/null 2>&1
   # the default build's single-process run: the MPI build changes nothing of it
@@ -78,11 +79,11 @@ done
 
 # refusals: exit code 2 from the job, the field named once, nothing written
 set +e
-"${mpi[@]}" -np 2 "$bin" run examples/disc-collision.json --out "$work/refused" >/dev/null 2>"$work/err"
+"${mpi[@]}" -np 2 "$bin" run examples/cantilever-relaxation.json --out "$work/refused" >/dev/null 2>"$work/err"
 code=$?
 set -e
-[ "$code" = 2 ] || { echo "FAIL: contact scene on 2 processes: exit $code" >&2; cat "$work/err" >&2; exit 1; }
-[ "$(grep -c 'at `contact`' "$work/err")" = 1 ] || { echo "FAIL: the error once, at contact" >&2; cat "$work/err" >&2; exit 1; }
+[ "$code" = 2 ] || { echo "FAIL: relaxation on 2 processes: exit $code" >&2; cat "$work/err" >&2; exit 1; }
+[ "$(grep -c 'at `analysis`' "$work/err")" = 1 ] || { echo "FAIL: the error once, at analysis" >&2; cat "$work/err" >&2; exit 1; }
 [ ! -e "$work/refused" ] || { echo "FAIL: a refused run wrote files" >&2; exit 1; }
-echo "ok: a scene with contact on 2 processes is refused at \`contact\` (exit 2, nothing written)"
+echo "ok: a relaxation on 2 processes is refused at \`analysis\` (exit 2, the message once, nothing written)"
 echo "MPI checks: $checked distributed runs identical to the single-process run"

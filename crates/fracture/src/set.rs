@@ -137,6 +137,39 @@ impl JointSet {
         Ok(set)
     }
 
+    /// The joints `keep` (increasing ids) of `self`, on the same nodes and materials: the
+    /// joint pass of a part of the model. A node's joint forces are summed in increasing joint
+    /// order, as in `self`, so a node all of whose joints are kept gets the same sum bit for
+    /// bit. Panics if `keep` is not increasing or names a joint that does not exist.
+    pub fn subset(&self, keep: &[u32]) -> JointSet {
+        assert!(
+            keep.windows(2).all(|w| w[0] < w[1]),
+            "joints in increasing order"
+        );
+        fn pick<T: Clone>(v: &[T], keep: &[u32]) -> Vec<T> {
+            keep.iter().map(|&j| v[j as usize].clone()).collect()
+        }
+        let mut set = JointSet {
+            nodes: pick(&self.nodes, keep),
+            triangles: pick(&self.triangles, keep),
+            ref_length: pick(&self.ref_length, keep),
+            material: pick(&self.material, keep),
+            consts: pick(&self.consts, keep),
+            materials: self.materials.clone(),
+            thickness: self.thickness,
+            n_nodes: self.n_nodes,
+            node_offsets: Vec::new(),
+            node_slots: Vec::new(),
+            initial_offsets: if self.initial_offsets.is_empty() {
+                Vec::new()
+            } else {
+                pick(&self.initial_offsets, keep)
+            },
+        };
+        set.build_node_map();
+        set
+    }
+
     /// The node-to-joint map ([`JointSet::node_offsets`], [`JointSet::node_slots`]): a
     /// counting sort, so the slots stay in increasing order per node.
     fn build_node_map(&mut self) {

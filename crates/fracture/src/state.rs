@@ -240,6 +240,21 @@ impl JointState {
         0.5 * (d[0] + d[1])
     }
 
+    /// The state of the joints `keep` (increasing ids, as [`crate::JointSet::subset`]): their
+    /// histories, intact flags and break times, generation 0; the totals (initial stored
+    /// energy, energy released at breaks, broken count) are those of `self`.
+    pub fn subset(&self, keep: &[u32]) -> JointState {
+        JointState {
+            history: keep.iter().map(|&j| self.history[j as usize]).collect(),
+            intact: keep.iter().map(|&j| self.intact[j as usize]).collect(),
+            broken_at: keep.iter().map(|&j| self.broken_at[j as usize]).collect(),
+            stored_initial: self.stored_initial,
+            released_at_break: self.released_at_break,
+            n_broken: self.n_broken,
+            generation: 0,
+        }
+    }
+
     /// Totals over all joints, summed in joint order.
     pub fn energy(&self) -> JointEnergy {
         let mut e = JointEnergy {

@@ -54,6 +54,7 @@ use crate::system::{ForceContribution, StageReport};
 
 #[cfg(test)]
 mod checkpoint_tests;
+mod distributed;
 
 /// Explodes body `bi`'s mesh when fracture regions name the body (as
 /// [`crate::resolve::resolve`] found them in `refs`): the union of their groups (the whole
@@ -307,6 +308,12 @@ pub struct FractureStage {
     /// [`ForceContribution::next_evaluation_ends_step`], cleared by that evaluation; never
     /// set between steps, so not in checkpoints).
     ends_step: bool,
+    /// In a distributed run: this rank's joints ([`distributed::LocalJoints`]).
+    local: Option<distributed::LocalJoints>,
+    /// The force passes evaluate `local` (the run's steps of a distributed run).
+    partial: bool,
+    /// The joints newly softened at the last commit (global ids, increasing).
+    softened: Vec<u32>,
 }
 
 impl FractureStage {
@@ -396,6 +403,9 @@ impl FractureStage {
                 csv_wanted: out_dir.is_some(),
                 write_properties: false,
                 ends_step: false,
+                local: None,
+                partial: false,
+                softened: Vec::new(),
             },
             bonded,
             report,
@@ -506,7 +516,7 @@ impl FractureStage {
         } else {
             commit_joints
         };
-        let n = commit(
+        commit(
             &self.set,
             &mut self.state,
             x,
@@ -514,6 +524,16 @@ impl FractureStage {
             &mut self.scratch,
             &mut self.events,
         );
+        self.softened.clear();
+        self.softened
+            .extend_from_slice(self.scratch.newly_softened());
+        self.after_commit();
+    }
+
+    /// What follows a commit whose breaks are in `self.events` and whose newly softened
+    /// joints are in `self.softened` (both in joint order, global ids), with `self.state`
+    /// holding the breaks: the star releases, the report and `fractures.csv`.
+    fn after_commit(&mut self) {
         // Stars stop bonding at the first softening of one of their joints (damage > 0 at
         // either point) or its break, and a break releases the joint's own pair. One scan of
         // every joint at the first step (a joint may start damaged or broken), then only the
@@ -523,7 +543,7 @@ impl FractureStage {
         let mut b = self.bonded.lock().unwrap_or_else(|e| e.into_inner());
         let n_before = b.released.len();
         if self.stars_scanned {
-            for &j in self.scratch.newly_softened() {
+            for &j in &self.softened {
                 let j = j as usize;
                 if self.bond_state[j] == 0 {
                     self.stars.release_stars(j, &mut b.released);
@@ -539,11 +559,16 @@ impl FractureStage {
             }
         } else {
             for (j, st) in self.bond_state.iter_mut().enumerate() {
+                // damaged after the commit (in a distributed run the histories here are
+                // those before it, and the newly softened joints say the rest)
                 let d = self.state.history[j].damage;
                 if !self.state.intact[j] {
                     self.stars.break_joint(j, &mut b.released);
                     *st = 2;
-                } else if d[0] > 0.0 || d[1] > 0.0 {
+                } else if d[0] > 0.0
+                    || d[1] > 0.0
+                    || self.softened.binary_search(&(j as u32)).is_ok()
+                {
                     self.stars.release_stars(j, &mut b.released);
                     *st = 1;
                 }
@@ -561,7 +586,7 @@ impl FractureStage {
             self.released_pairs += n_released as u64;
             self.release_s += t0.elapsed().as_secs_f64();
         }
-        if n == 0 {
+        if self.events.is_empty() {
             return;
         }
         let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
@@ -700,6 +725,14 @@ impl ForceContribution for FractureStage {
     }
 
     fn add_forces(&mut self, _t: f64, x: &[[f64; 2]], _v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+        if let Some(l) = self.local.as_mut().filter(|_| self.partial) {
+            if std::mem::take(&mut self.ends_step) {
+                accumulate_joint_forces_committing(&l.set, &mut l.state, x, &mut l.scratch, f);
+            } else {
+                accumulate_joint_forces(&l.set, &l.state, x, &mut l.scratch, f);
+            }
+            return;
+        }
         if std::mem::take(&mut self.ends_step) {
             // the step's commit follows at these positions: the new histories go straight
             // into the state (no trial copy to write and swap)
@@ -711,6 +744,48 @@ impl ForceContribution for FractureStage {
 
     fn next_evaluation_ends_step(&mut self) {
         self.ends_step = true;
+    }
+
+    /// Takes this rank's joints: those with a node of its own.
+    fn distribute(&mut self, layout: &crate::distributed::Layout) {
+        let mut l = distributed::LocalJoints::new(&self.set, &self.state, layout);
+        // the time crate says when the commit is at the last pass's positions
+        l.scratch.set_position_check(false);
+        self.local = Some(l);
+    }
+
+    fn set_partial(&mut self, on: bool) {
+        self.partial = on;
+    }
+
+    fn end_of_step_distributed(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        at_last: bool,
+        comm: &mut dyn crate::distributed::Comm,
+    ) {
+        let Some(l) = &mut self.local else {
+            return self.end_step(t, x, at_last);
+        };
+        let _ = v;
+        l.commit_and_share(
+            t,
+            x,
+            at_last,
+            comm,
+            &mut self.state,
+            &mut self.softened,
+            &mut self.events,
+        );
+        self.after_commit();
+    }
+
+    fn share(&mut self, comm: &mut dyn crate::distributed::Comm) {
+        if let Some(l) = &mut self.local {
+            l.share_histories(comm, &mut self.state);
+        }
     }
 
     /// The joints' forces depend on the positions and the committed history only.
@@ -752,6 +827,8 @@ impl ForceContribution for FractureStage {
                 "dissipated": e.dissipated,
                 "released_at_break": e.released_at_break,
                 "work": e.work,
+                // in a distributed run: the joints this rank evaluates
+                "rank_joints": self.local.as_ref().map(|l| l.ids.len()),
             }),
             ..StageReport::default()
         }

@@ -104,6 +104,34 @@ pub trait ForceContribution: Send {
     fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
         None
     }
+    /// A distributed run ([`crate::distributed`]) starts on `layout`: a term that can evaluate
+    /// only the part of this rank takes its part here (default: the term runs whole on every
+    /// rank, on the gathered state).
+    fn distribute(&mut self, _layout: &crate::distributed::Layout) {}
+    /// In a distributed run: evaluate this rank's part (`true`: the run's steps) or the whole
+    /// term on the whole state (`false`: the observers, at the steps where the state is
+    /// shared). Default: nothing (the term is whole anyway).
+    fn set_partial(&mut self, _on: bool) {}
+    /// The end-of-step hook of a distributed run, with the transport; `at_last` as for
+    /// [`ForceContribution::end_of_step_at_last_evaluation`]. Every rank calls it at every
+    /// step. Default: the single-process hook.
+    fn end_of_step_distributed(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        at_last: bool,
+        _comm: &mut dyn crate::distributed::Comm,
+    ) {
+        if at_last {
+            self.end_of_step_at_last_evaluation(t, x, v);
+        } else {
+            self.end_of_step(t, x, v);
+        }
+    }
+    /// In a distributed run, at each step whose state the observers read: makes the term's
+    /// whole state current on every rank. Every rank calls it. Default: nothing.
+    fn share(&mut self, _comm: &mut dyn crate::distributed::Comm) {}
     /// The joints as the nodal stress recovery needs them (node ids, intact flags): a term
     /// with joints (the fracture stage) hands them out so that no patch crosses a broken
     /// joint (default: none).
@@ -285,6 +313,7 @@ impl SceneSystem {
         let clock = |on: bool| on.then(Instant::now);
         let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
         let s = clock(self.timing);
+        let partial = self.dist.is_some();
         let (xn, vn) = match &mut self.dist {
             None => {
                 self.elements
@@ -323,6 +352,9 @@ impl SceneSystem {
         }
         if !self.contributions.is_empty() {
             let s = clock(self.timing);
+            for c in &mut self.contributions {
+                c.set_partial(partial);
+            }
             if self.timing {
                 self.contribution_times
                     .resize(self.contributions.len(), 0.0);
@@ -464,6 +496,27 @@ impl SecondOrderSystem for SceneSystem {
 impl SceneSystem {
     /// The contributions' end-of-step hooks; `at_last` when the last evaluation was at `x`.
     fn end_contributions(&mut self, t: f64, x: &[f64], v: &[f64], at_last: bool) {
+        if self.contributions.is_empty() {
+            return;
+        }
+        // a distributed run's stages see the whole state, gathered from the owners, and get
+        // the transport
+        if let Some(d) = &mut self.dist {
+            d.gather_all(x, v, true);
+            let (xp, vp, comm) = d.gathered();
+            let (xn, vn) = (xp.as_chunks::<2>().0, vp.as_chunks::<2>().0);
+            let n = self.contributions.len();
+            self.contribution_times.resize(n, 0.0);
+            self.contribution_end_times.resize(n, 0.0);
+            for (k, c) in self.contributions.iter_mut().enumerate() {
+                let sc = Instant::now();
+                c.end_of_step_distributed(t, xn, vn, at_last, comm);
+                let dt = sc.elapsed().as_secs_f64();
+                self.contribution_times[k] += dt;
+                self.contribution_end_times[k] += dt;
+            }
+            return;
+        }
         let end = |c: &mut Box<dyn ForceContribution>, xn: &[[f64; 2]], vn: &[[f64; 2]]| {
             if at_last {
                 c.end_of_step_at_last_evaluation(t, xn, vn);
@@ -471,15 +524,7 @@ impl SceneSystem {
                 c.end_of_step(t, xn, vn);
             }
         };
-        if !self.contributions.is_empty() {
-            // a distributed run's stages see the whole state, gathered from the owners
-            let (x, v) = match &mut self.dist {
-                Some(d) if d.stages_replicated => {
-                    d.gather_all(x, v, true);
-                    (&d.xp[..], &d.vp[..])
-                }
-                _ => (x, v),
-            };
+        {
             let xn = x.as_chunks::<2>().0;
             let vn = v.as_chunks::<2>().0;
             if self.timing {

@@ -138,6 +138,16 @@ impl Distribution {
         })
     }
 
+    /// The gathered positions and velocities with the transport (the stages' end of step).
+    pub fn gathered(&mut self) -> (&[f64], &[f64], &mut dyn Comm) {
+        (&self.xp, &self.vp, &mut *self.comm)
+    }
+
+    /// The transport (for the stages' own exchanges).
+    pub fn comm(&mut self) -> &mut dyn Comm {
+        &mut *self.comm
+    }
+
     /// This rank.
     pub fn rank(&self) -> usize {
         self.layout.rank

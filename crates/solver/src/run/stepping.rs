@@ -86,6 +86,9 @@ impl<'a> Run<'a> {
         )?;
         if let Some(d) = &mut sys.dist {
             d.replicate_stages(!sys.contributions.is_empty());
+            for c in &mut sys.contributions {
+                c.distribute(&d.layout);
+            }
         }
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
@@ -242,6 +245,9 @@ impl<'a> Run<'a> {
         let State { x, v, .. } = &mut self.state;
         if observed {
             d.sync(x, v, &mut sys.force, &mut sys.internal_force);
+            for c in &mut sys.contributions {
+                c.share(d.comm());
+            }
         } else {
             d.sync_watched(x, v, &mut sys.force);
         }
