@@ -502,7 +502,12 @@ impl SceneSystem {
         // a distributed run's stages see the whole state, gathered from the owners, and get
         // the transport
         if let Some(d) = &mut self.dist {
-            d.gather_all(x, v, true);
+            // at the last evaluation's positions the gathered ones are still those; the
+            // velocities are gathered when a stage reads them
+            let with_v = self.contributions.iter().any(|c| c.reads_velocities());
+            if !at_last || with_v {
+                d.gather_all(x, v, with_v);
+            }
             let (xp, vp, comm) = d.gathered();
             let (xn, vn) = (xp.as_chunks::<2>().0, vp.as_chunks::<2>().0);
             let n = self.contributions.len();

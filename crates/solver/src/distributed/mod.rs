@@ -78,12 +78,10 @@ impl Distribution {
         }
     }
 
-    /// With `on`, the system's stages (contact, joints) run whole on every rank, on the whole
-    /// positions and velocities gathered before each force evaluation and end of step; the
-    /// whole state is then also shared after every step.
+    /// With `on`, the system's stages (contact, joints) see the whole positions and
+    /// velocities, gathered before each force evaluation and end of step.
     pub fn replicate_stages(&mut self, on: bool) {
         self.stages_replicated = on;
-        self.every_step |= on;
     }
 
     /// Gathers the whole positions and velocities from their owners into
