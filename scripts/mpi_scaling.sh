@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Strong and weak scaling of distributed runs on this machine: the elastic cantilever on the
 # fine mesh (9 378 triangles, 21 000 central-difference steps), one process on 1 and 2
-# threads against `mpirun -np 1` and `-np 2` (one thread per process); and the weak
-# counterpart: two such cantilevers (18 756 triangles) on 2 processes against one on 1.
+# threads against `mpirun -np 1` and `-np 2` (one thread per process); the weak
+# counterpart: two such cantilevers (18 756 triangles) on 2 processes against one on 1; and
+# the fracturing Brazilian disc (864 triangles, 1 260 joints, contact with the platens;
+# without the energy probe) the same ways.
 # Alternates the variants REPEAT times (default 3) and prints each run's triangle-steps per
 # second (rank 0's stepping time) and wall time, then the medians. Needs the MPI build
 # (tests/mpi/mpi_runs.sh makes it: target/mpi/release/fdem).
@@ -34,6 +36,10 @@ two["boundary_conditions"] = [
 ]
 two["histories"] = {"every": 1000, "probes": [{"displacement": {"body": "upper", "group": "tip"}}]}
 json.dump(two, open(f"{w}/two.json", "w"))
+d = json.load(open("examples/brazilian-disc-fracture.json"))
+d["bodies"][0]["mesh"] = os.path.abspath(os.path.join("examples", d["bodies"][0]["mesh"]))
+d["histories"] = {"every": 50, "probes": []}
+json.dump(d, open(f"{w}/disc.json", "w"))
 PY
 run() { # label, command...
   local label=$1; shift
@@ -53,6 +59,9 @@ for ((k = 0; k < repeat; k++)); do
   RAYON_NUM_THREADS=1 run "mpirun -np 2" mpirun -np 2 "$bin" run "$work/one.json"
   RAYON_NUM_THREADS=1 run "weak: 2 beams, 1 process, 1 thread" "$bin" run "$work/two.json"
   RAYON_NUM_THREADS=1 run "weak: 2 beams, mpirun -np 2" mpirun -np 2 "$bin" run "$work/two.json"
+  RAYON_NUM_THREADS=1 run "disc: 1 process, 1 thread" "$bin" run "$work/disc.json"
+  RAYON_NUM_THREADS=2 run "disc: 1 process, 2 threads" "$bin" run "$work/disc.json"
+  RAYON_NUM_THREADS=1 run "disc: mpirun -np 2" mpirun -np 2 "$bin" run "$work/disc.json"
 done
 echo "medians (triangle-steps/s, wall s):"
 python3 - "$work/rows" <<'PY'
