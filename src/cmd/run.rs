@@ -60,6 +60,25 @@ fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBuf> {
     Ok(scene)
 }
 
+/// The progress without a terminal: a line on stderr every tenth of the run and at its end.
+pub fn progress_lines() -> impl FnMut(&Progress) {
+    let start = Instant::now();
+    let mut last = -1.0f64;
+    move |p: &Progress| {
+        let f = p.fraction();
+        if f - last >= 0.1 || f >= 1.0 && last < 1.0 {
+            last = f;
+            eprintln!(
+                "{:5.1}%  t = {:.4e} s  step {}  wall {:.1} s",
+                100.0 * f,
+                p.time,
+                p.step,
+                start.elapsed().as_secs_f64()
+            );
+        }
+    }
+}
+
 /// Runs a scene (or resumes a run), writing into `out` (default `results/<scene name>`).
 pub fn run(args: RunArgs) -> Result<()> {
     // one of several processes of a parallel launcher (`mpirun -np N`, `srun -n N`): a
@@ -117,21 +136,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         bar.finish_and_clear();
         s?
     } else {
-        let start = Instant::now();
-        let mut last = -1.0f64;
-        driver::run_outcome(&mut loaded, &options, &mut |p: &Progress| {
-            let f = p.fraction();
-            if f - last >= 0.1 || f >= 1.0 && last < 1.0 {
-                last = f;
-                eprintln!(
-                    "{:5.1}%  t = {:.4e} s  step {}  wall {:.1} s",
-                    100.0 * f,
-                    p.time,
-                    p.step,
-                    start.elapsed().as_secs_f64()
-                );
-            }
-        })?
+        driver::run_outcome(&mut loaded, &options, &mut progress_lines())?
     };
     let summary = &outcome.summary;
     println!("{}", summary.describe());

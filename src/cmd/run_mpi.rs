@@ -71,19 +71,11 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
         raw: args.raw,
         ..Default::default()
     };
-    let mut last = -1.0f64;
-    let start = std::time::Instant::now();
+    // rank 0 reports the progress
+    let mut lines = super::run::progress_lines();
     let mut progress = |p: &Progress| {
-        let f = p.fraction();
-        if rank == 0 && (f - last >= 0.1 || f >= 1.0 && last < 1.0) {
-            last = f;
-            eprintln!(
-                "{:5.1}%  t = {:.4e} s  step {}  wall {:.1} s",
-                100.0 * f,
-                p.time,
-                p.step,
-                start.elapsed().as_secs_f64()
-            );
+        if rank == 0 {
+            lines(p)
         }
     };
     match driver::run_distributed(&mut loaded, &options, Box::new(comm), &mut progress) {
