@@ -244,3 +244,94 @@ fn what_a_distributed_run_does_not_do_is_refused_with_its_field_before_anything_
     }
     assert!(!out.exists());
 }
+
+/// Runs `scene` on `size` ranks (threads, or one process for 1) into `out` with `options`.
+fn run_with(scene: &Path, size: usize, options: RunOptions) -> Vec<Result<Outcome, String>> {
+    if size == 1 {
+        let mut l = driver::load(scene).unwrap();
+        return vec![driver::run_outcome(&mut l, &options, &mut |_| {}).map_err(|e| e.to_string())];
+    }
+    let comms = ThreadComm::ranks(size);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = comms
+            .into_iter()
+            .map(|c| {
+                let options = options.clone();
+                s.spawn(move || {
+                    let mut l = driver::load(scene).map_err(|e| e.to_string())?;
+                    driver::run_distributed(&mut l, &options, Box::new(c), &mut |_| {})
+                        .map_err(|e| e.to_string())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
+#[test]
+fn a_distributed_checkpoint_is_the_single_process_one_and_resumes_on_any_number_of_ranks() {
+    // the fracturing disc (joints, contact, platens) stopped at step 20 000: on 2 ranks and
+    // resumed on 2, on 1 and on 4; on 1 process and resumed on 3 ranks: every file of each
+    // equals the run that never stopped
+    let scene = root().join("examples/brazilian-disc-fracture.json");
+    let dir = temp_dir("dist-restart");
+    let straight = dir.join("straight");
+    run_serial(&scene, &straight);
+    let cases: [(usize, usize); 4] = [(2, 2), (2, 1), (2, 4), (1, 3)];
+    for (first, then) in cases {
+        let out = dir.join(format!("np{first}-then-np{then}"));
+        let stopped = run_with(
+            &scene,
+            first,
+            RunOptions {
+                out_dir: out.clone(),
+                stop_after: Some(20_000),
+                ..Default::default()
+            },
+        );
+        for r in stopped {
+            let e = r.err().expect("stopped");
+            assert!(e.contains("stop_after"), "{e}");
+        }
+        let resumed = run_with(
+            &scene,
+            then,
+            RunOptions {
+                out_dir: out.clone(),
+                resume: true,
+                ..Default::default()
+            },
+        );
+        for r in resumed {
+            r.unwrap_or_else(|e| panic!("{first} then {then} ranks: {e}"));
+        }
+        // the checkpoint is left in the folder of a resumed run
+        let n = assert_same_files_but(&straight, &out, &["checkpoint.fdem"]);
+        assert!(n > 60, "{n} files");
+    }
+}
+
+/// [`assert_same_files`], leaving out the files named in `except` too.
+fn assert_same_files_but(serial: &Path, other: &Path, except: &[&str]) -> usize {
+    let keep = |v: Vec<PathBuf>| -> Vec<PathBuf> {
+        v.into_iter()
+            .filter(|p| !except.iter().any(|e| p.file_name().unwrap() == *e))
+            .collect()
+    };
+    let (a, b) = (keep(files(serial)), keep(files(other)));
+    let names = |v: &[PathBuf]| -> Vec<String> {
+        v.iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect()
+    };
+    assert_eq!(names(&a), names(&b), "the same files");
+    for (p, q) in a.iter().zip(&b) {
+        let (x, y) = (std::fs::read(p).unwrap(), std::fs::read(q).unwrap());
+        assert!(
+            x == y,
+            "{} differs from the run that never stopped",
+            q.display()
+        );
+    }
+    a.len()
+}

@@ -29,7 +29,7 @@ pub struct RunArgs {
 
 /// SIGINT and SIGTERM: the first sets `stop` to the signal's number (the run stops after its
 /// step with a checkpoint), a second one ends the process at once (code 128 + the number).
-fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
+pub(super) fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let stop = Arc::new(AtomicUsize::new(0));
     let armed = Arc::new(AtomicBool::new(false));
@@ -42,7 +42,7 @@ fn stop_on_signals() -> Result<Arc<AtomicUsize>> {
 }
 
 /// The scene of a resumed run: the one given, else the one the checkpoint names.
-fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBuf> {
+pub(super) fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBuf> {
     if let Some(s) = scene {
         return Ok(s);
     }

@@ -32,13 +32,6 @@ pub fn run(args: RunArgs, n: usize, var: &str) -> Result<()> {
              SCENE`); its threads are the cores (RAYON_NUM_THREADS sets them)"
         )));
     }
-    if args.resume.is_some() || args.stop_after.is_some() || args.checkpoint_every.is_some() {
-        return Err(crate::bad_input(
-            "--resume, --stop-after and --checkpoint-every are not distributed: a run on \
-             several processes writes no checkpoint\n  fix: leave them out, or run as one \
-             process (`fdem run SCENE ...`)",
-        ));
-    }
     let mpi = fdem_mpi::Mpi::init().map_err(anyhow::Error::msg)?;
     run_on(&mpi, args)
 }
@@ -52,8 +45,14 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
     let comm = mpi.comm();
     let (rank, size) = (comm.rank(), comm.size());
     QUIET.store(rank != 0, Ordering::Relaxed);
-    let scene = args.scene.expect("clap requires a scene without --resume");
-    let out = args.out.unwrap_or_else(|| {
+    let scene = match &args.resume {
+        Some(dir) => super::run::resumed_scene(dir, args.scene.clone())?,
+        None => args
+            .scene
+            .clone()
+            .expect("clap requires a scene without --resume"),
+    };
+    let out = args.resume.clone().or(args.out.clone()).unwrap_or_else(|| {
         let stem = scene
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -66,10 +65,15 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
         eprintln!("{}", loaded.describe());
         eprintln!("distributed over {size} processes");
     }
+    // SIGINT and SIGTERM (mpirun passes them to every process): rank 0's stop is taken up
+    // by every rank within a few steps, with a checkpoint (exit code 4)
     let options = RunOptions {
         out_dir: out.clone(),
         raw: args.raw,
-        ..Default::default()
+        checkpoint_every: args.checkpoint_every,
+        stop: Some(super::run::stop_on_signals()?),
+        stop_after: args.stop_after,
+        resume: args.resume.is_some(),
     };
     // rank 0 reports the progress
     let mut lines = super::run::progress_lines();

@@ -196,6 +196,10 @@ pub struct ContactStage {
     /// `1/sqrt(m_i)` per node (0 without mass).
     inv_sqrt_mass: Vec<f64>,
     csv: Option<std::io::BufWriter<std::fs::File>>,
+    /// An output folder was given (`walls.csv` is written where there are walls): a stage
+    /// without one (`fdem check`'s sample, the ranks other than 0 of a distributed run)
+    /// resumes a checkpoint whose run wrote the file.
+    csv_wanted: bool,
     csv_every: u64,
     steps: u64,
     /// Some law (pair or wall) has contact damping: its dissipation is booked.
@@ -313,6 +317,7 @@ impl ContactStage {
                 .map(|m| if *m > 0.0 { 1.0 / m.sqrt() } else { 0.0 })
                 .collect(),
             csv,
+            csv_wanted: out_dir.is_some(),
             csv_every: csv_every.max(1),
             steps: 0,
             damped: false,

@@ -63,6 +63,8 @@ pub struct Dec<'a> {
     pos: usize,
     /// The section being read (for messages).
     section: String,
+    /// Where the section being read ends.
+    section_end: usize,
 }
 
 impl<'a> Dec<'a> {
@@ -72,6 +74,7 @@ impl<'a> Dec<'a> {
             buf,
             pos: 0,
             section: String::new(),
+            section_end: buf.len(),
         }
     }
 
@@ -91,6 +94,11 @@ impl<'a> Dec<'a> {
         let s = &self.buf[self.pos..self.pos + n];
         self.pos += n;
         Ok(s)
+    }
+
+    /// Passes over the rest of the section being read (a reader that does not need it).
+    pub fn skip_rest(&mut self) {
+        self.pos = self.section_end.max(self.pos);
     }
 
     /// Bytes not read yet.
@@ -124,7 +132,9 @@ impl<'a> Dec<'a> {
         if self.remaining() < len {
             return Err(self.error(format!("ends {} bytes early", len - self.remaining())));
         }
+        let outer_end = std::mem::replace(&mut self.section_end, start + len);
         let v = body(self)?;
+        self.section_end = outer_end;
         if self.pos - start != len {
             return Err(self.error(format!(
                 "read {} of its {len} bytes (the checkpoint was written by another build?)",

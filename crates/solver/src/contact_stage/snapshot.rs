@@ -337,6 +337,7 @@ impl ContactStage {
             let snap = self.read_snapshot(d)?;
             let b = self.read_books(d)?;
             match (&self.csv, b.csv_len) {
+                (None, Some(_)) if !self.csv_wanted => {}
                 (None, Some(_)) => {
                     return Err(d.error("walls.csv of the run being resumed cannot be opened"));
                 }

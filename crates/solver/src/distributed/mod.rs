@@ -204,6 +204,41 @@ impl Distribution {
         self.counts[2] += 1;
     }
 
+    /// Shares a per-DOF array (two values per node, e.g. the scheme's cached acceleration)
+    /// from each node's owner to every rank.
+    pub fn share_dofs(&mut self, a: &mut [f64]) {
+        let rank = self.layout.rank;
+        self.mine.clear();
+        for &k in &self.layout.owned_by[rank] {
+            let d = 2 * k as usize;
+            self.mine.extend_from_slice(&a[d..d + 2]);
+        }
+        let counts: Vec<usize> = self.layout.owned_by.iter().map(|b| 2 * b.len()).collect();
+        self.all.resize(counts.iter().sum(), 0.0);
+        self.comm.all_gather(&self.mine, &counts, &mut self.all);
+        let mut at = 0;
+        for nodes in &self.layout.owned_by {
+            for &k in nodes {
+                let d = 2 * k as usize;
+                a[d..d + 2].copy_from_slice(&self.all[at..at + 2]);
+                at += 2;
+            }
+        }
+    }
+
+    /// Rank 0's `flags` on every rank (rank 0's decisions: a wall-clock checkpoint due, a
+    /// stop signal).
+    pub fn from_rank0(&mut self, flags: &mut [f64]) {
+        let mut counts = vec![0; self.layout.size];
+        counts[0] = flags.len();
+        let mine: Vec<f64> = if self.layout.rank == 0 {
+            flags.to_vec()
+        } else {
+            Vec::new()
+        };
+        self.comm.all_gather(&mine, &counts, flags);
+    }
+
     /// Shares the watched nodes' state and force (the loads' and prescribed motions' nodes)
     /// after a step.
     pub fn sync_watched(&mut self, x: &mut [f64], v: &mut [f64], f: &mut [[f64; 2]]) {

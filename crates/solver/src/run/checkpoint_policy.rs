@@ -9,6 +9,10 @@ use super::options::RunOptions;
 use crate::checkpoint::{CheckpointWriter, DEFAULT_EVERY, Every};
 use crate::load::Loaded;
 
+/// In a distributed run, rank 0's wall-clock checkpoint interval and stop signal are taken up
+/// by all ranks at the steps that are multiples of this (one message per such step).
+pub const AGREE_EVERY: u64 = 16;
+
 /// When a run writes checkpoints and when it stops.
 #[derive(Debug)]
 pub struct Checkpointing {
@@ -51,6 +55,46 @@ impl Checkpointing {
             Every::Seconds(s) => self.last.elapsed().as_secs_f64() >= s,
             Every::Off => false,
         }
+    }
+
+    /// A distributed run's decision after step `step`, the same on every rank: why it stops
+    /// and whether a checkpoint is due. The step count's checkpoints and `stop_after` are the
+    /// same on every rank; the wall-clock interval and a signal are rank 0's, shared (through
+    /// `share`, which gets `[due, signal]` and returns rank 0's) at the steps that are
+    /// multiples of `agree_every`.
+    pub(super) fn agreed(
+        &self,
+        step: u64,
+        agree_every: u64,
+        share: impl FnOnce(&mut [f64]),
+    ) -> (Option<&'static str>, bool) {
+        let after = self
+            .stop_after
+            .is_some_and(|n| step >= n)
+            .then_some("stop_after");
+        let (mut due, seconds) = match self.every {
+            Every::Steps(n) => (step.is_multiple_of(n), false),
+            Every::Seconds(_) => (false, true),
+            Every::Off => (false, false),
+        };
+        let mut signal = None;
+        if (seconds || self.stop.is_some()) && step.is_multiple_of(agree_every) {
+            let mut flags = [
+                f64::from(u8::from(seconds && self.due(step))),
+                self.stop
+                    .as_ref()
+                    .map_or(0.0, |s| s.load(Ordering::Relaxed) as f64),
+            ];
+            share(&mut flags);
+            due |= flags[0] != 0.0;
+            signal = match flags[1] as usize {
+                0 => None,
+                2 => Some("SIGINT"),
+                15 => Some("SIGTERM"),
+                _ => Some("signal"),
+            };
+        }
+        (signal.or(after), due)
     }
 
     /// Why the run should stop after step `step`, if it should.

@@ -190,6 +190,7 @@ impl<'a> Run<'a> {
     pub(super) fn encode(
         &mut self,
         observers: &mut [&mut dyn Observer],
+        scheme: &SchemeState,
     ) -> Result<Vec<u8>, RunError> {
         let mut e = Enc::with_capacity(64 * self.state.x.len());
         let wall = self.wall_before + self.wall.elapsed().as_secs_f64();
@@ -205,7 +206,7 @@ impl<'a> Run<'a> {
             e.put(&self.state.x);
             e.put(&self.state.v);
         });
-        e.section("scheme", |e| e.put(&self.integrator.save_state()));
+        e.section("scheme", |e| e.put(scheme));
         e.section("control", |e| self.control.save(e));
         e.section("ledger", |e| self.ledger.save(e));
         e.section("system", |e| self.sys.save(e));
@@ -242,7 +243,19 @@ impl<'a> Run<'a> {
         wait: bool,
     ) -> Result<(), RunError> {
         let s = Instant::now();
-        let state = self.encode(observers)?;
+        let mut scheme = self.integrator.save_state();
+        if let Some(d) = &mut self.sys.dist {
+            // the scheme's cached acceleration of every DOF from its owner (each rank holds
+            // its own DOFs' only); the rest of the state is whole at this step
+            d.share_dofs(&mut scheme.a);
+            if d.rank() != 0 {
+                // rank 0 writes the checkpoint
+                self.checkpoints.last = Instant::now();
+                self.checkpoints.any = true;
+                return Ok(());
+            }
+        }
+        let state = self.encode(observers, &scheme)?;
         let (l, model) = (self.loaded, &self.sys.model);
         let hashes = *self
             .checkpoints
@@ -274,10 +287,28 @@ impl<'a> Run<'a> {
         &mut self,
         observers: &mut [&mut dyn Observer],
     ) -> Result<(), RunError> {
-        if let Some(reason) = self.checkpoints.stop_reason(self.steps) {
+        let (stop, due) = match &mut self.sys.dist {
+            None => (
+                self.checkpoints.stop_reason(self.steps),
+                self.checkpoints.due(self.steps),
+            ),
+            Some(d) => {
+                let decided = self.checkpoints.agreed(
+                    self.steps,
+                    super::checkpoint_policy::AGREE_EVERY,
+                    |f| d.from_rank0(f),
+                );
+                if decided.0.is_some() || decided.1 {
+                    // a checkpoint: every rank makes the whole state current
+                    self.share_whole();
+                }
+                decided
+            }
+        };
+        if let Some(reason) = stop {
             return Err(self.interrupt(reason, observers));
         }
-        if self.checkpoints.due(self.steps) {
+        if due {
             self.write_checkpoint(observers, false)?;
         }
         Ok(())
@@ -287,6 +318,15 @@ impl<'a> Run<'a> {
     fn interrupt(&mut self, reason: &str, observers: &mut [&mut dyn Observer]) -> RunError {
         if let Err(e) = self.write_checkpoint(observers, true) {
             return e;
+        }
+        if !self.writes() {
+            // rank 0 wrote the checkpoint and writes the summary
+            return RunError::Interrupted {
+                reason: reason.to_string(),
+                step: self.steps,
+                time: self.state.t,
+                checkpoint: self.checkpoints.writer.path().to_path_buf(),
+            };
         }
         let energy = self.ledger.ledger(
             self.sys,
@@ -327,12 +367,17 @@ impl<'a> Run<'a> {
         let started = Instant::now();
         let file = out_dir.join(crate::checkpoint::FILE_NAME);
         let bad = |e: DecodeError| unreadable(&file, e);
+        let stage_dir = sys
+            .dist
+            .as_ref()
+            .is_none_or(|d| d.rank() == 0)
+            .then_some(out_dir);
         crate::stages::attach_to(
             &l.scene,
             &l.file,
             &mut *sys,
             l.dt,
-            Some(out_dir),
+            stage_dir,
             super::stepping::history_interval(l),
             true,
         )?;
@@ -432,6 +477,8 @@ impl<'a> Run<'a> {
                 d.error(format!("{} bytes after the last section", d.remaining()))
             ));
         }
+        // a distributed run's parts, from the whole restored state
+        super::stepping::distribute_stages(run.sys, l.scene.damping.mass_proportional);
         // this process's set-up (the load and the restore), not the checkpointed run's
         run.sys.timers.setup = l.load_s + started.elapsed().as_secs_f64();
         Ok(run)

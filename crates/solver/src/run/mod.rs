@@ -51,7 +51,7 @@ mod stepping;
 
 use std::time::Instant;
 
-pub use checkpoint_policy::Checkpointing;
+pub use checkpoint_policy::{AGREE_EVERY, Checkpointing};
 pub use checkpoints::{check_belongs, header, mesh_hash, scene_hash};
 pub use frames::{FrameClock, FrameWriter, state_frame};
 pub use histories::Histories;
@@ -236,11 +236,14 @@ fn dynamic_run(
 
 /// Runs a loaded dynamic scene as rank `comm.rank()` of `comm.size()` processes
 /// ([`crate::distributed`]): every rank takes its part of the work, and rank 0 writes the
-/// output (frames, histories, summary), identical to the single-process run's but for the
-/// summary's timings. Scenes and options a distributed run does not support are refused
-/// before anything is written ([`distributed::check`]): checkpoints and `resume` are
-/// not distributed, so `options.checkpoint_every`, `stop_after`, `resume` and `stop` must be
-/// unset. Returns the outcome on every rank (the last frame is the whole state on each).
+/// output (frames, histories, summary, checkpoints), identical to the single-process run's but
+/// for the summary's timings. Scenes a distributed run does not support are refused before
+/// anything is written ([`distributed::check`]). Checkpoints are the single-process run's,
+/// written by rank 0 at a step where every rank holds the whole state; `options.resume`
+/// continues from one on any number of ranks. A wall-clock checkpoint interval and a stop
+/// signal (`options.stop`) are rank 0's, taken up by all ranks at the next step that is a
+/// multiple of [`AGREE_EVERY`]. Returns the outcome on every rank (the last frame is the
+/// whole state on each).
 pub fn run_distributed(
     l: &mut Loaded,
     options: &RunOptions,
@@ -249,20 +252,21 @@ pub fn run_distributed(
 ) -> Result<Outcome, RunError> {
     use crate::distributed::{Distribution, Layout};
     distributed::check(l, comm.size())?;
-    assert!(
-        !options.resume && options.stop_after.is_none() && options.stop.is_none(),
-        "checkpoints are not distributed"
-    );
-    let options = RunOptions {
-        checkpoint_every: Some(crate::checkpoint::Every::Off),
-        ..options.clone()
-    };
     let wall = Instant::now();
     let (rank, size) = (comm.rank(), comm.size());
-    let mut writer = if rank == 0 {
-        Some(FrameWriter::new(&options, &l.scene.output)?)
+    let resume = if options.resume {
+        let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
+        let cp = crate::checkpoint::read(&file)?;
+        check_belongs(l, &file, &cp.header)?;
+        checkpoints::keep_time_step(l, &cp.header);
+        Some(cp)
     } else {
         None
+    };
+    let mut writer = match (rank, &resume) {
+        (0, Some(_)) => Some(FrameWriter::resume(options, &l.scene.output)),
+        (0, None) => Some(FrameWriter::new(options, &l.scene.output)?),
+        _ => None,
     };
     let alpha = l.scene.damping.mass_proportional;
     let model = std::mem::take(&mut l.model);
@@ -278,15 +282,31 @@ pub fn run_distributed(
             None
         };
         let mut guard = StabilityGuard::new();
+        let mut relaxation = None::<Relaxation>;
         let mut progress = ProgressReport::new(progress);
-        let mut none = None::<ProgressReport>;
-        let observers: &mut [&mut dyn Observer] = if rank == 0 {
-            &mut [&mut guard, &mut writer, &mut histories, &mut progress]
-        } else {
-            &mut [&mut guard, &mut none]
+        let [mut a, mut b, mut c, mut d] = [
+            observer::Absent,
+            observer::Absent,
+            observer::Absent,
+            observer::Absent,
+        ];
+        // the single process's list on rank 0, the same places on the others
+        let observers: &mut [&mut dyn Observer] = match writer.as_mut() {
+            Some(w) => &mut [
+                &mut guard,
+                &mut relaxation,
+                w,
+                &mut histories,
+                &mut progress,
+            ],
+            None => &mut [&mut guard, &mut a, &mut b, &mut c, &mut d],
         };
-        Run::start(l, &mut sys, &options, &options.out_dir, wall)
-            .and_then(|run| run.execute(observers))
+        match &resume {
+            Some(cp) => Run::resume(l, &mut sys, options, &options.out_dir, cp, observers)
+                .and_then(|run| run.resume_loop(observers)),
+            None => Run::start(l, &mut sys, options, &options.out_dir, wall)
+                .and_then(|run| run.execute(observers)),
+        }
     };
     l.model = std::mem::take(&mut sys.model);
     l.elements = std::mem::take(&mut sys.elements);

@@ -130,3 +130,20 @@ impl<O: Observer> Observer for Option<O> {
         self.as_mut().map_or(Ok(()), |o| o.restore(run, d))
     }
 }
+
+/// The place of an observer that only rank 0 of a distributed run has (those that write
+/// files): the other ranks keep the run's observer list in step with rank 0's, and a resumed
+/// run passes over that observer's part of the checkpoint. Only rank 0 writes checkpoints, so
+/// it saves nothing.
+pub struct Absent;
+
+impl Observer for Absent {
+    fn save(&mut self, _e: &mut Enc) -> Result<(), RunError> {
+        Ok(())
+    }
+
+    fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
+        d.skip_rest();
+        Ok(())
+    }
+}

@@ -84,12 +84,6 @@ impl<'a> Run<'a> {
             history_interval(l),
             false,
         )?;
-        if let Some(d) = &mut sys.dist {
-            d.replicate_stages(!sys.contributions.is_empty());
-            for c in &mut sys.contributions {
-                c.distribute(&d.layout);
-            }
-        }
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -102,15 +96,11 @@ impl<'a> Run<'a> {
         let control = StepControl::new(l, sys);
         let book_residuals = books_residuals(l);
         Books::prepare(&mut *sys, book_residuals);
+        let alpha = l.scene.damping.mass_proportional;
+        distribute_stages(sys, alpha);
         let mut acc = vec![0.0; 2 * n];
         sys.acceleration(0.0, &state.x, &state.v, &mut acc);
-        let alpha = l.scene.damping.mass_proportional;
         if let Some(d) = &mut sys.dist {
-            // the books sum over every node in every step: the whole state shared each step
-            d.every_step = d.every_step
-                || alpha > 0.0
-                || sys.elements.viscous
-                || !sys.internal_force.is_empty();
             let State { x, v, .. } = &mut state;
             d.sync(x, v, &mut sys.force, &mut sys.internal_force);
         }
@@ -227,6 +217,19 @@ impl<'a> Run<'a> {
         self.steps += 1;
     }
 
+    /// A distributed run's whole state on every rank now: the nodes' state and forces and the
+    /// stages' (at a step the observers read, and before a checkpoint).
+    pub(super) fn share_whole(&mut self) {
+        let sys = &mut *self.sys;
+        if let Some(d) = &mut sys.dist {
+            let State { x, v, .. } = &mut self.state;
+            d.sync(x, v, &mut sys.force, &mut sys.internal_force);
+            for c in &mut sys.contributions {
+                c.share(d.comm());
+            }
+        }
+    }
+
     /// A distributed run after a step: the whole state shared when an observer reads it
     /// after this step (the checks, a history row, a frame, the last step) or the books
     /// need every node; otherwise the nodes of the loads and prescribed motions only.
@@ -242,13 +245,10 @@ impl<'a> Run<'a> {
             || step.is_multiple_of(super::stability::CHECK_EVERY)
             || step.is_multiple_of(history_interval(self.loaded))
             || self.frames.due(step, self.state.t, last);
-        let State { x, v, .. } = &mut self.state;
         if observed {
-            d.sync(x, v, &mut sys.force, &mut sys.internal_force);
-            for c in &mut sys.contributions {
-                c.share(d.comm());
-            }
+            self.share_whole();
         } else {
+            let State { x, v, .. } = &mut self.state;
             d.sync_watched(x, v, &mut sys.force);
         }
     }
@@ -440,6 +440,19 @@ impl<'a> Run<'a> {
             interrupted: None,
             distributed: None,
         }
+    }
+}
+
+/// A distributed system's stages take their parts (or run whole on the gathered state), and
+/// the whole state is shared after every step when the energy books sum over every node in
+/// every step (mass damping `alpha`, element viscosity, the kept element forces).
+pub(super) fn distribute_stages(sys: &mut SceneSystem, alpha: f64) {
+    if let Some(d) = &mut sys.dist {
+        d.replicate_stages(!sys.contributions.is_empty());
+        for c in &mut sys.contributions {
+            c.distribute(&d.layout);
+        }
+        d.every_step = alpha > 0.0 || sys.elements.viscous || !sys.internal_force.is_empty();
     }
 }
 
