@@ -1,6 +1,8 @@
 //! `mpirun -np N fdem run SCENE` (or `srun -n N`): one distributed run over the job's
 //! processes (`fdem_solver::distributed`), through MPI (`fdem-mpi`, built with the `mpi`
-//! feature). Rank 0 prints and writes; the other ranks compute their parts and stay quiet.
+//! feature). Rank 0 prints and writes (the checkpoints too); the other ranks compute their
+//! parts and stay quiet. `--resume`, `--stop-after` and `--checkpoint-every` work as for one
+//! process, and a checkpoint resumes on any number of processes.
 
 use std::sync::atomic::AtomicBool;
 

@@ -3,7 +3,7 @@
 # and `-np 4` (oversubscribed on a machine with fewer cores), against the single-process run
 # of the bar pulse, the cantilever, the disc collision, the fracturing Brazilian disc and the
 # block compressed to failure: every output file but summary.json identical byte for byte;
-# and a relaxation (which a distributed run does not do) refused with exit code 2, the
+# a run stopped with its checkpoint and resumed on another number of processes; and a relaxation (which a distributed run does not do) refused with exit code 2, the
 # message once and nothing written. Installs Open MPI and libclang from Debian's packages
 # when they are missing and this runs as root; FDEM_SKIP_MPI=1 skips these checks on a
 # machine without them (it says so).
@@ -77,6 +77,28 @@ PY
     echo "ok: $name on $np processes: $n files identical to the single-process run's"
     checked=$((checked + 1))
   done
+done
+
+# a checkpoint: the disc collision stopped at step 6 000 on 2 processes (exit code 4), then
+# resumed on 4; and stopped on 1 process, resumed on 2: the files of the run that never stopped
+for pair in "2 4" "1 2"; do
+  set -- $pair
+  out="$work/restart-$1-$2/disc-collision"
+  set +e
+  if [ "$1" = 1 ]; then
+    "$bin" run examples/disc-collision.json --out "$out" --stop-after 6000 >/dev/null 2>&1
+  else
+    "${mpi[@]}" -np "$1" "$bin" run examples/disc-collision.json --out "$out" --stop-after 6000 >/dev/null 2>&1
+  fi
+  code=$?
+  set -e
+  [ "$code" = 4 ] || { echo "FAIL: stopped run on $1 processes: exit $code" >&2; exit 1; }
+  "${mpi[@]}" -np "$2" "$bin" run --resume "$out" >/dev/null 2>"$work/err"
+  if ! diff -r -x summary.json -x checkpoint.fdem "$work/np1/disc-collision" "$out"; then
+    echo "FAIL: stopped on $1 processes and resumed on $2: not the run that never stopped" >&2
+    exit 1
+  fi
+  echo "ok: disc-collision stopped on $1 process(es) at step 6000 and resumed on $2: identical"
 done
 
 # refusals: exit code 2 from the job, the field named once, nothing written
