@@ -88,30 +88,20 @@ impl Distribution {
     /// [`Distribution::xp`] and [`Distribution::vp`] (`with_v`: the velocities too).
     pub fn gather_all(&mut self, x: &[f64], v: &[f64], with_v: bool) {
         let w = if with_v { 4 } else { 2 };
-        let rank = self.layout.rank;
-        self.mine.clear();
-        for &k in &self.layout.owned_by[rank] {
-            let d = 2 * k as usize;
-            self.mine.extend_from_slice(&x[d..d + 2]);
+        let by = std::mem::take(&mut self.layout.owned_by);
+        let all = self.gather_nodes(&by, w, |d, out| {
+            out.extend_from_slice(&x[d..d + 2]);
             if with_v {
-                self.mine.extend_from_slice(&v[d..d + 2]);
+                out.extend_from_slice(&v[d..d + 2]);
             }
-        }
-        let counts: Vec<usize> = self.layout.owned_by.iter().map(|b| w * b.len()).collect();
-        self.all.resize(counts.iter().sum(), 0.0);
-        self.comm.all_gather(&self.mine, &counts, &mut self.all);
-        let mut at = 0;
-        for nodes in &self.layout.owned_by {
-            for &k in nodes {
-                let d = 2 * k as usize;
-                let c = &self.all[at..at + w];
-                self.xp[d..d + 2].copy_from_slice(&c[..2]);
-                if with_v {
-                    self.vp[d..d + 2].copy_from_slice(&c[2..4]);
-                }
-                at += w;
+        });
+        each_gathered(&by, &all, w, |_, d, c| {
+            self.xp[d..d + 2].copy_from_slice(&c[..2]);
+            if with_v {
+                self.vp[d..d + 2].copy_from_slice(&c[2..4]);
             }
-        }
+        });
+        (self.layout.owned_by, self.all) = (by, all);
         self.counts[0] += 1;
     }
 
@@ -207,23 +197,10 @@ impl Distribution {
     /// Shares a per-DOF array (two values per node, e.g. the scheme's cached acceleration)
     /// from each node's owner to every rank.
     pub fn share_dofs(&mut self, a: &mut [f64]) {
-        let rank = self.layout.rank;
-        self.mine.clear();
-        for &k in &self.layout.owned_by[rank] {
-            let d = 2 * k as usize;
-            self.mine.extend_from_slice(&a[d..d + 2]);
-        }
-        let counts: Vec<usize> = self.layout.owned_by.iter().map(|b| 2 * b.len()).collect();
-        self.all.resize(counts.iter().sum(), 0.0);
-        self.comm.all_gather(&self.mine, &counts, &mut self.all);
-        let mut at = 0;
-        for nodes in &self.layout.owned_by {
-            for &k in nodes {
-                let d = 2 * k as usize;
-                a[d..d + 2].copy_from_slice(&self.all[at..at + 2]);
-                at += 2;
-            }
-        }
+        let by = std::mem::take(&mut self.layout.owned_by);
+        let all = self.gather_nodes(&by, 2, |d, out| out.extend_from_slice(&a[d..d + 2]));
+        each_gathered(&by, &all, 2, |_, d, c| a[d..d + 2].copy_from_slice(c));
+        (self.layout.owned_by, self.all) = (by, all);
     }
 
     /// Rank 0's `flags` on every rank (rank 0's decisions: a wall-clock checkpoint due, a
@@ -261,34 +238,61 @@ impl Distribution {
         fi: &mut [[f64; 2]],
     ) {
         let w = if fi.is_empty() { 6 } else { 8 };
+        let all = self.gather_nodes(by, w, |d, out| {
+            out.extend_from_slice(&x[d..d + 2]);
+            out.extend_from_slice(&v[d..d + 2]);
+            out.extend_from_slice(&f[d / 2]);
+            if !fi.is_empty() {
+                out.extend_from_slice(&fi[d / 2]);
+            }
+        });
+        let rank = self.layout.rank;
+        each_gathered(by, &all, w, |r, d, c| {
+            if r != rank {
+                x[d..d + 2].copy_from_slice(&c[..2]);
+                v[d..d + 2].copy_from_slice(&c[2..4]);
+                f[d / 2] = [c[4], c[5]];
+                if !fi.is_empty() {
+                    fi[d / 2] = [c[6], c[7]];
+                }
+            }
+        });
+        self.all = all;
+    }
+
+    /// Each rank's nodes `by[rank]`, `w` values each (`pack` gets the node's first DOF and
+    /// appends them), gathered on every rank in rank order ([`each_gathered`] reads them).
+    fn gather_nodes(
+        &mut self,
+        by: &[Vec<u32>],
+        w: usize,
+        mut pack: impl FnMut(usize, &mut Vec<f64>),
+    ) -> Vec<f64> {
         self.mine.clear();
         for &k in &by[self.layout.rank] {
-            let (d, k) = (2 * k as usize, k as usize);
-            self.mine.extend_from_slice(&x[d..d + 2]);
-            self.mine.extend_from_slice(&v[d..d + 2]);
-            self.mine.extend_from_slice(&f[k]);
-            if !fi.is_empty() {
-                self.mine.extend_from_slice(&fi[k]);
-            }
+            pack(2 * k as usize, &mut self.mine);
         }
         let counts: Vec<usize> = by.iter().map(|b| w * b.len()).collect();
-        self.all.resize(counts.iter().sum(), 0.0);
-        self.comm.all_gather(&self.mine, &counts, &mut self.all);
-        let mut at = 0;
-        for (r, nodes) in by.iter().enumerate() {
-            for &k in nodes {
-                if r != self.layout.rank {
-                    let (d, k) = (2 * k as usize, k as usize);
-                    let c = &self.all[at..at + w];
-                    x[d..d + 2].copy_from_slice(&c[..2]);
-                    v[d..d + 2].copy_from_slice(&c[2..4]);
-                    f[k] = [c[4], c[5]];
-                    if !fi.is_empty() {
-                        fi[k] = [c[6], c[7]];
-                    }
-                }
-                at += w;
-            }
+        let mut all = std::mem::take(&mut self.all);
+        all.resize(counts.iter().sum(), 0.0);
+        self.comm.all_gather(&self.mine, &counts, &mut all);
+        all
+    }
+}
+
+/// Calls `put(rank, first DOF, values)` for each node of [`Distribution::gather_nodes`]'s
+/// result `all` (`w` values per node, the nodes `by[rank]` in rank order).
+fn each_gathered(
+    by: &[Vec<u32>],
+    all: &[f64],
+    w: usize,
+    mut put: impl FnMut(usize, usize, &[f64]),
+) {
+    let mut at = 0;
+    for (r, nodes) in by.iter().enumerate() {
+        for &k in nodes {
+            put(r, 2 * k as usize, &all[at..at + w]);
+            at += w;
         }
     }
 }
