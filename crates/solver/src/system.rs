@@ -225,7 +225,7 @@ pub struct SceneSystem {
     pub evaluations: u64,
     timing: bool,
     /// This system's part in a distributed run (`None`: the whole system on one process).
-    pub dist: Option<crate::distributed::Distribution>,
+    pub dist: Option<Box<crate::distributed::Distribution>>,
     dist_scratch: ForceScratch,
 }
 
@@ -273,7 +273,7 @@ impl SceneSystem {
     /// ([`crate::distributed`]).
     pub fn distribute(&mut self, d: crate::distributed::Distribution) {
         self.dist_scratch = ForceScratch::new(&d.local);
-        self.dist = Some(d);
+        self.dist = Some(Box::new(d));
     }
 
     /// Sets the mass-proportional damping `alpha` [1/s] (an adaptive relaxation).
