@@ -12,24 +12,11 @@ use crate::common::{edited_example, root, temp_dir};
 
 /// Runs `scene` on `size` ranks (threads) into `out`; the outcome of each rank.
 fn run_ranks(scene: &Path, size: usize, out: &Path) -> Vec<Result<Outcome, String>> {
-    let comms = ThreadComm::ranks(size);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = comms
-            .into_iter()
-            .map(|c| {
-                s.spawn(move || {
-                    let mut l = driver::load(scene).map_err(|e| e.to_string())?;
-                    let options = RunOptions {
-                        out_dir: out.to_path_buf(),
-                        ..Default::default()
-                    };
-                    driver::run_distributed(&mut l, &options, Box::new(c), &mut |_| {})
-                        .map_err(|e| e.to_string())
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    })
+    let options = RunOptions {
+        out_dir: out.to_path_buf(),
+        ..Default::default()
+    };
+    run_with(scene, size, options)
 }
 
 /// Runs `scene` in one process into `out`.
@@ -55,22 +42,7 @@ fn files(dir: &Path) -> Vec<PathBuf> {
 
 /// Asserts that the folders hold the same files with the same bytes; returns their number.
 fn assert_same_files(serial: &Path, other: &Path) -> usize {
-    let (a, b) = (files(serial), files(other));
-    let names = |v: &[PathBuf]| -> Vec<String> {
-        v.iter()
-            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
-            .collect()
-    };
-    assert_eq!(names(&a), names(&b), "the same files");
-    for (p, q) in a.iter().zip(&b) {
-        let (x, y) = (std::fs::read(p).unwrap(), std::fs::read(q).unwrap());
-        assert!(
-            x == y,
-            "{} differs from the single-process run's",
-            q.display()
-        );
-    }
-    a.len()
+    assert_same_files_but(serial, other, &[])
 }
 
 /// The single-process run and the runs on 2, 3 and 4 ranks of `scene`: the same files, the

@@ -367,11 +367,7 @@ impl<'a> Run<'a> {
         let started = Instant::now();
         let file = out_dir.join(crate::checkpoint::FILE_NAME);
         let bad = |e: DecodeError| unreadable(&file, e);
-        let stage_dir = sys
-            .dist
-            .as_ref()
-            .is_none_or(|d| d.rank() == 0)
-            .then_some(out_dir);
+        let stage_dir = super::stepping::stage_dir(sys, out_dir);
         crate::stages::attach_to(
             &l.scene,
             &l.file,

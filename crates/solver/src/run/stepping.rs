@@ -68,13 +68,7 @@ impl<'a> Run<'a> {
         out_dir: &'a Path,
         wall: Instant,
     ) -> Result<Self, RunError> {
-        // the stages' files (walls.csv, fractures.csv) are written by rank 0 of a
-        // distributed run only
-        let stage_dir = sys
-            .dist
-            .as_ref()
-            .is_none_or(|d| d.rank() == 0)
-            .then_some(out_dir);
+        let stage_dir = stage_dir(sys, out_dir);
         crate::stages::attach_to(
             &l.scene,
             &l.file,
@@ -441,6 +435,15 @@ impl<'a> Run<'a> {
             distributed: None,
         }
     }
+}
+
+/// Where the stages of `sys` write their files (walls.csv, fractures.csv): `out_dir`, except
+/// on the ranks other than 0 of a distributed run, which write none.
+pub(super) fn stage_dir<'p>(sys: &SceneSystem, out_dir: &'p Path) -> Option<&'p Path> {
+    sys.dist
+        .as_ref()
+        .is_none_or(|d| d.rank() == 0)
+        .then_some(out_dir)
 }
 
 /// A distributed system's stages take their parts (or run whole on the gathered state), and
