@@ -307,3 +307,42 @@ fn assert_same_files_but(serial: &Path, other: &Path, except: &[&str]) -> usize 
     }
     a.len()
 }
+
+#[test]
+fn a_stop_signal_is_taken_up_by_every_rank_at_the_next_agreed_step() {
+    // rank 0's stop flag (a signal) already set: every rank stops after step 16 (the first
+    // step at which the ranks take up rank 0's decision) with the checkpoint, and the run
+    // resumes on 3 ranks to the files of the run that never stopped
+    let scene = root().join("examples/disc-collision.json");
+    let dir = temp_dir("dist-signal");
+    let straight = dir.join("straight");
+    run_serial(&scene, &straight);
+    let out = dir.join("stopped");
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(2));
+    let stopped = run_with(
+        &scene,
+        2,
+        RunOptions {
+            out_dir: out.clone(),
+            stop: Some(stop),
+            ..Default::default()
+        },
+    );
+    for r in stopped {
+        let e = r.err().expect("stopped");
+        assert!(e.contains("SIGINT") && e.contains("at step 16 "), "{e}");
+    }
+    let resumed = run_with(
+        &scene,
+        3,
+        RunOptions {
+            out_dir: out.clone(),
+            resume: true,
+            ..Default::default()
+        },
+    );
+    for r in resumed {
+        r.unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert_same_files_but(&straight, &out, &["checkpoint.fdem"]);
+}
