@@ -240,6 +240,24 @@ fn run_with(scene: &Path, size: usize, options: RunOptions) -> Vec<Result<Outcom
     })
 }
 
+/// Resumes the run in `out` of `scene` on `size` ranks (1: one process) and asserts that its
+/// files are those of the run that never stopped, in `straight` (the checkpoint left aside).
+fn resume_and_compare(scene: &Path, size: usize, out: &Path, straight: &Path) -> usize {
+    let resumed = run_with(
+        scene,
+        size,
+        RunOptions {
+            out_dir: out.to_path_buf(),
+            resume: true,
+            ..Default::default()
+        },
+    );
+    for r in resumed {
+        r.unwrap_or_else(|e| panic!("resumed on {size} ranks: {e}"));
+    }
+    assert_same_files_but(straight, out, &["checkpoint.fdem"])
+}
+
 #[test]
 fn a_distributed_checkpoint_is_the_single_process_one_and_resumes_on_any_number_of_ranks() {
     // the fracturing disc (joints, contact, platens) stopped at step 20 000: on 2 ranks and
@@ -265,20 +283,8 @@ fn a_distributed_checkpoint_is_the_single_process_one_and_resumes_on_any_number_
             let e = r.err().expect("stopped");
             assert!(e.contains("stop_after"), "{e}");
         }
-        let resumed = run_with(
-            &scene,
-            then,
-            RunOptions {
-                out_dir: out.clone(),
-                resume: true,
-                ..Default::default()
-            },
-        );
-        for r in resumed {
-            r.unwrap_or_else(|e| panic!("{first} then {then} ranks: {e}"));
-        }
         // the checkpoint is left in the folder of a resumed run
-        let n = assert_same_files_but(&straight, &out, &["checkpoint.fdem"]);
+        let n = resume_and_compare(&scene, then, &out, &straight);
         assert!(n > 60, "{n} files");
     }
 }
@@ -299,11 +305,7 @@ fn assert_same_files_but(serial: &Path, other: &Path, except: &[&str]) -> usize 
     assert_eq!(names(&a), names(&b), "the same files");
     for (p, q) in a.iter().zip(&b) {
         let (x, y) = (std::fs::read(p).unwrap(), std::fs::read(q).unwrap());
-        assert!(
-            x == y,
-            "{} differs from the run that never stopped",
-            q.display()
-        );
+        assert!(x == y, "{} differs from {}", q.display(), p.display());
     }
     a.len()
 }
@@ -332,17 +334,5 @@ fn a_stop_signal_is_taken_up_by_every_rank_at_the_next_agreed_step() {
         let e = r.err().expect("stopped");
         assert!(e.contains("SIGINT") && e.contains("at step 16 "), "{e}");
     }
-    let resumed = run_with(
-        &scene,
-        3,
-        RunOptions {
-            out_dir: out.clone(),
-            resume: true,
-            ..Default::default()
-        },
-    );
-    for r in resumed {
-        r.unwrap_or_else(|e| panic!("{e}"));
-    }
-    assert_same_files_but(&straight, &out, &["checkpoint.fdem"]);
+    resume_and_compare(&scene, 3, &out, &straight);
 }
