@@ -118,8 +118,8 @@ fn the_cantilever_with_sparse_histories_on_2_3_and_4_ranks_is_the_single_process
 
 #[test]
 fn the_disc_collision_on_2_and_4_ranks_writes_the_single_process_files_byte_for_byte() {
-    // frictionless contact between two bodies, walls.csv-free; the contact stage runs whole
-    // on every rank
+    // frictionless contact between two bodies, walls.csv-free; each rank evaluates the
+    // couples that touch its nodes
     compare_on(
         &root().join("examples/disc-collision.json"),
         "dist-collision",
@@ -136,7 +136,8 @@ fn the_fracturing_disc_on_2_and_4_ranks_writes_the_single_process_files_byte_for
         "dist-disc",
         &[2, 4],
     );
-    // each rank evaluated its own joints and those that cross to another rank only
+    // each rank evaluated its own joints and couples and those that cross to another rank
+    // only
     let dir = temp_dir("dist-disc-share");
     let out = dir.join("np2");
     let o = run_ranks(
@@ -152,6 +153,15 @@ fn the_fracturing_disc_on_2_and_4_ranks_writes_the_single_process_files_byte_for
     assert!(
         mine < all * 3 / 5,
         "rank 0 of 2 evaluates {mine} of {all} joints"
+    );
+    let contact = o[0].as_ref().unwrap().summary.stages["contact"].clone();
+    let (all, mine) = (
+        contact["couples"].as_u64().unwrap(),
+        contact["rank_couples"].as_u64().unwrap(),
+    );
+    assert!(
+        all > 100 && mine < all * 3 / 5,
+        "rank 0 of 2 evaluates {mine} of {all} couples"
     );
 }
 

@@ -130,6 +130,9 @@ fn edge_terms(a: V2, b: V2, t: &TriPotential) -> Option<(f64, [f64; 5], [f64; 5]
 pub struct ActiveBound {
     rows: Vec<f64>,
     touched: Vec<u32>,
+    /// Per node: whether its row counts (one rank's nodes in a distributed run, whose rows
+    /// sum all their couples; empty: every node).
+    counted: Vec<bool>,
 }
 
 impl ActiveBound {
@@ -144,6 +147,12 @@ impl ActiveBound {
             self.touched.push(node);
         }
         *r += v;
+    }
+
+    /// Counts only the rows of the nodes marked in `counted` (a rank's own nodes, whose
+    /// couples it evaluates all; the largest over the ranks is the whole bound).
+    pub fn set_counted(&mut self, counted: Vec<bool>) {
+        self.counted = counted;
     }
 
     /// Adds one engaged edge: `k` its stiffness, `nodes` and `c` the 5 (or 3, wall) nodes and
@@ -234,7 +243,9 @@ impl ActiveBound {
         }
         let mut m = 0.0f64;
         for &n in &self.touched {
-            m = m.max(self.rows[n as usize]);
+            if self.counted.get(n as usize).is_none_or(|c| *c) {
+                m = m.max(self.rows[n as usize]);
+            }
             self.rows[n as usize] = 0.0;
         }
         self.touched.clear();

@@ -49,5 +49,8 @@ pub use couple::{CoupleForce, WallForce, couple_force, couple_force_into, wall_f
 pub use exclusions::Exclusions;
 pub use geom::V2;
 pub use laws::{BroadPhase, ContactLaw, ContactLaws, ContactSettings};
-pub use model::{Contact, ContactEnergy, ContactError, ContactSnapshot, ContactStats, Family};
+pub use model::{
+    COUPLE_SHARE, Contact, ContactEnergy, ContactError, ContactSnapshot, ContactStats, Family,
+    LEAD, LOCAL, TALLY, Tally, WALL_SHARE, react,
+};
 pub use walls::RigidPlane;

@@ -38,7 +38,9 @@ use crate::nbs::Nbs;
 use crate::potential_tri_tri::{pair_energy, pair_loads};
 use crate::walls::RigidPlane;
 
+mod part;
 mod snapshot;
+pub use part::{COUPLE_SHARE, LEAD, LOCAL, TALLY, Tally, WALL_SHARE, react};
 pub use snapshot::ContactSnapshot;
 
 /// The exact refresh test on one chunk: some node moved `|x - x_det|^2 >= h2`, or is NaN.
@@ -188,8 +190,9 @@ pub struct Contact {
     /// only for the triangles `tri_used` marks).
     tri_x: Vec<[V2; 3]>,
     tri_box: Vec<[f64; 4]>,
-    /// Per triangle: 1 when it is in a couple or a plane candidate (set at each detection,
-    /// and by releases).
+    /// Per triangle: bit 0 when it is in a couple or a plane candidate, bit 1 when in one
+    /// this rank evaluates (set at each detection, and by releases; both bits outside a
+    /// distributed run).
     tri_used: Vec<u8>,
     wall_pairs: Vec<[u32; 2]>,
     wall_ft: Vec<f64>,
@@ -205,6 +208,12 @@ pub struct Contact {
     n_released_couples: u64,
     friction_dissipated: f64,
     stats: ContactStats,
+    /// Per triangle in one rank's part of a distributed run: [`LOCAL`] when the rank evaluates
+    /// the couples and plane pairs of the triangle, [`LEAD`] when it also counts them in the
+    /// statistics and books ([`part`]). Empty: the whole model.
+    part: Vec<u8>,
+    /// The part set aside while [`Contact::set_whole`] evaluates every couple.
+    held_part: Vec<u8>,
 }
 
 impl Contact {
@@ -246,6 +255,8 @@ impl Contact {
             n_released_couples: 0,
             friction_dissipated: 0.0,
             stats: ContactStats::default(),
+            part: Vec::new(),
+            held_part: Vec::new(),
         }
     }
 
@@ -327,8 +338,8 @@ impl Contact {
         self.flags.resize(n, 1);
         self.results.resize(n, CoupleForce::default());
         for c in &self.added {
-            self.tri_used[c[0] as usize] = 1;
-            self.tri_used[c[1] as usize] = 1;
+            self.tri_used[c[0] as usize] = 3;
+            self.tri_used[c[1] as usize] = 3;
         }
         let (mut i, mut a, mut w) = (n_old, k, n);
         while a > 0 {
@@ -558,11 +569,12 @@ impl Contact {
         self.tri_used.clear();
         self.tri_used.resize(tris.len(), 0);
         for c in &self.couples {
-            self.tri_used[c[0] as usize] = 1;
-            self.tri_used[c[1] as usize] = 1;
+            let m = 1 | (self.couple_local(c) as u8) << 1;
+            self.tri_used[c[0] as usize] |= m;
+            self.tri_used[c[1] as usize] |= m;
         }
         for c in &self.wall_pairs {
-            self.tri_used[c[1] as usize] = 1;
+            self.tri_used[c[1] as usize] |= 1 | (self.tri_local(c[1]) as u8) << 1;
         }
 
         self.x_det.clear();
@@ -630,14 +642,16 @@ impl Contact {
         // Vertices and boxes of every triangle in a couple or plane candidate, once.
         self.tri_x.resize(tris.len(), [[0.0; 2]; 3]);
         self.tri_box.resize(tris.len(), [0.0; 4]);
-        self.tri_used.resize(tris.len(), 1);
+        self.tri_used.resize(tris.len(), 3);
+        // the marks of the triangles this pass reads (module `part`)
+        let need = if self.part.is_empty() { 1 } else { 2 };
         self.tri_x
             .par_iter_mut()
             .zip(self.tri_box.par_iter_mut())
             .zip(tris.par_iter().zip(self.tri_used.par_iter()))
             .with_min_len(4096)
             .for_each(|((tx, tb), (t, used))| {
-                if *used == 0 {
+                if *used & need == 0 {
                     return;
                 }
                 *tx = t.map(|n| x[n as usize]);
@@ -649,6 +663,8 @@ impl Contact {
                 ];
             });
         let (tri_x, tri_box) = (&self.tri_x, &self.tri_box);
+        let part = &self.part;
+        let local = |t: u32| part.get(t as usize).is_none_or(|r| r & LOCAL != 0);
         let nc = self.couples.len();
         self.results.resize(nc, CoupleForce::default());
         self.flags.resize(nc, 1);
@@ -660,6 +676,11 @@ impl Contact {
             .with_min_len(512)
             .for_each(|(((res, flag), ftt), (c, ft_old))| {
                 let (i, j) = (c[0] as usize, c[1] as usize);
+                if !local(c[0]) && !local(c[1]) {
+                    // another rank's couple (a distributed run): no force here
+                    *flag = 0;
+                    return;
+                }
                 let law = laws.get(mat(c[0]), mat(c[1]));
                 let (bi, bj) = (&tri_box[i], &tri_box[j]);
                 let apart = bi[1] < bj[0] || bj[1] < bi[0] || bi[3] < bj[2] || bj[3] < bi[2];
@@ -717,7 +738,8 @@ impl Contact {
                     return;
                 };
                 let t = &tris[c[1] as usize];
-                if !plane.law.enabled || plane.law.penalty <= 0.0 {
+                // (another rank's plane pair in a distributed run: no force here)
+                if !plane.law.enabled || plane.law.penalty <= 0.0 || !local(c[1]) {
                     *res = WallForce::default();
                     *ftt = 0.0;
                     return;
@@ -727,44 +749,9 @@ impl Contact {
                 *res = wall_force(plane, &xs, &vs, *ft_old, dt);
                 *ftt = res.ft;
             });
-        // Serial, fixed-order reduction of the statistics.
-        let mut s = ContactStats {
-            n_couples: self.couples.len(),
-            ..Default::default()
-        };
-        for ((r, c), _) in self
-            .results
-            .iter()
-            .zip(&self.couples)
-            .zip(&self.flags)
-            .filter(|(_, f)| **f != 0)
-        {
-            if !r.active {
-                continue;
-            }
-            if r.invalid {
-                if s.n_invalid == 0 {
-                    s.first_invalid = *c;
-                }
-                s.n_invalid += 1;
-            }
-            s.n_active += (r.fn_total > 0.0) as usize;
-            s.n_slipping += r.slipping as usize;
-            s.trial_dissipation += r.dissipation;
-            if r.phi_max > s.max_phi {
-                s.max_phi = r.phi_max;
-                s.max_phi_couple = *c;
-            }
-        }
-        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
-            s.n_wall_active += (r.fn_total > 0.0) as usize;
-            s.n_slipping += r.slipping as usize;
-            s.trial_dissipation += r.dissipation;
-            if r.phi_max > s.max_phi {
-                s.max_phi = r.phi_max;
-                s.max_phi_couple = [u32::MAX, c[1]];
-            }
-        }
+        // Serial, fixed-order reduction of the statistics (in a distributed run, of the
+        // couples and plane pairs this rank leads).
+        let s = ContactStats::tally(self.couples.len(), self.tallies());
         self.stats = s;
         s
     }
@@ -836,14 +823,7 @@ impl Contact {
     /// (length = number of planes): the reaction to what the plane does to the triangles.
     pub fn wall_reactions(&self, out: &mut [V2]) {
         out.iter_mut().for_each(|o| *o = [0.0; 2]);
-        for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
-            if let Some(o) = out.get_mut(c[0] as usize) {
-                for k in 0..3 {
-                    let g = add(add(r.normal[k], r.friction[k]), r.damping[k]);
-                    *o = sub(*o, g);
-                }
-            }
-        }
+        self.wall_forces(|_, plane, g| react(out, plane, &g));
     }
 
     /// Power dissipated by the contact damping of the last pass at node velocities `v` \[W/m\]:
@@ -852,28 +832,12 @@ impl Contact {
     /// removes energy, so it is `>= 0` up to the lag between the velocities the pass used and
     /// `v`. 0 at once, reading nothing, when no law (pair or plane) has damping.
     pub fn damping_power(&self, tris: &[[u32; 3]], v: &[V2]) -> f64 {
-        let n = self.laws.n_materials() as u32;
-        let pairs = (0..n).any(|i| (0..n).any(|j| self.laws.get(i, j).damping > 0.0));
-        let planes = self.walls.iter().any(|w| w.law.damping > 0.0);
         let mut p = 0.0;
-        if pairs {
-            for (r, nodes) in self.loaded_couples(tris) {
-                for k in 0..6 {
-                    p -= dot(r.damping[k], v[nodes[k] as usize]);
-                }
+        self.damping_terms(tris, v, |_, terms| {
+            for d in terms {
+                p -= d;
             }
-        }
-        if planes {
-            for (r, c) in self.wall_results.iter().zip(&self.wall_pairs) {
-                let Some(plane) = self.walls.get(c[0] as usize) else {
-                    continue;
-                };
-                let t = &tris[c[1] as usize];
-                for k in 0..3 {
-                    p -= dot(r.damping[k], sub(v[t[k] as usize], plane.velocity));
-                }
-            }
-        }
+        });
         p
     }
 
@@ -927,22 +891,32 @@ impl Contact {
         tris: &[[u32; 3]],
         material: &[u32],
     ) -> f64 {
-        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
-        let pot = |c: &[u32; 2]| {
-            let law = self.laws.get(mat(c[0]), mat(c[1]));
-            if !law.enabled {
-                return 0.0;
-            }
-            let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
-            let xc = ti.map(|n| x[n as usize]);
-            let xt = tj.map(|n| x[n as usize]);
-            pair_energy(&xc, &xt, law.penalty)
-        };
+        let pot = |c: &[u32; 2]| self.pair_potential(c, x, tris, material);
         if couples.len() < 512 {
             return couples.iter().map(pot).sum();
         }
         let per: Vec<f64> = couples.par_iter().with_min_len(512).map(pot).collect();
         per.iter().sum()
+    }
+
+    /// Contact potential of one triangle couple at positions `x` \[J/m\] (0 when its law
+    /// is off): a term of [`Self::potential_of`].
+    pub fn pair_potential(
+        &self,
+        c: &[u32; 2],
+        x: &[V2],
+        tris: &[[u32; 3]],
+        material: &[u32],
+    ) -> f64 {
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let law = self.laws.get(mat(c[0]), mat(c[1]));
+        if !law.enabled {
+            return 0.0;
+        }
+        let (ti, tj) = (&tris[c[0] as usize], &tris[c[1] as usize]);
+        let xc = ti.map(|n| x[n as usize]);
+        let xt = tj.map(|n| x[n as usize]);
+        pair_energy(&xc, &xt, law.penalty)
     }
 
     /// Largest node displacement since the last detection \[m\] (for diagnostics).

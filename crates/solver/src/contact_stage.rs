@@ -37,6 +37,7 @@ pub use crate::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
 use crate::system::{ForceContribution, StageReport};
 use crate::time_history::{self, History};
 
+mod distributed;
 mod snapshot;
 
 /// The law of `spec` per unit thickness times `thickness`, with Young's modulus `e` for the
@@ -223,6 +224,12 @@ pub struct ContactStage {
     /// Book the work of the contact forces on the nodes (`node_work`) and report the
     /// `contact_residual` (set when the run records the `energy` probe; off, it costs nothing).
     pub book_work: bool,
+    /// This rank's part of a distributed run ([`distributed`]); `None`: the whole contact.
+    part: Option<Box<distributed::ContactPart>>,
+    /// The passes evaluate this rank's part (a distributed run's steps).
+    partial: bool,
+    /// The passes only look at the state ([`ForceContribution::set_looking`]).
+    looking: bool,
 }
 
 /// Triangle pairs bonded by the fracture stage (intact joints, intact stars), passed to the
@@ -329,6 +336,9 @@ impl ContactStage {
             node_x: Vec::new(),
             stored0: 0.0,
             book_work: false,
+            part: None,
+            partial: false,
+            looking: false,
         };
         let c = &stage.contact;
         let n = c.laws.n_materials() as u32;
@@ -351,6 +361,123 @@ impl ContactStage {
                 m.point0[1] + m.velocity[1] * r,
             ];
             w.velocity = [m.velocity[0] * s, m.velocity[1] * s];
+        }
+    }
+}
+
+impl ContactStage {
+    /// Hands the model the bonded list at set-up and the pairs released since the last
+    /// evaluation (joints softened or broke): the released pairs that the last detection
+    /// would have listed become couples now, without a re-detection (the others are more
+    /// than the buffer apart and the next regular detection finds them when they come
+    /// close). Returns whether couples were added ([`Contact::added_couples`]).
+    fn take_releases(&mut self) -> bool {
+        let Some(b) = &self.bonded else {
+            return false;
+        };
+        let mut b = b.lock().unwrap_or_else(|e| e.into_inner());
+        if !self.bonded_set {
+            // The list at set-up; releases already queued are applied below (the detection
+            // is stale then, so they only leave the exclusions).
+            self.contact.set_bonded(self.tris.len(), &b.initial);
+            self.bonded_set = true;
+        }
+        if b.released.is_empty() {
+            return false;
+        }
+        let t0 = std::time::Instant::now();
+        std::mem::swap(&mut self.released, &mut b.released);
+        drop(b);
+        self.contact.release_pairs(&self.released, &self.tris);
+        self.released.clear();
+        self.release_s += t0.elapsed().as_secs_f64();
+        !self.contact.added_couples().is_empty()
+    }
+
+    /// At the first evaluation, at the initial state, with the work probe on: the forces
+    /// and positions the nodal work starts from, and the energy stored then.
+    fn start_books(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
+        let _ = (t, v);
+        if self.book_work && self.node_x.is_empty() {
+            self.node_force = vec![[0.0; 2]; x.len()];
+            self.node_force_now = vec![[0.0; 2]; x.len()];
+            self.contact.add_forces(&self.tris, &mut self.node_force);
+            self.node_x = x.to_vec();
+            let e = self.contact.energy(x, &self.tris, &self.labels);
+            self.stored0 = e.potential + e.friction_stored;
+        }
+    }
+
+    /// Books a force pass's statistics at time `t`: the deepest overlap, the first error,
+    /// the active couples.
+    fn book_pass(&mut self, t: f64, stats: &fdem_contact::ContactStats) {
+        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        if stats.max_phi > r.max_phi {
+            r.max_phi = stats.max_phi;
+            r.max_depth_over_altitude = stats.max_phi / 3.0;
+        }
+        if r.error.is_none()
+            && let Err(e) = stats.check(self.contact.settings.max_phi)
+        {
+            r.error = Some(format!("at t = {t:e} s: {e}"));
+        }
+        r.active_couples = stats.n_active + stats.n_wall_active;
+    }
+
+    /// Whether this step records a sample of the active bound: every `active_every` steps
+    /// while some contact carries load (every step it took ~20 % of a fragmenting run's
+    /// time).
+    fn active_due(&self) -> bool {
+        let stats = self.contact.stats();
+        self.active_every > 0
+            && self.steps.is_multiple_of(self.active_every)
+            && stats.n_active + stats.n_wall_active > 0
+    }
+
+    /// The end of a step once the model has committed and the step's books are known: `p`
+    /// the damping power at the end-of-step velocities (when damped), `w2` the active bound's
+    /// sample (0: none), the walls' reactions in `reactions`. Books the dashpots'
+    /// dissipation, the walls' work and forces, and writes `walls.csv`.
+    fn book_step(&mut self, t: f64, p: Option<f64>, w2: f64) {
+        if let Some(p) = p {
+            // trapezoidal rule in time on the power of the end-of-step states
+            let (t0, p0) = self.damping_power.unwrap_or((t, p));
+            self.damping_dissipated += 0.5 * (p0 + p) * (t - t0);
+            self.damping_power = Some((t, p));
+        }
+        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        if w2.sqrt() > r.omega_active_max {
+            r.omega_active_max = w2.sqrt();
+            r.omega_active_max_time = t;
+        }
+        // Work of the moving walls on the bodies (trapezoid rule on the walls' displacement).
+        for (k, m) in self.motion.iter().enumerate() {
+            // Force of the wall on the bodies: minus the reaction on the wall; per unit
+            // thickness already scaled by the thickness in the laws.
+            let f = [-self.reactions[k][0], -self.reactions[k][1]];
+            let s = time_history::integral(t, m.ramp, m.history.as_ref());
+            let u = [m.velocity[0] * s, m.velocity[1] * s];
+            for c in 0..2 {
+                r.wall_work += 0.5 * (self.prev_force[k][c] + f[c]) * (u[c] - self.prev_disp[k][c]);
+            }
+            self.prev_force[k] = f;
+            self.prev_disp[k] = u;
+            r.wall_force[k] = f;
+            r.wall_displacement[k] = u;
+        }
+        r.detections = self.contact.n_detections();
+        if let Some(w) = &mut self.csv
+            && self.steps.is_multiple_of(self.csv_every)
+        {
+            let mut line = format!("{t:.9e}");
+            for k in 0..self.motion.len() {
+                let (u, f) = (r.wall_displacement[k], r.wall_force[k]);
+                line.push_str(&format!(
+                    ",{:.9e},{:.9e},{:.9e},{:.9e}",
+                    u[0], u[1], f[0], f[1]
+                ));
+            }
+            let _ = writeln!(w, "{line}");
         }
     }
 }
@@ -383,62 +510,36 @@ impl ForceContribution for ContactStage {
     }
 
     fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
-        if let Some(b) = &self.bonded {
-            let mut b = b.lock().unwrap_or_else(|e| e.into_inner());
-            if !self.bonded_set {
-                // The list at set-up; releases already queued are applied below (the
-                // detection is stale then, so they only leave the exclusions).
-                self.contact.set_bonded(self.tris.len(), &b.initial);
-                self.bonded_set = true;
-            }
-            if !b.released.is_empty() {
-                // Joints softened or broke: the released pairs that the last detection would
-                // have listed become contact couples now (no re-detection; the others are more
-                // than the buffer apart and the next regular detection finds them when they
-                // come close). Book the contact potential the new couples bring in at these
-                // positions (the energy jump of the joint -> contact hand-over; 0 when the
-                // faces do not overlap).
-                let t0 = std::time::Instant::now();
-                std::mem::swap(&mut self.released, &mut b.released);
-                drop(b);
-                self.contact.release_pairs(&self.released, &self.tris);
-                self.released.clear();
-                let c = &self.contact;
-                self.switch_jump += c.potential_of(c.added_couples(), x, &self.tris, &self.labels);
-                self.release_s += t0.elapsed().as_secs_f64();
-            }
+        if self.part.is_some() && self.partial {
+            return self.add_forces_part(t, x, v, f);
+        }
+        // A look at the state (an output frame) leaves the released pairs for the next step's
+        // pass; in a distributed run (the whole state, on one rank) it evaluates every couple
+        // and does not detect (the last pass was at these positions and detected if needed).
+        let whole = self.part.is_some();
+        if !(self.looking || whole) && self.take_releases() {
+            // Book the contact potential the new couples bring in at these positions (the
+            // energy jump of the joint -> contact hand-over; 0 when the faces do not overlap).
+            let c = &self.contact;
+            self.switch_jump += c.potential_of(c.added_couples(), x, &self.tris, &self.labels);
         }
         self.place_walls(t);
-        self.contact.update_detection(x, &self.tris);
+        if whole {
+            self.contact.set_whole(true);
+        } else {
+            self.contact.update_detection(x, &self.tris);
+        }
         let stats = self
             .contact
             .compute_forces(x, v, &self.tris, &self.labels, self.dt);
+        self.contact.set_whole(false);
         self.contact.add_forces(&self.tris, f);
-        if self.book_work && self.node_x.is_empty() {
-            // The first evaluation, at the initial state: the forces and positions the nodal
-            // work starts from, and the energy stored then.
-            self.node_force = vec![[0.0; 2]; x.len()];
-            self.node_force_now = vec![[0.0; 2]; x.len()];
-            self.contact.add_forces(&self.tris, &mut self.node_force);
-            self.node_x = x.to_vec();
-            let e = self.contact.energy(x, &self.tris, &self.labels);
-            self.stored0 = e.potential + e.friction_stored;
-        }
+        self.start_books(t, x, v);
         if self.damped && self.damping_power.is_none() {
             // the first evaluation, at the initial state: the power the dissipation starts from
             self.damping_power = Some((t, self.contact.damping_power(&self.tris, v)));
         }
-        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
-        if stats.max_phi > r.max_phi {
-            r.max_phi = stats.max_phi;
-            r.max_depth_over_altitude = stats.max_phi / 3.0;
-        }
-        if r.error.is_none()
-            && let Err(e) = stats.check(self.contact.settings.max_phi)
-        {
-            r.error = Some(format!("at t = {t:e} s: {e}"));
-        }
-        r.active_couples = stats.n_active + stats.n_wall_active;
+        self.book_pass(t, &stats);
     }
 
     /// `contact_force` on the points: the total contact force (normal + friction + damping,
@@ -497,21 +598,12 @@ impl ForceContribution for ContactStage {
             self.node_work += w;
             std::mem::swap(&mut self.node_force, &mut self.node_force_now);
         }
-        if self.damped {
-            // Dissipation of the dashpots: trapezoidal rule in time on the power of the last
-            // pass's damping forces at the end-of-step velocities.
-            let p = self.contact.damping_power(&self.tris, v);
-            let (t0, p0) = self.damping_power.unwrap_or((t, p));
-            self.damping_dissipated += 0.5 * (p0 + p) * (t - t0);
-            self.damping_power = Some((t, p));
-        }
-        // The active bound, sampled every `active_every` steps while some contact carries
-        // load (every step it took ~20 % of a fragmenting run's time).
-        let stats = self.contact.stats();
-        let w2 = if self.active_every > 0
-            && self.steps.is_multiple_of(self.active_every)
-            && stats.n_active + stats.n_wall_active > 0
-        {
+        // Dissipation of the dashpots: the power of the last pass's damping forces at the
+        // end-of-step velocities.
+        let p = self
+            .damped
+            .then(|| self.contact.damping_power(&self.tris, v));
+        let w2 = if self.active_due() {
             self.active.omega_sq(
                 &self.contact,
                 x,
@@ -522,41 +614,8 @@ impl ForceContribution for ContactStage {
         } else {
             0.0
         };
-        // Work of the moving walls on the bodies (trapezoid rule on the walls' displacement).
         self.contact.wall_reactions(&mut self.reactions);
-        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
-        if w2.sqrt() > r.omega_active_max {
-            r.omega_active_max = w2.sqrt();
-            r.omega_active_max_time = t;
-        }
-        for (k, m) in self.motion.iter().enumerate() {
-            // Force of the wall on the bodies: minus the reaction on the wall; per unit
-            // thickness already scaled by the thickness in the laws.
-            let f = [-self.reactions[k][0], -self.reactions[k][1]];
-            let s = time_history::integral(t, m.ramp, m.history.as_ref());
-            let u = [m.velocity[0] * s, m.velocity[1] * s];
-            for c in 0..2 {
-                r.wall_work += 0.5 * (self.prev_force[k][c] + f[c]) * (u[c] - self.prev_disp[k][c]);
-            }
-            self.prev_force[k] = f;
-            self.prev_disp[k] = u;
-            r.wall_force[k] = f;
-            r.wall_displacement[k] = u;
-        }
-        r.detections = self.contact.n_detections();
-        if let Some(w) = &mut self.csv
-            && self.steps.is_multiple_of(self.csv_every)
-        {
-            let mut line = format!("{t:.9e}");
-            for k in 0..self.motion.len() {
-                let (u, f) = (r.wall_displacement[k], r.wall_force[k]);
-                line.push_str(&format!(
-                    ",{:.9e},{:.9e},{:.9e},{:.9e}",
-                    u[0], u[1], f[0], f[1]
-                ));
-            }
-            let _ = writeln!(w, "{line}");
-        }
+        self.book_step(t, p, w2);
     }
 
     /// The contact engaged at the last force evaluation, its geometry at `x`
@@ -582,6 +641,49 @@ impl ForceContribution for ContactStage {
             &self.inv_sqrt_mass,
         );
         Some(w2.sqrt())
+    }
+
+    fn set_looking(&mut self, on: bool) {
+        self.looking = on;
+    }
+
+    fn set_partial(&mut self, on: bool) {
+        self.partial = on;
+    }
+
+    /// Takes this rank's part ([`distributed`]).
+    fn distribute(&mut self, layout: &crate::distributed::Layout) {
+        self.distribute_part(layout);
+    }
+
+    fn exchange_distributed(
+        &mut self,
+        t: f64,
+        x: &mut [[f64; 2]],
+        v: &mut [[f64; 2]],
+        before_forces: bool,
+        comm: &mut dyn crate::distributed::Comm,
+    ) {
+        if before_forces {
+            self.prepare_part(t, x, v, comm);
+        } else {
+            self.exchange_part(x, v, comm);
+        }
+    }
+
+    fn end_of_step_distributed(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        _at_last: bool,
+        comm: &mut dyn crate::distributed::Comm,
+    ) {
+        self.end_of_step_part(t, x, v, comm);
+    }
+
+    fn share(&mut self, comm: &mut dyn crate::distributed::Comm) {
+        self.share_part(comm);
     }
 
     /// The friction increment uses the step.
@@ -640,6 +742,12 @@ impl ForceContribution for ContactStage {
                 "omega_active_max": r.omega_active_max,
                 "omega_active_max_time": r.omega_active_max_time,
                 "wall_force": r.wall_force,
+                "couples": self.contact.couples().len(),
+                // in a distributed run: the couples this rank evaluates
+                "rank_couples": self.part.as_ref().map(|_| {
+                    let c = &self.contact;
+                    c.couples().iter().filter(|p| c.couple_local(p)).count()
+                }),
             }),
         }
     }

@@ -782,6 +782,20 @@ impl ForceContribution for FractureStage {
         self.after_commit();
     }
 
+    /// The nodes of this rank's joints from their owners (the joints read no velocities).
+    fn exchange_distributed(
+        &mut self,
+        _t: f64,
+        x: &mut [[f64; 2]],
+        v: &mut [[f64; 2]],
+        _before_forces: bool,
+        comm: &mut dyn crate::distributed::Comm,
+    ) {
+        if let Some(l) = &mut self.local {
+            l.ghosts.exchange(comm, x, v, false);
+        }
+    }
+
     fn share(&mut self, comm: &mut dyn crate::distributed::Comm) {
         if let Some(l) = &mut self.local {
             l.share_histories(comm, &mut self.state);

@@ -108,6 +108,10 @@ pub trait ForceContribution: Send {
     /// only the part of this rank takes its part here (default: the term runs whole on every
     /// rank, on the gathered state).
     fn distribute(&mut self, _layout: &crate::distributed::Layout) {}
+    /// With `on`, the next passes only look at a state (an output frame's force): the term
+    /// changes nothing that carries over to the next step, so that what is written does not
+    /// change the run. Default: nothing (a pass of the term changes nothing that carries).
+    fn set_looking(&mut self, _on: bool) {}
     /// In a distributed run: evaluate this rank's part (`true`: the run's steps) or the whole
     /// term on the whole state (`false`: the observers, at the steps where the state is
     /// shared). Default: nothing (the term is whole anyway).
@@ -128,6 +132,20 @@ pub trait ForceContribution: Send {
         } else {
             self.end_of_step(t, x, v);
         }
+    }
+    /// In a distributed run, after the elements' ghosts are current and before the forces
+    /// (`before_forces`) or the end-of-step hook (otherwise, when the state moved since the
+    /// last evaluation or a term reads velocities): the term brings the nodes it reads beyond
+    /// the elements' ghosts into `x` (and the velocities into `v` when it reads them) from
+    /// their owners, and takes its collective decisions. Every rank calls it. Default: nothing.
+    fn exchange_distributed(
+        &mut self,
+        _t: f64,
+        _x: &mut [[f64; 2]],
+        _v: &mut [[f64; 2]],
+        _before_forces: bool,
+        _comm: &mut dyn crate::distributed::Comm,
+    ) {
     }
     /// In a distributed run, at each step whose state the observers read: makes the term's
     /// whole state current on every rank. Every rank calls it. Default: nothing.
@@ -306,6 +324,19 @@ impl SceneSystem {
         &self.constrained_dofs
     }
 
+    /// The acceleration at `(t, x, v)` into `a` (and the force into [`SceneSystem::force`])
+    /// for a look at the state (an output frame): no stage changes what carries over to the
+    /// next step ([`ForceContribution::set_looking`]).
+    pub fn look(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+        for c in &mut self.contributions {
+            c.set_looking(true);
+        }
+        fdem_time::SecondOrderSystem::acceleration(self, t, x, v, a);
+        for c in &mut self.contributions {
+            c.set_looking(false);
+        }
+    }
+
     /// Total nodal force at `(t, x, v)` into [`SceneSystem::force`].
     pub fn evaluate(&mut self, t: f64, x: &[f64], v: &[f64]) {
         let xn = x.as_chunks::<2>().0;
@@ -325,6 +356,10 @@ impl SceneSystem {
                     || self.alpha > 0.0
                     || self.contributions.iter().any(|c| c.reads_velocities());
                 d.patch(x, v, with_v);
+                let (xm, vm, comm) = d.parts();
+                for c in &mut self.contributions {
+                    c.exchange_distributed(t, xm, vm, true, comm);
+                }
                 let xn = d.xp.as_chunks::<2>().0;
                 let vn = if with_v { d.vp.as_chunks::<2>().0 } else { vn };
                 d.local
@@ -499,17 +534,21 @@ impl SceneSystem {
         if self.contributions.is_empty() {
             return;
         }
-        // a distributed run's stages see the whole state, gathered from the owners, and get
-        // the transport
+        // a distributed run's stages see this rank's nodes and the ones they read, from their
+        // owners, and get the transport
         if let Some(d) = &mut self.dist {
-            // at the last evaluation's positions the gathered ones are still those; the
-            // velocities are gathered when a stage reads them
+            // at the last evaluation's positions those are still current; the velocities are
+            // brought when a stage reads them
             let with_v = self.contributions.iter().any(|c| c.reads_velocities());
             if !at_last || with_v {
-                d.gather_all(x, v, with_v);
+                d.patch_owned(x, v, with_v);
+                let (xm, vm, comm) = d.parts();
+                for c in &mut self.contributions {
+                    c.exchange_distributed(t, xm, vm, false, comm);
+                }
             }
-            let (xp, vp, comm) = d.gathered();
-            let (xn, vn) = (xp.as_chunks::<2>().0, vp.as_chunks::<2>().0);
+            let (xp, vp, comm) = d.parts();
+            let (xn, vn) = (&*xp, &*vp);
             let n = self.contributions.len();
             self.contribution_times.resize(n, 0.0);
             self.contribution_end_times.resize(n, 0.0);

@@ -222,11 +222,11 @@ impl Contact {
         }
         self.tri_used = vec![0; nt];
         for c in &s.couples {
-            self.tri_used[c[0] as usize] = 1;
-            self.tri_used[c[1] as usize] = 1;
+            self.tri_used[c[0] as usize] = 3;
+            self.tri_used[c[1] as usize] = 3;
         }
         for w in &s.wall_pairs {
-            self.tri_used[w[1] as usize] = 1;
+            self.tri_used[w[1] as usize] = 3;
         }
         self.couples = s.couples;
         self.wall_pairs = s.wall_pairs;

@@ -18,10 +18,12 @@
 //! ([`ThreadComm`]).
 
 mod comm;
+mod ghosts;
 mod layout;
 pub mod partition;
 
 pub use comm::{Comm, ThreadComm};
+pub use ghosts::Ghosts;
 pub use layout::Layout;
 
 use fdem_mesh::Elements;
@@ -48,9 +50,6 @@ pub struct Distribution {
     pub every_step: bool,
     /// Exchanges done: ghost patches, watched-node and whole-state shares.
     pub counts: [u64; 3],
-    /// The stages (contact, joints) run whole on every rank: every force evaluation and
-    /// end of step gathers the whole positions and velocities first.
-    pub stages_replicated: bool,
 }
 
 impl Distribution {
@@ -74,14 +73,7 @@ impl Distribution {
             all: Vec::new(),
             every_step: false,
             counts: [0; 3],
-            stages_replicated: false,
         }
-    }
-
-    /// With `on`, the system's stages (contact, joints) see the whole positions and
-    /// velocities, gathered before each force evaluation and end of step.
-    pub fn replicate_stages(&mut self, on: bool) {
-        self.stages_replicated = on;
     }
 
     /// Gathers the whole positions and velocities from their owners into
@@ -126,9 +118,14 @@ impl Distribution {
         })
     }
 
-    /// The gathered positions and velocities with the transport (the stages' end of step).
-    pub fn gathered(&mut self) -> (&[f64], &[f64], &mut dyn Comm) {
-        (&self.xp, &self.vp, &mut *self.comm)
+    /// The positions and velocities the forces read, with the transport (for the stages'
+    /// own exchanges and end of step).
+    pub fn parts(&mut self) -> (&mut [[f64; 2]], &mut [[f64; 2]], &mut dyn Comm) {
+        (
+            self.xp.as_chunks_mut::<2>().0,
+            self.vp.as_chunks_mut::<2>().0,
+            &mut *self.comm,
+        )
     }
 
     /// The transport (for the stages' own exchanges).
@@ -145,19 +142,8 @@ impl Distribution {
     /// evaluation at `(x, v)`: this rank's nodes from `x` and `v`, the ghosts from their
     /// owners' calls.
     pub fn patch(&mut self, x: &[f64], v: &[f64], with_v: bool) {
-        if self.stages_replicated {
-            return self.gather_all(x, v, with_v);
-        }
         let w = if with_v { 4 } else { 2 };
-        for &k in self.layout.owned() {
-            let d = 2 * k as usize;
-            self.xp[d] = x[d];
-            self.xp[d + 1] = x[d + 1];
-            if with_v {
-                self.vp[d] = v[d];
-                self.vp[d + 1] = v[d + 1];
-            }
-        }
+        self.patch_owned(x, v, with_v);
         for (s, nodes) in self.send.iter_mut().zip(&self.layout.send_nodes) {
             s.clear();
             for &k in nodes {
@@ -183,6 +169,20 @@ impl Distribution {
             }
         }
         self.counts[0] += 1;
+    }
+
+    /// Copies this rank's nodes from `x` (and, with `with_v`, `v`) into
+    /// [`Distribution::xp`] (and [`Distribution::vp`]).
+    pub fn patch_owned(&mut self, x: &[f64], v: &[f64], with_v: bool) {
+        for &k in self.layout.owned() {
+            let d = 2 * k as usize;
+            self.xp[d] = x[d];
+            self.xp[d + 1] = x[d + 1];
+            if with_v {
+                self.vp[d] = v[d];
+                self.vp[d + 1] = v[d + 1];
+            }
+        }
     }
 
     /// Shares the whole state after a step: every node's position, velocity and force (and
@@ -293,6 +293,73 @@ fn each_gathered(
         for &k in nodes {
             put(r, 2 * k as usize, &all[at..at + w]);
             at += w;
+        }
+    }
+}
+
+/// Each rank's nodes `by[rank]`, `w` values per node (`mine`: this rank's, in the order of
+/// `by[rank]`), from that rank to every rank: `put(node, values)` for every node of every
+/// rank, in rank order. `all` is the message buffer.
+pub fn share_nodes(
+    comm: &mut dyn Comm,
+    by: &[Vec<u32>],
+    w: usize,
+    mine: &[f64],
+    all: &mut Vec<f64>,
+    mut put: impl FnMut(usize, &[f64]),
+) {
+    let counts: Vec<usize> = by.iter().map(|b| w * b.len()).collect();
+    all.resize(counts.iter().sum(), 0.0);
+    comm.all_gather(mine, &counts, all);
+    each_gathered(by, all, w, |_, d, c| put(d / 2, c));
+}
+
+/// Every rank's entries, merged: `mine[s]` holds this rank's entries of section `s`,
+/// `widths[s]` values each, the first the entry's key; `out[s]` gets every rank's entries of
+/// section `s` ordered by key (equal keys in rank order). Two collective calls.
+pub fn gather_entries(
+    comm: &mut dyn Comm,
+    mine: &[Vec<f64>],
+    widths: &[usize],
+    flat: &mut Vec<f64>,
+    all: &mut Vec<f64>,
+    out: &mut [Vec<f64>],
+) {
+    let ns = mine.len();
+    let size = comm.size();
+    let head: Vec<f64> = mine
+        .iter()
+        .zip(widths)
+        .map(|(m, w)| (m.len() / w) as f64)
+        .collect();
+    let mut heads = vec![0.0; ns * size];
+    comm.all_gather(&head, &vec![ns; size], &mut heads);
+    flat.clear();
+    for m in mine {
+        flat.extend_from_slice(m);
+    }
+    let counts: Vec<usize> = heads
+        .chunks_exact(ns)
+        .map(|h| h.iter().zip(widths).map(|(n, w)| *n as usize * w).sum())
+        .collect();
+    all.resize(counts.iter().sum(), 0.0);
+    comm.all_gather(flat, &counts, all);
+    // per section, (key, start) of every entry, then sorted stably by key
+    let mut starts: Vec<Vec<(f64, usize)>> = vec![Vec::new(); ns];
+    let mut at = 0;
+    for h in heads.chunks_exact(ns) {
+        for (s, (&n, &w)) in h.iter().zip(widths).enumerate() {
+            for _ in 0..n as usize {
+                starts[s].push((all[at], at));
+                at += w;
+            }
+        }
+    }
+    for ((st, o), &w) in starts.iter_mut().zip(out.iter_mut()).zip(widths) {
+        st.sort_by(|a, b| a.0.total_cmp(&b.0));
+        o.clear();
+        for &(_, k) in st.iter() {
+            o.extend_from_slice(&all[k..k + w]);
         }
     }
 }

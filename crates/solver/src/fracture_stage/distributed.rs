@@ -12,7 +12,7 @@ use fdem_fracture::{
     FractureEvent, FractureMode, JointHistory, JointId, JointScratch, JointSet, JointState,
 };
 
-use crate::distributed::{Comm, Layout};
+use crate::distributed::{Comm, Ghosts, Layout};
 
 /// Values per joint history in a message.
 const HISTORY: usize = 17;
@@ -29,6 +29,8 @@ pub struct LocalJoints {
     pub state: JointState,
     /// The pass's scratch.
     pub scratch: JointScratch,
+    /// The nodes of this rank's joints that other ranks own, from their owners.
+    pub ghosts: Ghosts,
     /// Per rank, the global ids of the joints it owns (shares), increasing.
     owned_by: Vec<Vec<u32>>,
     /// Per local joint: whether this rank owns it.
@@ -59,7 +61,14 @@ impl LocalJoints {
             .map(|&j| owner(j as usize) == layout.rank)
             .collect();
         let local = set.subset(&ids);
+        let ghosts = Ghosts::new(
+            layout.rank,
+            layout.size,
+            &layout.node_owner,
+            set.nodes.iter().map(|n| n.as_slice()),
+        );
         LocalJoints {
+            ghosts,
             scratch: JointScratch::new(ids.len()),
             state: state.subset(&ids),
             set: local,

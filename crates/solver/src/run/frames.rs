@@ -229,7 +229,7 @@ impl FrameWriter {
         let s = Instant::now();
         let saved = sys.timers;
         let mut a = vec![0.0; state.x.len()];
-        fdem_time::SecondOrderSystem::acceleration(sys, state.t, &state.x, &state.v, &mut a);
+        sys.look(state.t, &state.x, &state.v, &mut a);
         sys.timers = saved;
         let mut fr = state_frame_of(sys, state, &self.arrays);
         if self.arrays.has_stage_arrays() {

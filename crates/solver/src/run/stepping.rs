@@ -446,12 +446,11 @@ pub(super) fn stage_dir<'p>(sys: &SceneSystem, out_dir: &'p Path) -> Option<&'p 
         .then_some(out_dir)
 }
 
-/// A distributed system's stages take their parts (or run whole on the gathered state), and
+/// A distributed system's stages take their parts, and
 /// the whole state is shared after every step when the energy books sum over every node in
 /// every step (mass damping `alpha`, element viscosity, the kept element forces).
 pub(super) fn distribute_stages(sys: &mut SceneSystem, alpha: f64) {
     if let Some(d) = &mut sys.dist {
-        d.replicate_stages(!sys.contributions.is_empty());
         for c in &mut sys.contributions {
             c.distribute(&d.layout);
         }
