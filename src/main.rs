@@ -1,6 +1,6 @@
 //! The `fdem` command-line program: a thin dispatcher to the subcommands.
 //!
-//! - `fdem run SCENE [--out DIR] [--raw] [--checkpoint-every N|TIME] [--stop-after N]`, or
+//! - `fdem run SCENE [--out DIR] [--raw] [--checkpoint-every N|TIME] [--stop-after N] [--rebalance R|off]`, or
 //!   `fdem run [SCENE] --resume DIR`: run a scene, or continue a run (`src/cmd/run.rs`).
 //! - `fdem check SCENE`: validate a scene, stable steps, estimated time (`src/cmd/check.rs`).
 //! - `fdem info MESH`: describe a mesh file (`src/cmd/info.rs`).
@@ -68,6 +68,10 @@ enum Command {
         /// code 4); a later --resume goes on.
         #[arg(long, value_name = "STEPS")]
         stop_after: Option<u64>,
+        /// On several processes: repartition when the largest part's work exceeds RATIO
+        /// times the mean (checked every 100 steps), or `off`; default 1.25.
+        #[arg(long, value_name = "RATIO|off", value_parser = parse_rebalance)]
+        rebalance: Option<f64>,
     },
     /// Validate a scene: report the mesh, each scheme's stable time step and the run time.
     #[command(after_help = EXIT_CODES)]
@@ -94,6 +98,20 @@ fn parse_every(s: &str) -> Result<fdem_solver::checkpoint::Every, String> {
     fdem_solver::checkpoint::Every::parse(s)
 }
 
+/// `--rebalance`: a ratio of at least 1, or `off` (never).
+fn parse_rebalance(s: &str) -> Result<f64, String> {
+    if s == "off" {
+        return Ok(f64::INFINITY);
+    }
+    match s.parse::<f64>() {
+        Ok(r) if r.is_finite() && r >= 1.0 => Ok(r),
+        _ => Err(format!(
+            "`{s}` is not a ratio of at least 1 (the largest part's work over the mean) nor \
+             `off`: e.g. --rebalance 1.25"
+        )),
+    }
+}
+
 /// Writes `bytes` to `path` whole or not at all: a temporary file beside it, then a rename.
 pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut tmp = path.as_os_str().to_owned();
@@ -113,6 +131,7 @@ fn main() -> ExitCode {
             checkpoint_every,
             resume,
             stop_after,
+            rebalance,
         } => cmd::run::run(cmd::run::RunArgs {
             scene,
             out,
@@ -120,6 +139,7 @@ fn main() -> ExitCode {
             checkpoint_every,
             resume,
             stop_after,
+            rebalance,
         }),
         Command::Check { scene } => cmd::check::check(&scene),
         Command::Info { mesh } => cmd::info::info(&mesh),

@@ -223,7 +223,12 @@ fn how_often_frames_are_written_does_not_change_a_fracturing_run() {
     assert!(few.3 > 20, "{} joints broke", few.3);
     assert!(few.0 == many.0, "histories.csv differs");
     assert!(few.1 == many.1, "fractures.csv differs");
-    for key in ["switch_jump", "friction_dissipated", "node_work", "contact_potential"] {
+    for key in [
+        "switch_jump",
+        "friction_dissipated",
+        "node_work",
+        "contact_potential",
+    ] {
         let (a, b) = (few.2[key].as_f64().unwrap(), many.2[key].as_f64().unwrap());
         assert_eq!(a.to_bits(), b.to_bits(), "{key}: {a:e} and {b:e}");
     }

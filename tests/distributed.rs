@@ -176,6 +176,58 @@ fn the_block_compressed_to_failure_on_2_and_4_ranks_is_the_single_process_run() 
 }
 
 #[test]
+fn the_block_repartitioned_as_it_breaks_is_the_single_process_run() {
+    // a threshold of 1: the parts are cut again, weighted by the triangles', joints' and
+    // couples' costs, at every check where that is better balanced; the new owners take the
+    // nodes, joints and couples with their histories
+    let scene = root().join("examples/block-compression-fracture.json");
+    let dir = temp_dir("dist-rebalance");
+    run_serial(&scene, &dir.join("np1"));
+    let out = dir.join("np3");
+    let options = RunOptions {
+        out_dir: out.clone(),
+        rebalance: Some(1.0),
+        ..Default::default()
+    };
+    let outcomes = run_with(&scene, 3, options);
+    assert_same_files(&dir.join("np1"), &out);
+    let d = outcomes[0]
+        .as_ref()
+        .unwrap()
+        .summary
+        .distributed
+        .clone()
+        .unwrap();
+    let n = d["repartitions"].as_u64().unwrap();
+    assert!(n >= 2, "{n} repartitions");
+    let (now, after) = (
+        d["imbalance_last_check"].as_f64().unwrap(),
+        d["imbalance_after_repartition"].as_f64().unwrap(),
+    );
+    assert!(
+        after < 1.1 && now < 1.25,
+        "imbalance {now} at the last check, {after} after the last repartition"
+    );
+    // off: never
+    let out = dir.join("np3-off");
+    let options = RunOptions {
+        out_dir: out.clone(),
+        rebalance: Some(f64::INFINITY),
+        ..Default::default()
+    };
+    let outcomes = run_with(&scene, 3, options);
+    let d = outcomes[0]
+        .as_ref()
+        .unwrap()
+        .summary
+        .distributed
+        .clone()
+        .unwrap();
+    assert_eq!(d["repartitions"].as_u64(), Some(0));
+    assert!(d["imbalance_last_check"].as_f64().unwrap() > 1.0);
+}
+
+#[test]
 fn what_a_distributed_run_does_not_do_is_refused_with_its_field_before_anything_is_written() {
     let dir = temp_dir("dist-refused");
     let cases = [

@@ -25,6 +25,8 @@ pub struct RunArgs {
     pub resume: Option<PathBuf>,
     /// `--stop-after STEPS`.
     pub stop_after: Option<u64>,
+    /// `--rebalance RATIO|off` (distributed runs).
+    pub rebalance: Option<f64>,
 }
 
 /// SIGINT and SIGTERM: the first sets `stop` to the signal's number (the run stops after its
@@ -93,6 +95,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         checkpoint_every,
         resume,
         stop_after,
+        rebalance,
     } = args;
     let scene = match &resume {
         Some(dir) => resumed_scene(dir, scene)?,
@@ -120,6 +123,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         },
         stop_after,
         resume: resume.is_some(),
+        rebalance,
     };
     let outcome = if std::io::stderr().is_terminal() {
         let bar = indicatif::ProgressBar::new(1000);

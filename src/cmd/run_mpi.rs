@@ -76,6 +76,7 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
         stop: Some(super::run::stop_on_signals()?),
         stop_after: args.stop_after,
         resume: args.resume.is_some(),
+        rebalance: args.rebalance,
     };
     // rank 0 reports the progress
     let mut lines = super::run::progress_lines();

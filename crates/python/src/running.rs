@@ -314,6 +314,8 @@ fn execute(
         stop: (l.scene.analysis != Analysis::Static).then(|| Arc::clone(stop)),
         stop_after: how.stop_after,
         resume: how.resume,
+        // one process: nothing to partition
+        rebalance: None,
     };
     let outcome = driver::run_outcome(&mut l, &options, &mut |p: &Progress| {
         // the receiver is gone only once the caller stopped waiting: nothing to tell

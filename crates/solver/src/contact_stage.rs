@@ -651,6 +651,18 @@ impl ForceContribution for ContactStage {
         self.partial = on;
     }
 
+    /// A couple of the last detection costs [`crate::distributed::balance::COUPLE`], to its
+    /// first triangle, and so does a plane pair, to its triangle.
+    fn add_costs(&self, tri_cost: &mut [f64]) {
+        use crate::distributed::balance::COUPLE;
+        for c in self.contact.couples() {
+            tri_cost[c[0] as usize] += COUPLE;
+        }
+        for w in self.contact.wall_pairs() {
+            tri_cost[w[1] as usize] += COUPLE;
+        }
+    }
+
     /// Takes this rank's part ([`distributed`]).
     fn distribute(&mut self, layout: &crate::distributed::Layout) {
         self.distribute_part(layout);

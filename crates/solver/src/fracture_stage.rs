@@ -746,6 +746,15 @@ impl ForceContribution for FractureStage {
         self.ends_step = true;
     }
 
+    /// An intact joint costs [`crate::distributed::balance::JOINT`], to its first triangle.
+    fn add_costs(&self, tri_cost: &mut [f64]) {
+        for (t, intact) in self.set.triangles.iter().zip(&self.state.intact) {
+            if *intact {
+                tri_cost[t[0] as usize] += crate::distributed::balance::JOINT;
+            }
+        }
+    }
+
     /// Takes this rank's joints: those with a node of its own.
     fn distribute(&mut self, layout: &crate::distributed::Layout) {
         let mut l = distributed::LocalJoints::new(&self.set, &self.state, layout);

@@ -147,6 +147,10 @@ pub trait ForceContribution: Send {
         _comm: &mut dyn crate::distributed::Comm,
     ) {
     }
+    /// Adds the cost per step of the term's items to the triangles that lead them, in units of
+    /// a triangle's element pass (`crate::distributed::balance`: what a repartition balances).
+    /// Default: nothing.
+    fn add_costs(&self, _tri_cost: &mut [f64]) {}
     /// In a distributed run, at each step whose state the observers read: makes the term's
     /// whole state current on every rank. Every rank calls it. Default: nothing.
     fn share(&mut self, _comm: &mut dyn crate::distributed::Comm) {}
@@ -292,6 +296,18 @@ impl SceneSystem {
     pub fn distribute(&mut self, d: crate::distributed::Distribution) {
         self.dist_scratch = ForceScratch::new(&d.local);
         self.dist = Some(Box::new(d));
+    }
+
+    /// Takes a new distributed `layout` (a repartition at a step whose whole state every rank
+    /// holds): the triangles evaluated, the exchanges and the stages' parts.
+    pub fn repartition(&mut self, layout: crate::distributed::Layout) {
+        if let Some(d) = &mut self.dist {
+            d.repartition(layout, &self.elements);
+            self.dist_scratch = ForceScratch::new(&d.local);
+            for c in &mut self.contributions {
+                c.distribute(&d.layout);
+            }
+        }
     }
 
     /// Sets the mass-proportional damping `alpha` [1/s] (an adaptive relaxation).

@@ -132,6 +132,27 @@ impl Contact {
     /// zero); the next detection marks only their triangles for the pass.
     pub fn set_part(&mut self, part: Vec<u8>) {
         self.part = part;
+        self.held_part.clear();
+        // the marks of the triangles the pass reads, for this part
+        self.tri_used.iter_mut().for_each(|u| *u &= 1);
+        for k in 0..self.couples.len() {
+            let c = self.couples[k];
+            if self.couple_local(&c) {
+                for t in c {
+                    if let Some(u) = self.tri_used.get_mut(t as usize) {
+                        *u |= 2;
+                    }
+                }
+            }
+        }
+        for k in 0..self.wall_pairs.len() {
+            let t = self.wall_pairs[k][1];
+            if self.tri_local(t)
+                && let Some(u) = self.tri_used.get_mut(t as usize)
+            {
+                *u |= 2;
+            }
+        }
     }
 
     /// With `on`, the passes evaluate and count every couple and plane pair, on the whole

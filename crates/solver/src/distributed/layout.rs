@@ -42,22 +42,25 @@ pub struct Layout {
 }
 
 impl Layout {
-    /// The decomposition of `model` (with its `elements`) over `size` ranks, seen from `rank`.
+    /// The decomposition of `model` (with its `elements`) over `size` ranks, seen from `rank`:
+    /// the triangles cut at their initial centroids, each of the same weight.
     pub fn new(model: &Model, elements: &Elements, rank: usize, size: usize) -> Layout {
+        let centroids = centroids(elements, &model.x0);
+        let tri_part = rcb(&centroids, &vec![1.0; centroids.len()], size);
+        Layout::with_parts(model, elements, rank, size, tri_part)
+    }
+
+    /// The decomposition with the triangles of each part given (`tri_part[t]`: the part of
+    /// triangle `t`).
+    pub fn with_parts(
+        model: &Model,
+        elements: &Elements,
+        rank: usize,
+        size: usize,
+        tri_part: Vec<u32>,
+    ) -> Layout {
         assert!(rank < size);
         let n = model.n_nodes();
-        let centroids: Vec<[f64; 2]> = elements
-            .tris
-            .iter()
-            .map(|t| {
-                let p = t.nodes.map(|k| model.x0[k as usize]);
-                [
-                    (p[0][0] + p[1][0] + p[2][0]) / 3.0,
-                    (p[0][1] + p[1][1] + p[2][1]) / 3.0,
-                ]
-            })
-            .collect();
-        let tri_part = rcb(&centroids, &vec![1.0; centroids.len()], size);
         let mut node_owner = vec![u32::MAX; n];
         for (t, td) in elements.tris.iter().enumerate() {
             for &k in &td.nodes {
@@ -148,4 +151,19 @@ impl Layout {
     pub fn owned(&self) -> &[u32] {
         &self.owned_by[self.rank]
     }
+}
+
+/// The centroid of each triangle of `elements` at node positions `x`.
+pub fn centroids(elements: &Elements, x: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    elements
+        .tris
+        .iter()
+        .map(|t| {
+            let p = t.nodes.map(|k| x[k as usize]);
+            [
+                (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+                (p[0][1] + p[1][1] + p[2][1]) / 3.0,
+            ]
+        })
+        .collect()
 }

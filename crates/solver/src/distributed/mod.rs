@@ -17,6 +17,7 @@
 //! The transport is a [`Comm`]: MPI in the `fdem-mpi` crate, or threads of one process
 //! ([`ThreadComm`]).
 
+pub mod balance;
 mod comm;
 mod ghosts;
 mod layout;
@@ -50,6 +51,13 @@ pub struct Distribution {
     pub every_step: bool,
     /// Exchanges done: ghost patches, watched-node and whole-state shares.
     pub counts: [u64; 3],
+    /// The imbalance above which the run repartitions
+    /// ([`balance::DEFAULT_THRESHOLD`] unless the run gives its own; infinite: never).
+    pub rebalance: f64,
+    /// Repartitions done.
+    pub repartitions: u64,
+    /// The imbalance of the cost at the last check, and after the last repartition.
+    pub imbalance: [f64; 2],
 }
 
 impl Distribution {
@@ -73,7 +81,22 @@ impl Distribution {
             all: Vec::new(),
             every_step: false,
             counts: [0; 3],
+            rebalance: balance::DEFAULT_THRESHOLD,
+            repartitions: 0,
+            imbalance: [1.0; 2],
         }
+    }
+
+    /// Takes the new `layout` (a repartition; the same ranks): the triangles it evaluates
+    /// out of `elements` and the buffers of its exchanges.
+    pub fn repartition(&mut self, layout: Layout, elements: &Elements) {
+        assert_eq!(self.layout.size, layout.size);
+        self.local = elements.subset(&layout.local_tris);
+        let np = layout.peers.len();
+        self.send = vec![Vec::new(); np];
+        self.recv = vec![Vec::new(); np];
+        self.layout = layout;
+        self.repartitions += 1;
     }
 
     /// Gathers the whole positions and velocities from their owners into
@@ -115,6 +138,10 @@ impl Distribution {
             "ghost_exchanges": self.counts[0],
             "watched_shares": self.counts[1],
             "whole_state_shares": self.counts[2],
+            "rebalance_threshold": self.rebalance.is_finite().then_some(self.rebalance),
+            "repartitions": self.repartitions,
+            "imbalance_last_check": self.imbalance[0],
+            "imbalance_after_repartition": (self.repartitions > 0).then_some(self.imbalance[1]),
         })
     }
 

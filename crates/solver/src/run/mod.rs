@@ -273,7 +273,10 @@ pub fn run_distributed(
     let elements = std::mem::take(&mut l.elements);
     let mut sys = SceneSystem::new(model, elements, alpha);
     let layout = Layout::new(&sys.model, &sys.elements, rank, size);
-    let part = Distribution::new(layout, comm, &sys.elements);
+    let mut part = Distribution::new(layout, comm, &sys.elements);
+    if let Some(r) = options.rebalance {
+        part.rebalance = r;
+    }
     sys.distribute(part);
     let outcome = {
         let mut histories = if rank == 0 {

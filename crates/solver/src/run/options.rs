@@ -25,4 +25,8 @@ pub struct RunOptions {
     pub stop_after: Option<u64>,
     /// Continue the run in `out_dir` from its checkpoint instead of starting afresh.
     pub resume: bool,
+    /// A distributed run repartitions when the largest part's cost exceeds this many times
+    /// the mean (checked every 100 steps; infinite: never); `None`:
+    /// [`crate::distributed::balance::DEFAULT_THRESHOLD`].
+    pub rebalance: Option<f64>,
 }

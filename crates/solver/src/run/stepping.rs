@@ -241,10 +241,45 @@ impl<'a> Run<'a> {
             || self.frames.due(step, self.state.t, last);
         if observed {
             self.share_whole();
+            if step.is_multiple_of(super::stability::CHECK_EVERY) {
+                self.rebalance();
+            }
         } else {
             let State { x, v, .. } = &mut self.state;
             d.sync_watched(x, v, &mut sys.force);
         }
+    }
+
+    /// A distributed run at a check, with the whole state on every rank: repartitions when
+    /// the cost of the parts is unbalanced (`crate::distributed::balance`). Every rank takes
+    /// the same decision from the same state; the results do not depend on the partition.
+    fn rebalance(&mut self) {
+        use crate::distributed::{Layout, balance};
+        let sys = &mut *self.sys;
+        let Some(d) = &mut sys.dist else {
+            return;
+        };
+        let mut cost = vec![balance::TRIANGLE; sys.elements.len()];
+        for c in &sys.contributions {
+            c.add_costs(&mut cost);
+        }
+        let (size, tri_part) = (d.layout.size, &d.layout.tri_part);
+        d.imbalance[0] = balance::imbalance(tri_part, &cost, size);
+        let x = self.state.x_nodes();
+        let Some(parts) =
+            balance::repartition(&sys.elements, x, tri_part, &cost, size, d.rebalance)
+        else {
+            return;
+        };
+        d.imbalance[1] = balance::imbalance(&parts, &cost, size);
+        // the scheme's cached acceleration of every DOF from its owner: the new owners read it
+        let mut scheme = self.integrator.save_state();
+        d.share_dofs(&mut scheme.a);
+        if let Err(e) = self.integrator.restore_state(&scheme) {
+            unreachable!("a scheme takes back its own state: {}", e.0);
+        }
+        let layout = Layout::with_parts(&sys.model, &sys.elements, d.rank(), size, parts);
+        sys.repartition(layout);
     }
 
     /// Whether this process writes the run's files: always, except on the ranks other than
