@@ -73,6 +73,14 @@ fn compare_on(scene: &Path, tag: &str, sizes: &[usize]) -> Vec<u64> {
                 o.summary.energy.error.to_bits(),
                 serial.summary.energy.error.to_bits()
             );
+            // every rank's stage books (the contact's slip and damping dissipation, wall
+            // work, work on the nodes, switch jump, active bound; the joints'), but for the
+            // timers and the rank's own counts
+            assert_eq!(
+                books(&o.summary.stages),
+                books(&serial.summary.stages),
+                "{size} ranks"
+            );
         }
         let summary: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
@@ -83,6 +91,19 @@ fn compare_on(scene: &Path, tag: &str, sizes: &[usize]) -> Vec<u64> {
         shares.push(d["whole_state_shares"].as_u64().unwrap());
     }
     shares
+}
+
+/// The stages' reports without their timers (`*_s`) and the rank's own counts (`rank_*`).
+fn books(stages: &serde_json::Value) -> serde_json::Value {
+    let mut v = stages.clone();
+    if let Some(m) = v.as_object_mut() {
+        for stage in m.values_mut() {
+            if let Some(d) = stage.as_object_mut() {
+                d.retain(|k, _| !k.ends_with("_s") && !k.starts_with("rank_"));
+            }
+        }
+    }
+    v
 }
 
 #[test]
@@ -125,6 +146,23 @@ fn the_disc_collision_on_2_and_4_ranks_writes_the_single_process_files_byte_for_
         "dist-collision",
         &[2, 4],
     );
+}
+
+#[test]
+fn the_disc_collision_with_friction_damping_and_a_floor_on_2_and_3_ranks_is_the_single_process_run()
+{
+    // friction and damping between the discs and with a floor they slide on: the couples'
+    // friction histories, the damping power and the walls' reactions folded across ranks
+    let scene = edited_example("disc-collision.json", "dist-collision-damped", |v| {
+        let law = serde_json::json!({ "friction": 0.3, "damping": 7.7e6 });
+        v["contact"] = serde_json::json!({
+            "default": law,
+            "walls": [ { "name": "floor", "point": [0.0, -0.025], "normal": [0.0, 1.0],
+                         "law": law } ]
+        });
+        v["gravity"] = serde_json::json!([0.0, -9.81]);
+    });
+    compare_on(&scene, "dist-collision-damped-runs", &[2, 3]);
 }
 
 #[test]

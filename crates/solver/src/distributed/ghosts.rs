@@ -3,7 +3,7 @@
 //! nodes. Every rank derives the same lists from the same items, so the lengths of the
 //! messages are known to both sides.
 
-use super::Comm;
+use super::comm::Comm;
 
 /// What this rank sends to and receives from each peer so that it holds every node of the
 /// items it evaluates.
