@@ -493,6 +493,14 @@ impl SecondOrderSystem for SceneSystem {
             }
         };
         let f = self.force.as_flattened();
+        if let Some(d) = &self.dist {
+            // a distributed part: its own DOFs only (the scheme moves no others)
+            for r in &d.layout.active {
+                let r = r.clone();
+                kernel(&mut a[r.clone()], &f[r.clone()], &self.inv_mass[r]);
+            }
+            return;
+        }
         if a.len() >= PAR_MIN_DOFS {
             a.par_chunks_mut(DOF_CHUNK)
                 .zip(f.par_chunks(DOF_CHUNK))
@@ -511,9 +519,13 @@ impl SecondOrderSystem for SceneSystem {
             || self.contributions.iter().any(|c| c.reads_velocities())
     }
 
+    fn active_dofs(&self) -> Option<&[std::ops::Range<usize>]> {
+        self.dist.as_ref().map(|d| d.layout.active.as_slice())
+    }
+
     fn prescribed_dofs(&self) -> &[usize] {
         match &self.dist {
-            Some(d) => &d.layout.frozen_dofs,
+            Some(d) => &d.layout.held_dofs,
             None => &self.constrained_dofs,
         }
     }

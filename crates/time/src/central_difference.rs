@@ -64,11 +64,17 @@ impl Integrator for CentralDifference {
         c.ensure_start_acceleration(system, state);
         let t1 = state.t + h;
         let State { x, v, .. } = state;
-        kernels::kick_drift(v, x, &c.a, 0.5 * h, h);
+        // the system's DOFs, or its part's ranges
+        for r in &c.active {
+            let (v, x, a) = (&mut v[r.clone()], &mut x[r.clone()], &c.a[r.clone()]);
+            kernels::kick_drift(v, x, a, 0.5 * h, h);
+        }
         c.constrain(system, t1, x, v);
         system.next_evaluation_ends_step();
         c.eval_lead(system, t1, x, v, 0.5 * h);
-        kernels::kick(v, &c.a, 0.5 * h);
+        for r in &c.active {
+            kernels::kick(&mut v[r.clone()], &c.a[r.clone()], 0.5 * h);
+        }
         c.constrain(system, t1, x, v);
         c.finish(system, state, t1, true);
     }

@@ -150,6 +150,9 @@ pub(crate) struct Core {
     prescribed: Vec<usize>,
     px: Vec<f64>,
     pv: Vec<f64>,
+    /// The DOFs the system moves ([`SecondOrderSystem::active_dofs`]), recorded by
+    /// [`begin`](Self::begin): every DOF unless the system gives ranges.
+    pub active: Vec<std::ops::Range<usize>>,
 }
 
 impl Core {
@@ -202,6 +205,7 @@ impl Core {
             prescribed: Vec::new(),
             px: Vec::new(),
             pv: Vec::new(),
+            active: vec![0..n],
         }
     }
 
@@ -217,6 +221,11 @@ impl Core {
         );
         self.prescribed.clear();
         self.prescribed.extend_from_slice(system.prescribed_dofs());
+        self.active.clear();
+        match system.active_dofs() {
+            Some(r) => self.active.extend_from_slice(r),
+            None => self.active.push(0..n),
+        }
         self.px.clear();
         self.pv.clear();
         for &i in &self.prescribed {
@@ -281,7 +290,10 @@ impl Core {
         lead: f64,
     ) {
         if lead != 0.0 && self.a_live && system.velocity_dependent() {
-            crate::kernels::axpy_into(&mut self.v_est, v, lead, &self.a);
+            for r in &self.active {
+                let r = r.clone();
+                crate::kernels::axpy_into(&mut self.v_est[r.clone()], &v[r.clone()], lead, &self.a[r]);
+            }
             for &i in &self.prescribed {
                 self.v_est[i] = v[i];
             }

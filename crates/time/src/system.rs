@@ -77,6 +77,17 @@ pub trait SecondOrderSystem {
         &[]
     }
 
+    /// The DOFs the central-difference scheme moves when not all of them: sorted, disjoint
+    /// ranges (one process's part of a distributed system). The scheme then updates only
+    /// these DOFs and leaves the others as they are, the system's
+    /// [`acceleration`](Self::acceleration) need fill only these, and
+    /// [`prescribed_dofs`](Self::prescribed_dofs) need name only the prescribed DOFs among
+    /// them. The other schemes move every DOF: such a system is stepped by central difference
+    /// only. Default: `None` (every DOF).
+    fn active_dofs(&self) -> Option<&[std::ops::Range<usize>]> {
+        None
+    }
+
     /// Sets the positions and velocities of the prescribed DOFs at time `t` (for example
     /// `x[i] = x0 + u t`, `v[i] = u` for a platen moving at speed `u`). Called at the
     /// start of a run and after every update loop with that stage's time, which may lie

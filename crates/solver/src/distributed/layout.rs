@@ -36,9 +36,10 @@ pub struct Layout {
     /// the prescribed DOFs' nodes, which the energy books read every step), per owning rank,
     /// increasing.
     pub watched_by: Vec<Vec<u32>>,
-    /// The DOFs this rank does not integrate: the constrained ones and those of nodes it does
-    /// not own, increasing.
-    pub frozen_dofs: Vec<usize>,
+    /// The DOFs of this rank's nodes, as increasing ranges: the only ones its scheme moves.
+    pub active: Vec<std::ops::Range<usize>>,
+    /// The constrained DOFs of this rank's nodes, increasing (held by its scheme).
+    pub held_dofs: Vec<usize>,
 }
 
 impl Layout {
@@ -129,8 +130,18 @@ impl Layout {
         for k in watched {
             watched_by[node_owner[k as usize] as usize].push(k);
         }
-        let frozen_dofs = (0..2 * n)
-            .filter(|&d| model.constrained[d] || node_owner[d / 2] as usize != rank)
+        let mut active: Vec<std::ops::Range<usize>> = Vec::new();
+        for &k in &owned_by[rank] {
+            let d = 2 * k as usize;
+            match active.last_mut() {
+                Some(r) if r.end == d => r.end = d + 2,
+                _ => active.push(d..d + 2),
+            }
+        }
+        let held_dofs = owned_by[rank]
+            .iter()
+            .flat_map(|&k| [2 * k as usize, 2 * k as usize + 1])
+            .filter(|&d| model.constrained[d])
             .collect();
         Layout {
             rank,
@@ -143,7 +154,8 @@ impl Layout {
             send_nodes,
             recv_nodes,
             watched_by,
-            frozen_dofs,
+            active,
+            held_dofs,
         }
     }
 
