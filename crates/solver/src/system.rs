@@ -291,7 +291,7 @@ impl SceneSystem {
 
     /// Makes this system one rank's part of a distributed run: from now on it evaluates the
     /// forces of its part's triangles at positions whose ghost entries come from their owners,
-    /// and the scheme holds the DOFs of the nodes it does not own
+    /// and the scheme moves only the DOFs of the nodes it owns
     /// ([`crate::distributed`]).
     pub fn distribute(&mut self, d: crate::distributed::Distribution) {
         self.dist_scratch = ForceScratch::new(&d.local);

@@ -292,7 +292,12 @@ impl Core {
         if lead != 0.0 && self.a_live && system.velocity_dependent() {
             for r in &self.active {
                 let r = r.clone();
-                crate::kernels::axpy_into(&mut self.v_est[r.clone()], &v[r.clone()], lead, &self.a[r]);
+                crate::kernels::axpy_into(
+                    &mut self.v_est[r.clone()],
+                    &v[r.clone()],
+                    lead,
+                    &self.a[r],
+                );
             }
             for &i in &self.prescribed {
                 self.v_est[i] = v[i];

@@ -5,14 +5,17 @@
 //! bisection ([`partition::rcb`]); each node is owned by the rank of its lowest-numbered
 //! triangle ([`Layout`]). A rank evaluates the forces of every triangle with a node of its own
 //! (its own triangles and one layer of ghost triangles), so that each of its nodes sums the
-//! forces of all its triangles in the serial order, and it integrates only its own nodes:
-//! the other DOFs are held like prescribed ones. Before each force evaluation the ranks
-//! exchange the positions (and, where the forces read them, the velocities) of the nodes
-//! their ghost triangles share ([`Distribution::patch`]). After every step the nodes of the
-//! loads and prescribed motions are shared with every rank (the energy books read them), and
-//! after each step that an observer reads (checks, histories, frames, the last step) the
-//! whole state is ([`Distribution::sync`]): every rank then holds the serial run's state,
-//! bit for bit, and the observers run on it unchanged.
+//! forces of all its triangles in the serial order, and it integrates only its own nodes (the
+//! scheme moves only their DOFs: `SecondOrderSystem::active_dofs`). The joints and contact
+//! couples are evaluated the same way by the stages, on the ranks that own one of their
+//! nodes. Before each force evaluation the ranks exchange the positions (and, where the
+//! forces read them, the velocities) of the nodes their ghost triangles share
+//! ([`Distribution::patch`]) and that their joints and couples read ([`Ghosts`]). After every
+//! step the nodes of the loads and prescribed motions are shared with every rank (the energy
+//! books read them), and after each step that an observer reads (checks, histories, frames,
+//! the last step) the whole state is ([`Distribution::sync`]): every rank then holds the
+//! serial run's state, bit for bit, and the observers run on it unchanged. At the checks the
+//! parts are cut again when their costs are unbalanced ([`balance`]).
 //!
 //! The transport is a [`Comm`]: MPI in the `fdem-mpi` crate, or threads of one process
 //! ([`ThreadComm`]).
