@@ -205,7 +205,7 @@ impl Core {
             prescribed: Vec::new(),
             px: Vec::new(),
             pv: Vec::new(),
-            active: vec![0..n],
+            active: std::iter::once(0..n).collect(),
         }
     }
 
