@@ -101,6 +101,23 @@ for pair in "2 4" "1 2"; do
   echo "ok: disc-collision stopped on $1 process(es) at step 6000 and resumed on $2: identical"
 done
 
+# repartitioning: the notched beam on 3 processes (its joints only in the strip above the
+# notch: the first cut leaves them to two of the three), cut again at its first check
+out="$work/rebalanced/notched-beam-fracture"
+"$bin" run examples/notched-beam-fracture.json --out "$work/np1/notched-beam-fracture" >/dev/null 2>&1
+"${mpi[@]}" -np 3 "$bin" run examples/notched-beam-fracture.json --out "$out" >/dev/null 2>"$work/err"
+if ! diff -r -x summary.json "$work/np1/notched-beam-fracture" "$out"; then
+  echo "FAIL: the notched beam repartitioned on 3 processes differs from the single-process run" >&2
+  exit 1
+fi
+python3 - "$out/summary.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["distributed"]
+assert d["repartitions"] >= 1 and d["imbalance_after_repartition"] < 1.1, d
+PY
+echo "ok: notched-beam-fracture repartitioned on 3 processes: identical to the single-process run"
+checked=$((checked + 1))
+
 # refusals: exit code 2 from the job, the field named once, nothing written
 set +e
 "${mpi[@]}" -np 2 "$bin" run examples/cantilever-relaxation.json --out "$work/refused" >/dev/null 2>"$work/err"
