@@ -763,3 +763,23 @@ fn a_run_started_as_one_of_several_launcher_processes_is_refused() {
     );
     assert!(out.join("summary.json").exists());
 }
+
+/// `--rebalance` takes a ratio of at least 1 or `off`: anything else is refused before the
+/// scene is read, naming the value and an example.
+#[test]
+fn a_rebalance_ratio_below_one_or_not_a_number_is_refused() {
+    let scene = crate::common::root().join("examples/bar-pulse.json");
+    for bad in ["0.5", "nan", "inf", "fast"] {
+        let (code, _, err) = fdem(&[
+            "run".as_ref(),
+            scene.as_os_str(),
+            "--rebalance".as_ref(),
+            bad.as_ref(),
+        ]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(
+            err.contains(&format!("`{bad}` is not a ratio of at least 1")) && err.contains("off"),
+            "{bad}: {err}"
+        );
+    }
+}

@@ -68,7 +68,11 @@ fn the_active_dofs_follow_the_whole_run_and_the_others_never_move() {
     }
     for i in 0..n {
         let moved = part.active.iter().any(|r| r.contains(&i)) && i != 3;
-        let (x, v) = if moved { (a.x[i], a.v[i]) } else { (x0[i], v0[i]) };
+        let (x, v) = if moved {
+            (a.x[i], a.v[i])
+        } else {
+            (x0[i], v0[i])
+        };
         assert_eq!(b.x[i].to_bits(), x.to_bits(), "x of DOF {i}");
         assert_eq!(b.v[i].to_bits(), v.to_bits(), "v of DOF {i}");
         if moved {
