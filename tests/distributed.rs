@@ -221,21 +221,25 @@ fn the_block_repartitioned_as_it_breaks_is_the_single_process_run() {
     let scene = root().join("examples/block-compression-fracture.json");
     let dir = temp_dir("dist-rebalance");
     run_serial(&scene, &dir.join("np1"));
-    let out = dir.join("np3");
-    let options = RunOptions {
-        out_dir: out.clone(),
-        rebalance: Some(1.0),
-        ..Default::default()
+    // on 3 ranks with the threshold `rebalance`: rank 0's `distributed` summary
+    let on_3 = |tag: &str, rebalance: f64| {
+        let out = dir.join(tag);
+        let options = RunOptions {
+            out_dir: out.clone(),
+            rebalance: Some(rebalance),
+            ..Default::default()
+        };
+        let outcomes = run_with(&scene, 3, options);
+        assert_same_files(&dir.join("np1"), &out);
+        outcomes[0]
+            .as_ref()
+            .unwrap()
+            .summary
+            .distributed
+            .clone()
+            .unwrap()
     };
-    let outcomes = run_with(&scene, 3, options);
-    assert_same_files(&dir.join("np1"), &out);
-    let d = outcomes[0]
-        .as_ref()
-        .unwrap()
-        .summary
-        .distributed
-        .clone()
-        .unwrap();
+    let d = on_3("np3", 1.0);
     let n = d["repartitions"].as_u64().unwrap();
     assert!(n >= 2, "{n} repartitions");
     let (now, after) = (
@@ -247,20 +251,7 @@ fn the_block_repartitioned_as_it_breaks_is_the_single_process_run() {
         "imbalance {now} at the last check, {after} after the last repartition"
     );
     // off: never
-    let out = dir.join("np3-off");
-    let options = RunOptions {
-        out_dir: out.clone(),
-        rebalance: Some(f64::INFINITY),
-        ..Default::default()
-    };
-    let outcomes = run_with(&scene, 3, options);
-    let d = outcomes[0]
-        .as_ref()
-        .unwrap()
-        .summary
-        .distributed
-        .clone()
-        .unwrap();
+    let d = on_3("np3-off", f64::INFINITY);
     assert_eq!(d["repartitions"].as_u64(), Some(0));
     assert!(d["imbalance_last_check"].as_f64().unwrap() > 1.0);
 }

@@ -4,6 +4,7 @@
 
 use fdem_mesh::Elements;
 
+use super::ghosts::Ghosts;
 use super::partition::rcb;
 use crate::model::Model;
 
@@ -26,12 +27,9 @@ pub struct Layout {
     /// The triangles this rank evaluates: every triangle with a node of its own, increasing.
     /// A node's triangles are then all evaluated on its owner, in the serial order.
     pub local_tris: Vec<u32>,
-    /// The ranks this rank exchanges ghost nodes with (symmetric), increasing.
-    pub peers: Vec<usize>,
-    /// Per peer: this rank's nodes that the peer's triangles use, increasing.
-    pub send_nodes: Vec<Vec<u32>>,
-    /// Per peer: the peer's nodes that this rank's triangles use (its ghosts), increasing.
-    pub recv_nodes: Vec<Vec<u32>>,
+    /// The nodes of the triangles this rank evaluates that other ranks own (its ghosts), and
+    /// the nodes of its own that other ranks' triangles use.
+    pub ghosts: Ghosts,
     /// Nodes whose state and force every rank keeps current after every step (the loaded and
     /// the prescribed DOFs' nodes, which the energy books read every step), per owning rank,
     /// increasing.
@@ -79,45 +77,16 @@ impl Layout {
         for (k, &o) in node_owner.iter().enumerate() {
             owned_by[o as usize].push(k as u32);
         }
-        // need[q][r]: nodes owned by r that rank q's triangles use (q != r)
-        let mut local_tris = Vec::new();
-        let mut recv: Vec<Vec<u32>> = vec![Vec::new(); size];
-        let mut send: Vec<Vec<u32>> = vec![Vec::new(); size];
-        for (t, td) in elements.tris.iter().enumerate() {
-            let owners = td.nodes.map(|k| node_owner[k as usize] as usize);
-            for (a, &q) in owners.iter().enumerate() {
-                if owners[..a].contains(&q) {
-                    continue;
-                }
-                // triangle t is evaluated on rank q
-                if q == rank {
-                    local_tris.push(t as u32);
-                }
-                for (&k, &r) in td.nodes.iter().zip(&owners) {
-                    if r == q {
-                        continue;
-                    }
-                    if q == rank {
-                        recv[r].push(k);
-                    } else if r == rank {
-                        send[q].push(k);
-                    }
-                }
-            }
-        }
-        let mut peers = Vec::new();
-        let (mut send_nodes, mut recv_nodes) = (Vec::new(), Vec::new());
-        for (p, (mut s, mut r)) in send.into_iter().zip(recv).enumerate() {
-            s.sort_unstable();
-            s.dedup();
-            r.sort_unstable();
-            r.dedup();
-            if !s.is_empty() || !r.is_empty() {
-                peers.push(p);
-                send_nodes.push(s);
-                recv_nodes.push(r);
-            }
-        }
+        let mine = |k: &u32| node_owner[*k as usize] as usize == rank;
+        let local_tris = (0..elements.tris.len() as u32)
+            .filter(|&t| elements.tris[t as usize].nodes.iter().any(mine))
+            .collect();
+        let ghosts = Ghosts::new(
+            rank,
+            size,
+            &node_owner,
+            elements.tris.iter().map(|t| t.nodes.as_slice()),
+        );
         let mut watched: Vec<u32> = model
             .loads
             .iter()
@@ -150,9 +119,7 @@ impl Layout {
             node_owner,
             owned_by,
             local_tris,
-            peers,
-            send_nodes,
-            recv_nodes,
+            ghosts,
             watched_by,
             active,
             held_dofs,

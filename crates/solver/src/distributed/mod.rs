@@ -45,8 +45,6 @@ pub struct Distribution {
     pub xp: Vec<f64>,
     /// Velocities, likewise (only when the forces read them).
     pub vp: Vec<f64>,
-    send: Vec<Vec<f64>>,
-    recv: Vec<Vec<f64>>,
     mine: Vec<f64>,
     all: Vec<f64>,
     /// The whole state is shared after every step (the energy books sum over every node in
@@ -70,7 +68,6 @@ impl Distribution {
         assert_eq!(comm.rank(), layout.rank);
         assert_eq!(comm.size(), layout.size);
         let local = elements.subset(&layout.local_tris);
-        let np = layout.peers.len();
         let n = elements.n_nodes;
         Distribution {
             layout,
@@ -78,8 +75,6 @@ impl Distribution {
             local,
             xp: vec![0.0; 2 * n],
             vp: vec![0.0; 2 * n],
-            send: vec![Vec::new(); np],
-            recv: vec![Vec::new(); np],
             mine: Vec::new(),
             all: Vec::new(),
             every_step: false,
@@ -95,9 +90,6 @@ impl Distribution {
     pub fn repartition(&mut self, layout: Layout, elements: &Elements) {
         assert_eq!(self.layout.size, layout.size);
         self.local = elements.subset(&layout.local_tris);
-        let np = layout.peers.len();
-        self.send = vec![Vec::new(); np];
-        self.recv = vec![Vec::new(); np];
         self.layout = layout;
         self.repartitions += 1;
     }
@@ -127,7 +119,7 @@ impl Distribution {
     /// ghost nodes, the largest of each over the ranks, and the exchanges.
     pub fn report(&self) -> serde_json::Value {
         let l = &self.layout;
-        let ghosts: usize = l.recv_nodes.iter().map(Vec::len).sum();
+        let ghosts = l.ghosts.len();
         let largest = l.owned_by.iter().map(Vec::len).max().unwrap_or(0);
         serde_json::json!({
             "ranks": l.size,
@@ -137,7 +129,7 @@ impl Distribution {
             "rank0_nodes": l.owned().len(),
             "rank0_triangles_evaluated": l.local_tris.len(),
             "rank0_ghost_nodes": ghosts,
-            "rank0_peers": l.peers.len(),
+            "rank0_peers": l.ghosts.peers.len(),
             "ghost_exchanges": self.counts[0],
             "watched_shares": self.counts[1],
             "whole_state_shares": self.counts[2],
@@ -172,32 +164,12 @@ impl Distribution {
     /// evaluation at `(x, v)`: this rank's nodes from `x` and `v`, the ghosts from their
     /// owners' calls.
     pub fn patch(&mut self, x: &[f64], v: &[f64], with_v: bool) {
-        let w = if with_v { 4 } else { 2 };
         self.patch_owned(x, v, with_v);
-        for (s, nodes) in self.send.iter_mut().zip(&self.layout.send_nodes) {
-            s.clear();
-            for &k in nodes {
-                let d = 2 * k as usize;
-                s.extend_from_slice(&x[d..d + 2]);
-                if with_v {
-                    s.extend_from_slice(&v[d..d + 2]);
-                }
-            }
-        }
-        for (r, nodes) in self.recv.iter_mut().zip(&self.layout.recv_nodes) {
-            r.resize(w * nodes.len(), 0.0);
-        }
-        self.comm
-            .exchange(&self.layout.peers, &self.send, &mut self.recv);
-        for (r, nodes) in self.recv.iter().zip(&self.layout.recv_nodes) {
-            for (c, &k) in r.chunks_exact(w).zip(nodes) {
-                let d = 2 * k as usize;
-                self.xp[d..d + 2].copy_from_slice(&c[..2]);
-                if with_v {
-                    self.vp[d..d + 2].copy_from_slice(&c[2..4]);
-                }
-            }
-        }
+        let (xp, vp) = (
+            self.xp.as_chunks_mut::<2>().0,
+            self.vp.as_chunks_mut::<2>().0,
+        );
+        self.layout.ghosts.exchange(&mut *self.comm, xp, vp, with_v);
         self.counts[0] += 1;
     }
 
