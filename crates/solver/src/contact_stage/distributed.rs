@@ -54,6 +54,9 @@ pub(super) struct ContactPart {
     items: Vec<u32>,
     flat: Vec<f64>,
     all: Vec<f64>,
+    /// Every rank's verdict on its nodes' motion, and one value per rank (the counts).
+    moved: Vec<f64>,
+    ones: Vec<usize>,
 }
 
 impl ContactPart {
@@ -72,6 +75,8 @@ impl ContactPart {
             items: Vec::new(),
             flat: Vec::new(),
             all: Vec::new(),
+            moved: vec![0.0; layout.size],
+            ones: vec![1; layout.size],
         }
     }
 }
@@ -110,9 +115,8 @@ impl ContactStage {
         };
         let moved = self.contact.moved_since_detection(x, &p.owned_by[p.rank]);
         let size = p.owned_by.len();
-        let mut any = vec![0.0; size];
-        comm.all_gather(&[moved as u8 as f64], &vec![1; size], &mut any);
-        if any.iter().any(|m| *m != 0.0) {
+        comm.all_gather(&[moved as u8 as f64], &p.ones, &mut p.moved);
+        if p.moved.iter().any(|m| *m != 0.0) {
             p.flat.clear();
             for &k in &p.owned_by[p.rank] {
                 p.flat.extend_from_slice(&x[k as usize]);
