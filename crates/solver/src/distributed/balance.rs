@@ -20,9 +20,11 @@ pub const TRIANGLE: f64 = 1.0;
 /// triangles and 20 592 joints took 8.5 times the element pass on one thread, 5.7 triangles
 /// per joint.
 pub const JOINT: f64 = 5.7;
-/// Cost of a contact couple or plane pair per step, in triangles (a couple evaluates the
-/// edges of two triangles in each other).
-pub const COUPLE: f64 = 10.0;
+/// Cost of a contact couple or plane pair per step, in triangles: the contact force pass
+/// runs 7.3 M couples/s on one thread, the element kernel 114 M triangles/s
+/// (docs/performance.md), 15.6 triangles per couple. A detected couple whose triangles'
+/// boxes are apart costs less; one that carries a load costs that.
+pub const COUPLE: f64 = 15.0;
 
 /// The largest part's cost over the mean, with `tri_part[t]` the part of triangle `t` out of
 /// `size` and `cost[t]` its cost.
