@@ -11,7 +11,7 @@
 //!   reactions, the damping power, the work of the contact forces on the nodes, the potential
 //!   brought in by releases, the active bound) is made of per-item terms; each rank hands out
 //!   the terms of the items it leads, and at the end of the step every rank folds all of them
-//!   in the serial order ([`gather_entries`]). The books are therefore the serial run's on
+//!   in the serial order ([`Entries`]). The books are therefore the serial run's on
 //!   every rank.
 //! - **Observers and checkpoints** read the whole force pass and friction history, made
 //!   current on every rank at the steps they read ([`ContactStage::share_part`]).
@@ -19,7 +19,7 @@
 use fdem_contact::{COUPLE_SHARE, ContactStats, LEAD, LOCAL, TALLY, Tally, WALL_SHARE, react};
 
 use super::ContactStage;
-use crate::distributed::{Comm, Ghosts, Layout, gather_entries, share_nodes};
+use crate::distributed::{Comm, Entries, Ghosts, Layout, share_nodes};
 use crate::system::ForceContribution;
 
 /// The key of an entry of the `p`-th pass (or release) of a step: `p 2^32 + index`.
@@ -54,6 +54,7 @@ pub(super) struct ContactPart {
     items: Vec<u32>,
     flat: Vec<f64>,
     all: Vec<f64>,
+    entries: Entries,
     /// Every rank's verdict on its nodes' motion, and one value per rank (the counts).
     moved: Vec<f64>,
     ones: Vec<usize>,
@@ -75,6 +76,7 @@ impl ContactPart {
             items: Vec::new(),
             flat: Vec::new(),
             all: Vec::new(),
+            entries: Entries::default(),
             moved: vec![0.0; layout.size],
             ones: vec![1; layout.size],
         }
@@ -263,17 +265,16 @@ impl ContactStage {
         let ContactPart {
             mine,
             merged,
-            flat,
-            all,
+            entries,
             ..
         } = &mut *p;
-        gather_entries(comm, mine, &WIDTHS, flat, all, merged);
+        entries.gather(comm, mine, &WIDTHS, merged);
         mine.iter_mut().for_each(Vec::clear);
         // the statistics of each pass, in order
         let mut last = None;
         for (n, &(tp, nc)) in p.passes.iter().enumerate() {
             let tallies =
-                entries(&p.merged[TALLIES], WIDTHS[TALLIES], n).map(|e| Tally::decode(&e[1..]));
+                of_pass(&p.merged[TALLIES], WIDTHS[TALLIES], n).map(|e| Tally::decode(&e[1..]));
             let s = ContactStats::tally(nc, tallies);
             self.book_pass(tp, &s);
             last = Some(s);
@@ -285,7 +286,7 @@ impl ContactStage {
         self.contact.commit();
         self.steps += 1;
         for n in 0..p.releases {
-            let e: f64 = entries(&p.merged[SWITCH], 2, n).map(|e| e[1]).sum();
+            let e: f64 = of_pass(&p.merged[SWITCH], 2, n).map(|e| e[1]).sum();
             self.switch_jump += e;
         }
         p.releases = 0;
@@ -329,16 +330,15 @@ impl ContactStage {
             merged,
             flat,
             all,
+            entries,
             ..
         } = &mut *p;
         let (c, w) = mine.split_at_mut(1);
         self.contact.share_out(&mut c[0], &mut w[0]);
-        gather_entries(
+        entries.gather(
             comm,
             &mine[..2],
             &[COUPLE_SHARE, WALL_SHARE],
-            flat,
-            all,
             &mut merged[..2],
         );
         self.contact.share_in(&merged[0], &merged[1]);
@@ -380,7 +380,7 @@ fn power(merged: &[f64]) -> f64 {
 }
 
 /// The entries of the `n`-th pass (or release) among `merged` (`w` values each).
-fn entries(merged: &[f64], w: usize, n: usize) -> impl Iterator<Item = &[f64]> {
+fn of_pass(merged: &[f64], w: usize, n: usize) -> impl Iterator<Item = &[f64]> {
     let (lo, hi) = (n as f64 * PASS, (n + 1) as f64 * PASS);
     merged
         .chunks_exact(w)

@@ -316,52 +316,70 @@ pub fn share_nodes(
     each_gathered(by, all, w, |_, d, c| put(d / 2, c));
 }
 
-/// Every rank's entries, merged: `mine[s]` holds this rank's entries of section `s`,
-/// `widths[s]` values each, the first the entry's key; `out[s]` gets every rank's entries of
-/// section `s` ordered by key (equal keys in rank order). Two collective calls.
-pub fn gather_entries(
-    comm: &mut dyn Comm,
-    mine: &[Vec<f64>],
-    widths: &[usize],
-    flat: &mut Vec<f64>,
-    all: &mut Vec<f64>,
-    out: &mut [Vec<f64>],
-) {
-    let ns = mine.len();
-    let size = comm.size();
-    let head: Vec<f64> = mine
-        .iter()
-        .zip(widths)
-        .map(|(m, w)| (m.len() / w) as f64)
-        .collect();
-    let mut heads = vec![0.0; ns * size];
-    comm.all_gather(&head, &vec![ns; size], &mut heads);
-    flat.clear();
-    for m in mine {
-        flat.extend_from_slice(m);
-    }
-    let counts: Vec<usize> = heads
-        .chunks_exact(ns)
-        .map(|h| h.iter().zip(widths).map(|(n, w)| *n as usize * w).sum())
-        .collect();
-    all.resize(counts.iter().sum(), 0.0);
-    comm.all_gather(flat, &counts, all);
-    // per section, (key, start) of every entry, then sorted stably by key
-    let mut starts: Vec<Vec<(f64, usize)>> = vec![Vec::new(); ns];
-    let mut at = 0;
-    for h in heads.chunks_exact(ns) {
-        for (s, (&n, &w)) in h.iter().zip(widths).enumerate() {
-            for _ in 0..n as usize {
-                starts[s].push((all[at], at));
-                at += w;
+/// Every rank's entries, merged ([`Entries::gather`]), with the buffers kept from one call
+/// to the next.
+#[derive(Debug, Default)]
+pub struct Entries {
+    head: Vec<f64>,
+    heads: Vec<f64>,
+    per_rank: Vec<usize>,
+    counts: Vec<usize>,
+    flat: Vec<f64>,
+    all: Vec<f64>,
+    starts: Vec<Vec<(f64, usize)>>,
+}
+
+impl Entries {
+    /// `mine[s]` holds this rank's entries of section `s`, `widths[s]` values each, the
+    /// first the entry's key; `out[s]` gets every rank's entries of section `s` ordered by
+    /// key (equal keys in rank order). Two collective calls.
+    pub fn gather(
+        &mut self,
+        comm: &mut dyn Comm,
+        mine: &[Vec<f64>],
+        widths: &[usize],
+        out: &mut [Vec<f64>],
+    ) {
+        let ns = mine.len();
+        let size = comm.size();
+        self.head.clear();
+        self.head
+            .extend(mine.iter().zip(widths).map(|(m, w)| (m.len() / w) as f64));
+        self.heads.resize(ns * size, 0.0);
+        self.per_rank.clear();
+        self.per_rank.resize(size, ns);
+        comm.all_gather(&self.head, &self.per_rank, &mut self.heads);
+        self.flat.clear();
+        for m in mine {
+            self.flat.extend_from_slice(m);
+        }
+        self.counts.clear();
+        self.counts.extend(self.heads.chunks_exact(ns).map(|h| {
+            h.iter()
+                .zip(widths)
+                .map(|(n, w)| *n as usize * w)
+                .sum::<usize>()
+        }));
+        self.all.resize(self.counts.iter().sum(), 0.0);
+        comm.all_gather(&self.flat, &self.counts, &mut self.all);
+        // per section, (key, start) of every entry, then sorted stably by key
+        self.starts.resize(ns, Vec::new());
+        self.starts.iter_mut().for_each(Vec::clear);
+        let mut at = 0;
+        for h in self.heads.chunks_exact(ns) {
+            for (s, (&n, &w)) in h.iter().zip(widths).enumerate() {
+                for _ in 0..n as usize {
+                    self.starts[s].push((self.all[at], at));
+                    at += w;
+                }
             }
         }
-    }
-    for ((st, o), &w) in starts.iter_mut().zip(out.iter_mut()).zip(widths) {
-        st.sort_by(|a, b| a.0.total_cmp(&b.0));
-        o.clear();
-        for &(_, k) in st.iter() {
-            o.extend_from_slice(&all[k..k + w]);
+        for ((st, o), &w) in self.starts.iter_mut().zip(out.iter_mut()).zip(widths) {
+            st.sort_by(|a, b| a.0.total_cmp(&b.0));
+            o.clear();
+            for &(_, k) in st.iter() {
+                o.extend_from_slice(&self.all[k..k + w]);
+            }
         }
     }
 }
