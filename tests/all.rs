@@ -62,6 +62,8 @@ mod joint_materials;
 mod malformed_scenes;
 #[path = "nodal_stress.rs"]
 mod nodal_stress;
+#[path = "oracle.rs"]
+mod oracle;
 #[path = "output_arrays.rs"]
 mod output_arrays;
 #[path = "parity.rs"]
@@ -92,6 +94,8 @@ mod study_scene;
 mod trust_energy;
 #[path = "trust_exits.rs"]
 mod trust_exits;
+#[path = "trust_input.rs"]
+mod trust_input;
 #[path = "trust_names.rs"]
 mod trust_names;
 #[path = "trust_output.rs"]

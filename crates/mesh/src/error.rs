@@ -141,6 +141,19 @@ pub enum MeshError {
         /// File tag.
         tag: u64,
     },
+    /// A group that lists the same node, edge (in either direction) or triangle twice.
+    #[error(
+        "{path}: group \"{}\" lists {entity} twice: a group is a set, and a repeat would be counted (loaded, fixed, exploded) twice; remove the repeat",
+        excerpt(group)
+    )]
+    RepeatedInGroup {
+        /// The file.
+        path: String,
+        /// The group's name.
+        group: String,
+        /// The entity repeated, with its file tags (e.g. `the edge between nodes 3 and 4`).
+        entity: String,
+    },
     /// A physical group asked for by name is not in the mesh.
     #[error("mesh has no physical group named \"{}\"; it has: {}", excerpt(name), shorten(&format!("{available:?}")))]
     MissingGroup {

@@ -24,6 +24,15 @@ pub fn read_mesh(path: impl AsRef<Path>) -> Result<Mesh, MeshError> {
 
 /// Reads and validates a mesh from the bytes of a file; `name` is used in messages.
 pub fn read_mesh_bytes(bytes: &[u8], name: &str) -> Result<Mesh, MeshError> {
+    if bytes.starts_with(&[0xEF, 0xBB, 0xBF]) {
+        return Err(MeshError::Parse {
+            path: name.to_string(),
+            line: 1,
+            message: "the file starts with a UTF-8 byte-order mark (bytes EF BB BF); save it \
+                      as UTF-8 without a byte-order mark (BOM)"
+                .into(),
+        });
+    }
     let start = bytes.iter().position(|c| !c.is_ascii_whitespace());
     let raw = match start.map(|i| bytes[i]) {
         Some(b'$') => gmsh::read_gmsh(bytes, name)?,

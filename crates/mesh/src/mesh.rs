@@ -98,7 +98,11 @@ impl Mesh {
     /// Validates raw content and builds the mesh: reverses clockwise triangles, rejects zero
     /// areas, unused and duplicate nodes and non-finite coordinates, builds edges, adjacency,
     /// boundary, regions and group node sets.
+    ///
+    /// Groups are sets: a node, an edge (in either direction) or a triangle listed twice in
+    /// one group is refused ([`MeshError::RepeatedInGroup`]), never counted twice.
     pub fn from_parts(raw: RawMesh) -> Result<Mesh, MeshError> {
+        check_groups_are_sets(&raw)?;
         Mesh::build(raw, true)
     }
 
@@ -414,6 +418,43 @@ pub(crate) fn edge_keys(tris: &[[u32; 3]]) -> Vec<EdgeKey> {
     );
     keys.par_sort_unstable();
     keys
+}
+
+/// Refuses a group that lists an entity twice, naming the group and the entity by its file
+/// tags (node tags, or the element tag of a triangle).
+fn check_groups_are_sets(raw: &RawMesh) -> Result<(), MeshError> {
+    let tag = |n: NodeId| raw.node_tags.get(n.idx()).copied().unwrap_or(n.0 as u64);
+    for g in &raw.groups {
+        let repeated = |entity: String| MeshError::RepeatedInGroup {
+            path: raw.path.clone(),
+            group: g.name.clone(),
+            entity,
+        };
+        if g.dim == 0 {
+            let mut seen = std::collections::HashSet::with_capacity(g.nodes.len());
+            if let Some(&n) = g.nodes.iter().find(|&&n| !seen.insert(n)) {
+                return Err(repeated(format!("node {}", tag(n))));
+            }
+        }
+        let mut seen = std::collections::HashSet::with_capacity(g.edges.len());
+        if let Some(e) = g
+            .edges
+            .iter()
+            .find(|e| !seen.insert((e[0].min(e[1]), e[0].max(e[1]))))
+        {
+            return Err(repeated(format!(
+                "the edge between nodes {} and {} (in either direction)",
+                tag(e[0]),
+                tag(e[1])
+            )));
+        }
+        let mut seen = std::collections::HashSet::with_capacity(g.triangles.len());
+        if let Some(&t) = g.triangles.iter().find(|&&t| !seen.insert(t)) {
+            let element = raw.tri_tags.get(t.idx()).copied().unwrap_or(t.0 as u64);
+            return Err(repeated(format!("triangle {element} (file element tag)")));
+        }
+    }
+    Ok(())
 }
 
 fn build_edges(path: &str, tris: &[[u32; 3]], tri_tags: &[u64]) -> Result<Edges, MeshError> {

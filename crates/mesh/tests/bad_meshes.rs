@@ -275,3 +275,59 @@ fn json_round_trip_keeps_the_mesh() {
         );
     }
 }
+
+/// Groups are sets: a node, an edge (in either direction) or a triangle listed twice in one
+/// group is refused, naming the group and the entity, in JSON and in Gmsh files.
+#[test]
+fn class2_groups_that_repeat_entities_are_refused() {
+    let good = r#"{"nodes": [[0,0],[1,0],[1,1],[0,1]], "triangles": [[0,1,2],[0,2,3]],
+        "groups": [{"name": "body", "dim": 2, "triangles": [0, 1]},
+                   {"name": "bottom", "dim": 1, "edges": [[1, 0]]},
+                   {"name": "corner", "dim": 0, "nodes": [0, 1]}]}"#;
+    assert!(read_mesh_bytes(good.as_bytes(), "m.json").is_ok());
+    for (from, to, needle) in [
+        (
+            "[[1, 0]]",
+            "[[1, 0], [0, 1]]",
+            "the edge between nodes 0 and 1",
+        ),
+        (
+            "[[1, 0]]",
+            "[[1, 0], [1, 0]]",
+            "the edge between nodes 1 and 0",
+        ),
+        ("[0, 1]}]", "[0, 1, 0]}]", "node 0"),
+        ("[0, 1]}", "[0, 1, 1]}", "triangle 1"),
+    ] {
+        let bad = good.replacen(from, to, 1);
+        assert_ne!(bad, good);
+        let e = read_mesh_bytes(bad.as_bytes(), "m.json").unwrap_err();
+        assert!(
+            matches!(e, MeshError::RepeatedInGroup { .. }),
+            "{to}: {e:?}"
+        );
+        let s = e.to_string();
+        assert!(
+            s.contains(needle) && s.contains("twice") && s.contains("m.json"),
+            "{s}"
+        );
+    }
+    // Gmsh: the line element of "bottom" given twice (second time reversed)
+    let e = read(&v22(NODES, &format!("{ELEMS}4 1 2 2 1 2 1\n"))).unwrap_err();
+    assert!(matches!(e, MeshError::RepeatedInGroup { .. }), "{e:?}");
+    assert!(e.to_string().contains("\"bottom\""), "{e}");
+}
+
+/// A UTF-8 byte-order mark before a mesh is named as such.
+#[test]
+fn class1_a_byte_order_mark_before_a_mesh_is_named() {
+    let good = r#"{"nodes": [[0,0],[1,0],[1,1]], "triangles": [[0,1,2]], "groups": []}"#;
+    assert!(read_mesh_bytes(good.as_bytes(), "m.json").is_ok());
+    let mut bom = vec![0xEF, 0xBB, 0xBF];
+    bom.extend_from_slice(good.as_bytes());
+    let e = read_mesh_bytes(&bom, "m.json").unwrap_err().to_string();
+    assert!(e.contains("byte-order mark") && e.contains("m.json"), "{e}");
+    // text after the mesh's object is refused, not ignored
+    let e = read_mesh_bytes(format!("{good} {{}}").as_bytes(), "m.json").unwrap_err();
+    assert!(e.to_string().contains("trailing"), "{e}");
+}

@@ -79,6 +79,7 @@ fn loaded() -> Loaded {
         n_steps: STEPS,
         contributions: Vec::new(),
         load_s: 0.0,
+        warnings: Vec::new(),
     }
 }
 

@@ -36,6 +36,7 @@ pub mod distributed;
 pub mod error;
 pub mod estimate;
 pub mod fracture_stage;
+pub mod input_checks;
 pub mod joint_assign;
 pub mod ledger;
 pub mod limits;

@@ -18,6 +18,7 @@ use fdem_mesh::{Elements, Mesh, TriId};
 use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
+use crate::input_checks;
 use crate::limits::{self, StepInputs};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
@@ -57,6 +58,9 @@ pub struct Loaded {
     /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
     /// run summary's `timers.setup`.
     pub load_s: f64,
+    /// What the scene asks for that does nothing but is not wrong (a joint material that
+    /// nothing uses): each a line with the JSON path and the fix, shown by [`Loaded::describe`].
+    pub warnings: Vec<String>,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -84,6 +88,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     let started = std::time::Instant::now();
     let mut scene = Scene::from_json(text, file)?;
     static_checks::check_sections(&scene, file)?;
+    input_checks::check_fracture_regions(&scene, file)?;
     // The schemes' stability limits (computed once per process, the same numbers on any
     // thread) are found on a thread of their own while the meshes are read, when more than
     // one thread is allowed (not in the rayon pool: the read never waits for its workers).
@@ -103,6 +108,9 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         })
         .collect();
     let refs = crate::resolve::resolve(&scene, file, &names)?;
+    input_checks::check_loaded_edges(&scene, file, &read, &refs)?;
+    input_checks::check_initial_overlap(&scene, file, &read, &refs)?;
+    let warnings = input_checks::unused_materials(&scene);
     let mut meshes = Vec::new();
     let mut inputs = Vec::new();
     for (i, mesh) in read.into_iter().enumerate() {
@@ -110,6 +118,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
+    input_checks::check_fracture_acts(&scene, file, &refs)?;
     crate::cracks::resolve(&mut scene, file, &meshes)?;
     let mut model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
@@ -168,6 +177,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         n_steps: steps.n_steps,
         contributions: Vec::new(),
         load_s: started.elapsed().as_secs_f64(),
+        warnings,
     })
 }
 
@@ -337,6 +347,9 @@ impl Loaded {
             if self.model.relaxation_masses.is_some() {
                 let _ = write!(s, "; equal-step masses");
             }
+        }
+        for w in &self.warnings {
+            let _ = write!(s, "\nwarning: {w}");
         }
         s
     }

@@ -102,13 +102,21 @@ fn check_solution(
             ku[ri[p]] += vals[p] * u[col];
         }
     }
+    // the norms of forces scaled by the largest one first: loads near the top of the
+    // floating-point range (a huge thickness) would overflow their squares
+    let big = (f.iter().chain(&ku))
+        .map(|v| v.abs())
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    let unit = Some(1.0 / big).filter(|u| u.is_finite()).unwrap_or(1.0);
     let (mut r2, mut f2, mut react2) = (0.0, 0.0, 0.0);
     for d in 0..n {
+        let (fd, kud) = (f[d] * unit, ku[d] * unit);
         if l.model.constrained[d] {
-            react2 += ku[d] * ku[d];
+            react2 += kud * kud;
         } else {
-            r2 += (f[d] - ku[d]).powi(2);
-            f2 += f[d] * f[d];
+            r2 += (fd - kud).powi(2);
+            f2 += fd * fd;
         }
     }
     let scale = f2.max(react2).sqrt();

@@ -101,6 +101,10 @@ pub struct PairSpec {
     /// Set false to switch contact off between these bodies (default true).
     #[serde(default = "yes")]
     pub enabled: bool,
+    /// The two bodies may overlap at t = 0 (a deliberate press fit; default false: an
+    /// initial overlap is refused at load, `crate::input_checks`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_initial_overlap: bool,
 }
 
 /// A rigid wall (half-space): the solid lies behind the line through `point`, `normal` points
@@ -129,6 +133,10 @@ pub struct WallSpec {
     /// modulus of the scene).
     #[serde(default)]
     pub law: LawSpec,
+    /// Bodies may start behind the wall (a deliberate initial indentation; default false: a
+    /// node behind the wall at t = 0 is refused at load, `crate::input_checks`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub allow_initial_overlap: bool,
 }
 
 impl ContactSection {

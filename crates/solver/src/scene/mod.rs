@@ -93,9 +93,23 @@ pub struct Scene {
 
 impl Scene {
     /// Parses a scene from JSON text; `file` names the source in errors.
+    ///
+    /// Every byte of the text is consumed or refused: a UTF-8 byte-order mark is refused as
+    /// such, and so is anything but white space after the top-level object (a second object,
+    /// a section pasted after the closing brace), which would otherwise be dropped unread.
     pub fn from_json(text: &str, file: &Path) -> Result<Scene, SceneError> {
+        if text.starts_with('\u{feff}') {
+            return Err(SceneError::Parse {
+                file: file.to_path_buf(),
+                path: "(top level)".into(),
+                line: 1,
+                column: 1,
+                message: "the file starts with a UTF-8 byte-order mark (bytes EF BB BF)".into(),
+                fix: "save the file as UTF-8 without a byte-order mark (BOM)".into(),
+            });
+        }
         let de = &mut serde_json::Deserializer::from_str(text);
-        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+        let scene: Scene = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
             SceneError::Parse {
@@ -110,6 +124,19 @@ impl Scene {
                 fix: fix_hint(&inner.to_string()),
                 message: inner.to_string(),
             }
+        })?;
+        de.end().map_err(|e| SceneError::Parse {
+            file: file.to_path_buf(),
+            path: "(after the top-level object)".into(),
+            line: e.line(),
+            column: e.column(),
+            message: format!(
+                "the scene's top-level object has ended, but text follows it ({e}); \
+                 it would be ignored"
+            ),
+            fix: "remove the text after the closing brace, or move what it holds into the \
+                  top-level object"
+                .into(),
         })?;
         let mut scene = scene;
         scene.validate(file)?;
@@ -297,6 +324,29 @@ mod tests {
         );
         let e = err(&GOOD.replace("\"auto\"", "\"fast\""));
         assert!(e.contains("integrator.time_step"), "{e}");
+    }
+
+    #[test]
+    fn class1_text_after_the_top_level_object_is_refused() {
+        // a whole section pasted after the closing brace would be dropped unread
+        let e = err(&format!(
+            "{GOOD}\n{{\"damping\": {{\"mass_proportional\": 10}}}}"
+        ));
+        assert!(e.contains("s.json:7:1"), "{e}");
+        assert!(e.contains("text follows it") && e.contains("fix:"), "{e}");
+        let e = err(&format!("{GOOD} ,"));
+        assert!(e.contains("text follows it"), "{e}");
+        // white space after it is fine
+        assert!(Scene::from_json(&format!("{GOOD}\n\n  \t\n"), Path::new("s.json")).is_ok());
+    }
+
+    #[test]
+    fn class1_a_byte_order_mark_is_named() {
+        let e = err(&format!("\u{feff}{GOOD}"));
+        assert!(
+            e.contains("byte-order mark") && e.contains("without"),
+            "{e}"
+        );
     }
 
     #[test]
