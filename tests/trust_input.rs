@@ -375,3 +375,25 @@ fn class6_a_static_solve_with_loads_near_the_top_of_the_number_range_is_not_refu
     let (a, b) = (tip(1.0), tip(1e300));
     assert!(a < -1e-3 && ((b - a) / a).abs() < 1e-9, "{a} against {b}");
 }
+
+#[test]
+fn class10_a_static_load_that_would_overflow_is_refused_at_its_path() {
+    // a traction of 1e300 Pa on the static cantilever: the run stopped as unstable (exit 3,
+    // no summary) with advice to lower the time step of an analysis that has none
+    let s = common::edited_example("cantilever-static.json", "class10-static-load", |v| {
+        v["bodies"][0]["mesh"] = json!(
+            common::root()
+                .join("examples/meshes/cantilever-coarse.json")
+                .display()
+                .to_string()
+        );
+        v["boundary_conditions"][1]["traction"]["value"] = json!([0.0, 1e300]);
+    });
+    let err = refused(&s);
+    assert!(
+        err.contains("at `boundary_conditions[1]`")
+            && err.contains("overflow")
+            && !err.contains("time step"),
+        "{err}"
+    );
+}

@@ -16,6 +16,10 @@
 //!   wall, would start with the penalty energy of the whole overlap. Refused, naming the two
 //!   and the depth, unless the scene says the overlap is deliberate
 //!   (`allow_initial_overlap` on the contact pair or the wall).
+//! - **A static solution is a number** ([`check_static_range`]): a linear static solve scales
+//!   with its loads, so a load whose strain estimate `s` ([`crate::diagnosis::input_strains`])
+//!   gives an energy density `s^2 E` beyond the floating-point range would give a solution
+//!   that cannot be written. Refused at the load's JSON path before the solve.
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -476,4 +480,32 @@ pub fn check_initial_overlap(
         }
     }
     Ok(())
+}
+
+/// Refuses, in a static analysis, a load or prescribed motion whose solution would overflow
+/// the floating-point range (module docs); `model`: the scene's model.
+pub fn check_static_range(
+    scene: &Scene,
+    file: &Path,
+    model: &crate::model::Model,
+) -> Result<(), SceneError> {
+    if scene.analysis != crate::scene::Analysis::Static {
+        return Ok(());
+    }
+    let young = (model.materials.iter())
+        .map(|m| m.0.young)
+        .fold(0.0, f64::max);
+    let inputs = crate::diagnosis::input_strains(scene, model);
+    match inputs.first() {
+        Some(l) if !(l.strain * l.strain * young).is_finite() => Err(SceneError::invalid(
+            file,
+            l.path.clone(),
+            format!(
+                "{}: a strain of about {:.2e}; the static solution (stresses, energy densities) would overflow the floating-point range",
+                l.what, l.strain
+            ),
+            "check the magnitude and units of the load (N for point loads, Pa for pressures and tractions, m for displacements) against the material (young in Pa)",
+        )),
+        _ => Ok(()),
+    }
 }

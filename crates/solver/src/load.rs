@@ -123,6 +123,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     let mut model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
         static_checks::check_supports(&scene, file, &model)?;
+        input_checks::check_static_range(&scene, file, &model)?;
     }
     crate::stages::validate(&scene, file)?;
     let scheme: SchemeKind = scene

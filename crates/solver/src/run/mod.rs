@@ -123,6 +123,24 @@ fn static_run(
 ) -> Result<Outcome, RunError> {
     // Solved (and checked: a singular stiffness is bad input) before the folder is touched.
     let (frame, mut summary) = crate::static_solve::solve(l)?;
+    let finite = |v: &[[f64; 2]]| v.iter().flatten().all(|x| x.is_finite());
+    if !(finite(&frame.points) && finite(&frame.displacement))
+        || !frame.stress.iter().flatten().all(|s| s.is_finite())
+        || !frame.energy_density.iter().all(|e| e.is_finite())
+    {
+        // bad input, as a singular stiffness: nothing written
+        let largest = crate::diagnosis::input_strains(&l.scene, &l.model);
+        return Err(RunError::Static {
+            message: "the solution overflows the floating-point range (non-finite displacements, stresses or energy densities)".into(),
+            fix: match largest.first() {
+                Some(i) => format!(
+                    "check the magnitude and units of `{}` ({}) against the material",
+                    i.path, i.what
+                ),
+                None => "check the magnitudes and units of the loads and the materials".into(),
+            },
+        });
+    }
     // the static terms as a ledger (gravity's work `1/2 sum m g . u` taken apart)
     let gravity = l.model.gravity.map_or(0.0, |g| {
         0.5 * l
