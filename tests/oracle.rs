@@ -27,7 +27,8 @@
 //! is a failure; its scene and mesh are kept in `target/oracle-failures/`.
 //!
 //! `FDEM_ORACLE_SECONDS` (default 45) bounds the whole run; `FDEM_ORACLE_SEED` (default 1)
-//! seeds the generator. A long run: `FDEM_ORACLE_SECONDS=3600 cargo test --release --test all
+//! seeds the generator; `FDEM_ORACLE_BIN` runs another `fdem` binary (a copy, for a long run
+//! beside a rebuild). A long run: `FDEM_ORACLE_SECONDS=3600 cargo test --release --test all
 //! -- oracle:: --nocapture` (docs/testing.md).
 
 use crate::common;
@@ -370,7 +371,7 @@ fn write(s: &Seed, dir: &Path) -> PathBuf {
 /// `fdem run SCENE --out OUT`, killed after [`VARIANT_SECONDS`]; the exit code (`None`: killed
 /// or ended by a signal) and stderr.
 fn run(scene: &Path, out: &Path) -> (Option<i32>, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fdem"))
+    let mut child = Command::new(fdem_bin())
         .args([
             "run".as_ref(),
             scene.as_os_str(),
@@ -397,6 +398,14 @@ fn run(scene: &Path, out: &Path) -> (Option<i32>, String) {
         }
         std::thread::sleep(Duration::from_millis(5));
     }
+}
+
+/// The `fdem` binary the variants run: this build's, or `FDEM_ORACLE_BIN` (a copy, so that a
+/// long run is not disturbed by a rebuild).
+fn fdem_bin() -> PathBuf {
+    std::env::var_os("FDEM_ORACLE_BIN")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_fdem")))
 }
 
 /// A number of a JSON value as f64 (0 when absent).
@@ -583,7 +592,7 @@ fn error_part(s: &str) -> &str {
 /// `fdem check` refuses what `fdem run` refused (`run_err`), with exit code 2 and the same
 /// message.
 fn check_agrees(scene: &Path, run_err: &str) -> Vec<String> {
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
+    let o = Command::new(fdem_bin())
         .args(["check".as_ref(), scene.as_os_str()])
         .env("RAYON_NUM_THREADS", "1")
         .output()
@@ -625,5 +634,43 @@ fn oracle_fuzzer_finds_no_exit_0_that_breaks_an_invariant() {
         "{} failure(s):\n{}",
         failures.len(),
         failures.join("\n")
+    );
+}
+
+#[test]
+fn the_invariants_catch_a_run_that_breaks_them() {
+    // a summary as a broken run would write it: the ledger open, a fracture section without
+    // joints, 99 steps where the duration takes 100, and a non-finite term
+    let dir = common::temp_dir("oracle-broken");
+    let scene = json!({ "duration": 1e-3, "fracture": { "regions": [] }, "contact": {} });
+    let summary = json!({
+        "analysis": "Dynamic", "time_step": 1e-5, "steps": 99, "simulated_time": 1e-3,
+        "energy": { "error": 0.5, "in_play": 1.0, "kinetic": null },
+        "stages": { "fracture": { "joints": 0 } }
+    });
+    std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+    let found = violations(&dir.join("scene.json"), &scene, &dir);
+    for needle in [
+        "energy.kinetic is not a finite number",
+        "the energy ledger does not close",
+        "do not span the duration",
+        "a fracture section without joints",
+        "an enabled contact section without a contact stage",
+    ] {
+        assert!(
+            found.iter().any(|f| f.contains(needle)),
+            "{needle}: {found:?}"
+        );
+    }
+    // the same summary, mended, breaks none
+    let good = json!({
+        "analysis": "Dynamic", "time_step": 1e-5, "steps": 100, "simulated_time": 1e-3,
+        "energy": { "error": 1e-4, "in_play": 1.0, "kinetic": 0.2 },
+        "stages": { "fracture": { "joints": 12 }, "contact": { "couples": 3 } }
+    });
+    std::fs::write(dir.join("summary.json"), good.to_string()).unwrap();
+    assert_eq!(
+        violations(&dir.join("scene.json"), &scene, &dir),
+        Vec::<String>::new()
     );
 }
