@@ -23,6 +23,7 @@
 //!   contact section a contact stage;
 //! - the step count equals the duration over the step, and the run reached its duration;
 //! - no `NaN` or infinite value in `summary.json` or `histories.csv`.
+//!
 //! Any other exit code, a run past [`VARIANT_SECONDS`] or an exit 0 that breaks an invariant
 //! is a failure; its scene and mesh are kept in `target/oracle-failures/`.
 //!

@@ -124,10 +124,11 @@ fn static_run(
     // Solved (and checked: a singular stiffness is bad input) before the folder is touched.
     let (frame, mut summary) = crate::static_solve::solve(l)?;
     let finite = |v: &[[f64; 2]]| v.iter().flatten().all(|x| x.is_finite());
-    if !(finite(&frame.points) && finite(&frame.displacement))
-        || !frame.stress.iter().flatten().all(|s| s.is_finite())
-        || !frame.energy_density.iter().all(|e| e.is_finite())
-    {
+    let all_finite = finite(&frame.points)
+        && finite(&frame.displacement)
+        && frame.stress.iter().flatten().all(|s| s.is_finite())
+        && frame.energy_density.iter().all(|e| e.is_finite());
+    if !all_finite {
         // bad input, as a singular stiffness: nothing written
         let largest = crate::diagnosis::input_strains(&l.scene, &l.model);
         return Err(RunError::Static {
