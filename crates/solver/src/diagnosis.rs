@@ -207,13 +207,25 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
                     .map_or(0, |(b, _, _)| *b as usize);
                 if let Some(s) = scale(b) {
                     let c = (s.young / s.density).sqrt();
+                    let what = format!(
+                        "the prescribed velocity on '{}' ({speed:.3e} m/s, against the wave speed {c:.3e} m/s of body {})",
+                        fdem_mesh::excerpt(&v.group),
+                        body_name(scene, b)
+                    );
+                    // a velocity as written within range, made too large by the loading
+                    // rate (which multiplied it): the rate is the input at fault
+                    let rate = scene.loading.as_ref().map_or(1.0, |l| l.rate);
+                    let (path, what) = if rate > 1.0 && speed / rate / c <= LARGE_STRAIN {
+                        (
+                            "loading.rate".to_string(),
+                            format!("the loading rate {rate:.3e} makes {what}"),
+                        )
+                    } else {
+                        (format!("boundary_conditions[{i}]"), what)
+                    };
                     out.push(InputStrain {
-                        path: format!("boundary_conditions[{i}]"),
-                        what: format!(
-                            "the prescribed velocity on '{}' ({speed:.3e} m/s, against the wave speed {c:.3e} m/s of body {})",
-                            fdem_mesh::excerpt(&v.group),
-                            body_name(scene, b)
-                        ),
+                        path,
+                        what,
                         strain: speed / c,
                     });
                 }
@@ -313,6 +325,9 @@ pub fn unstable(
         );
     }
     let input_fix = |l: &InputStrain| {
+        if l.path == "loading.rate" {
+            return "lower `loading.rate`: it multiplies every prescribed velocity and wall velocity; a shorter step does not help".to_string();
+        }
         format!(
             "check the magnitude and units of `{}` (N for point loads, Pa for pressures and tractions, m/s for velocities) against the material (young in Pa, density in kg/m^3); a shorter step does not help",
             l.path

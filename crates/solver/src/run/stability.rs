@@ -320,8 +320,8 @@ pub fn round_off_floor(l: &crate::load::Loaded, sys: &crate::system::SceneSystem
     .into_iter()
     .filter(|e| e.is_finite())
     .fold(0.0, f64::max);
-    let x_round = l.omega_max * f64::EPSILON * coord.max(size);
-    let e_x = 0.5 * mass * x_round * x_round;
+    // (as the square of sqrt(M / 2) omega eps L: no underflow of a scaled mass's tiny omega)
+    let e_x = ((0.5 * mass).sqrt() * l.omega_max * f64::EPSILON * coord.max(size)).powi(2);
     let floor = ROUND_OFF_MARGIN * (f64::EPSILON * scale + e_x);
     if floor.is_finite() { floor } else { 0.0 }
 }
