@@ -11,7 +11,9 @@
 //!    about `F / (E t h)`; a velocity `v` (initial or prescribed) by `v / c` with the bar wave
 //!    speed `c = sqrt(E / rho)`; gravity by `rho |g| H / E` (`H` the larger side). An estimate
 //!    above [`LARGE_STRAIN`] is beyond what the constant-strain triangles represent: the fix is
-//!    the input's magnitude or units, and a shorter step does not help.
+//!    the input's magnitude or units, and a shorter step does not help. A prescribed velocity
+//!    in range as written, made too large by `loading.rate` (which multiplies it), is laid at
+//!    the rate.
 //! 2. **Energy growth** (the mechanical energy above the energy supplied, and growing): the
 //!    scheme is past its stable step on this scene; the fix is the step.
 //! 3. **A triangle turned inside out** (signed area of opposite sign to the reference one,

@@ -6,7 +6,12 @@
 //! - The highest frequency bound must be finite: an infinite bound is a stable step of 0.
 //! - The stable step and the step used must be at least [`MIN_TIME_STEP`].
 //! - The number of steps ([`step_count`]) must be at most [`MAX_STEPS`].
-//! - A fixed-step run writes at most one frame per step: `output.frames` <= steps.
+//! - The step used must be at least [`MIN_TIME_STEP`] (a duration shorter than that is
+//!   refused at `duration`, or at `loading.rate` when the rate shortened it).
+//! - A mass scaling may not lengthen the step to the whole duration (one step), nor make a
+//!   mass overflow ([`check_mass_factor`]): refused at the field that gives the factor.
+//! - A fixed-step run writes at most one frame per step: `output.frames` <= steps (refused at
+//!   the mass scaling or the loading rate when without it there would be steps enough).
 //! - The history rows (`histories.csv`, held in memory until written, and `walls.csv`) must
 //!   stay below [`MAX_HISTORY_BYTES`].
 //!

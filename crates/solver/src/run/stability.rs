@@ -243,10 +243,9 @@ pub const ROUND_OFF_MARGIN: f64 = 1e4;
 /// the floor over 60 000 steps (its round-off energy grows as `n` after the first 10 000);
 /// the two discs of `disc-collision.json` at rest at most 5e-8 over 223 000 steps; the
 /// fracturing specimens of `block-compression-fracture.json`, `brazilian-disc-fracture.json`
-/// and `wing-crack.json` with their platens 1 mm away, over their durations, at most 3e-8. The
-/// floor is a
-/// negligible energy of any scene (`1e4 eps = 2.2e-12` of its energy scale at the start), so
-/// an unstable mode, which grows exponentially, passes it within a few checks.
+/// and `wing-crack.json` with their platens 1 mm away, over their durations, at most 3e-8.
+/// The floor is a negligible energy of any scene (`1e4 eps = 2.2e-12` of its energy scale at
+/// the start), so an unstable mode, which grows exponentially, passes it within a few checks.
 pub fn round_off_floor(l: &crate::load::Loaded, sys: &crate::system::SceneSystem, e0: f64) -> f64 {
     let model = &sys.model;
     let mass: f64 = model.mass.iter().sum();
