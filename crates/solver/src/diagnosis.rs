@@ -32,8 +32,7 @@ use crate::model::Model;
 use crate::scene::{BoundaryCondition, Scene, TimeStep};
 use crate::summary::Summary;
 
-/// A strain estimate above this (50 %) marks an input as far too large for the material.
-pub const LARGE_STRAIN: f64 = 0.5;
+pub use crate::model::LARGE_STRAIN;
 
 /// The first triangle seen turned inside out.
 #[derive(Debug, Clone, Copy)]

@@ -23,6 +23,11 @@ use crate::scene::{BoundaryCondition, HistorySpec, MaterialSpec, Scene};
 use crate::time_history::{self, History};
 pub use crate::time_history::{ramp_factor, ramp_integral};
 
+/// A strain estimate above this (50 %) marks an input as far too large for the material: the
+/// constant-strain triangles represent strains well below 1 (`crate::diagnosis`, the initial
+/// stress's check in `crate::prestress`).
+pub const LARGE_STRAIN: f64 = 0.5;
+
 /// A load with a ramp or a time history: nodal forces (DOF, value) at full strength (factor 1).
 #[derive(Debug, Clone)]
 pub struct RampedLoad {

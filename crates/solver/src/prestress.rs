@@ -191,7 +191,7 @@ pub fn field(
 }
 
 /// The initial strain of entry `path` on triangle `mt` of the model (`local` in its body), its stress `add` over the
-/// triangle's Young's modulus, must stay below [`crate::diagnosis::LARGE_STRAIN`] (the
+/// triangle's Young's modulus, must stay below [`crate::model::LARGE_STRAIN`] (the
 /// triangles represent strains well below 1): a larger one is an input far outside its
 /// range (a unit slip: MPa for Pa), and the error names the entry, not the stiffness or the
 /// step it would break.
@@ -207,7 +207,7 @@ fn check_strain(
     let young = model.materials[model.tri_material[mt] as usize].0.young;
     let s = add.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let strain = s / young;
-    if strain <= crate::diagnosis::LARGE_STRAIN {
+    if strain <= crate::model::LARGE_STRAIN {
         return Ok(());
     }
     let b = model.tri_body[mt] as usize;
@@ -231,7 +231,7 @@ fn check_strain(
         at,
         format!(
             "the initial stress {s:.3e} Pa on triangle {local} of body {body} is {strain:.3e} times its Young's modulus {young:.3e} Pa: a strain far above what the triangles represent (at most {})",
-            crate::diagnosis::LARGE_STRAIN
+            crate::model::LARGE_STRAIN
         ),
         fix,
     ))
