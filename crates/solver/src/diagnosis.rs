@@ -11,7 +11,9 @@
 //!    about `F / (E t h)`; a velocity `v` (initial or prescribed) by `v / c` with the bar wave
 //!    speed `c = sqrt(E / rho)`; gravity by `rho |g| H / E` (`H` the larger side). An estimate
 //!    above [`LARGE_STRAIN`] is beyond what the constant-strain triangles represent: the fix is
-//!    the input's magnitude or units, and a shorter step does not help.
+//!    the input's magnitude or units, and a shorter step does not help. A prescribed velocity
+//!    in range as written, made too large by `loading.rate` (which multiplies it), is laid at
+//!    the rate.
 //! 2. **Energy growth** (the mechanical energy above the energy supplied, and growing): the
 //!    scheme is past its stable step on this scene; the fix is the step.
 //! 3. **A triangle turned inside out** (signed area of opposite sign to the reference one,
@@ -30,8 +32,7 @@ use crate::model::Model;
 use crate::scene::{BoundaryCondition, Scene, TimeStep};
 use crate::summary::Summary;
 
-/// A strain estimate above this (50 %) marks an input as far too large for the material.
-pub const LARGE_STRAIN: f64 = 0.5;
+pub use crate::model::LARGE_STRAIN;
 
 /// The first triangle seen turned inside out.
 #[derive(Debug, Clone, Copy)]
@@ -207,13 +208,25 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
                     .map_or(0, |(b, _, _)| *b as usize);
                 if let Some(s) = scale(b) {
                     let c = (s.young / s.density).sqrt();
+                    let what = format!(
+                        "the prescribed velocity on '{}' ({speed:.3e} m/s, against the wave speed {c:.3e} m/s of body {})",
+                        fdem_mesh::excerpt(&v.group),
+                        body_name(scene, b)
+                    );
+                    // a velocity as written within range, made too large by the loading
+                    // rate (which multiplied it): the rate is the input at fault
+                    let rate = scene.loading.as_ref().map_or(1.0, |l| l.rate);
+                    let (path, what) = if rate > 1.0 && speed / rate / c <= LARGE_STRAIN {
+                        (
+                            "loading.rate".to_string(),
+                            format!("the loading rate {rate:.3e} makes {what}"),
+                        )
+                    } else {
+                        (format!("boundary_conditions[{i}]"), what)
+                    };
                     out.push(InputStrain {
-                        path: format!("boundary_conditions[{i}]"),
-                        what: format!(
-                            "the prescribed velocity on '{}' ({speed:.3e} m/s, against the wave speed {c:.3e} m/s of body {})",
-                            fdem_mesh::excerpt(&v.group),
-                            body_name(scene, b)
-                        ),
+                        path,
+                        what,
                         strain: speed / c,
                     });
                 }
@@ -313,6 +326,9 @@ pub fn unstable(
         );
     }
     let input_fix = |l: &InputStrain| {
+        if l.path == "loading.rate" {
+            return "lower `loading.rate`: it multiplies every prescribed velocity and wall velocity; a shorter step does not help".to_string();
+        }
         format!(
             "check the magnitude and units of `{}` (N for point loads, Pa for pressures and tractions, m/s for velocities) against the material (young in Pa, density in kg/m^3); a shorter step does not help",
             l.path

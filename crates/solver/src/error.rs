@@ -72,6 +72,119 @@ impl SceneError {
             fix: fix.into(),
         }
     }
+
+    /// Checks that the value `v` of `file` at the JSON `path` (a `what`, e.g. "relaxation
+    /// tolerance") lies in `range`; else the error names the path, the value, the range and
+    /// the fix.
+    pub fn check_range(
+        file: &Path,
+        path: impl Into<String>,
+        what: &str,
+        v: f64,
+        range: Range,
+        fix: impl Into<String>,
+    ) -> Result<(), SceneError> {
+        if range.contains(v) {
+            Ok(())
+        } else {
+            Err(SceneError::invalid(
+                file,
+                path,
+                format!("{what} {v} is outside its valid range {range}"),
+                fix,
+            ))
+        }
+    }
+}
+
+/// The valid range of a scene value (a tolerance, factor, ratio or rate): finite, above
+/// `lo` (or equal to it when `lo_closed`) and below `hi` (or equal when `hi_closed`; an
+/// infinite `hi` is no upper bound). Written as `(0, 1)`, `[0, inf)`, ...
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    /// The lower bound.
+    pub lo: f64,
+    /// The lower bound is valid.
+    pub lo_closed: bool,
+    /// The upper bound (infinite: none).
+    pub hi: f64,
+    /// The upper bound is valid.
+    pub hi_closed: bool,
+}
+
+impl Range {
+    /// `(lo, hi)`.
+    pub const fn open(lo: f64, hi: f64) -> Self {
+        Self {
+            lo,
+            lo_closed: false,
+            hi,
+            hi_closed: false,
+        }
+    }
+    /// `(lo, hi]`.
+    pub const fn open_closed(lo: f64, hi: f64) -> Self {
+        Self {
+            lo,
+            lo_closed: false,
+            hi,
+            hi_closed: true,
+        }
+    }
+    /// `[lo, hi)`.
+    pub const fn closed_open(lo: f64, hi: f64) -> Self {
+        Self {
+            lo,
+            lo_closed: true,
+            hi,
+            hi_closed: false,
+        }
+    }
+    /// `[lo, hi]`.
+    pub const fn closed(lo: f64, hi: f64) -> Self {
+        Self {
+            lo,
+            lo_closed: true,
+            hi,
+            hi_closed: true,
+        }
+    }
+    /// `(lo, inf)`: above `lo`.
+    pub const fn above(lo: f64) -> Self {
+        Self::open(lo, f64::INFINITY)
+    }
+    /// `[lo, inf)`: at least `lo`.
+    pub const fn at_least(lo: f64) -> Self {
+        Self::closed_open(lo, f64::INFINITY)
+    }
+
+    /// Whether `v` is finite and in the range.
+    pub fn contains(&self, v: f64) -> bool {
+        v.is_finite()
+            && (v > self.lo || (self.lo_closed && v == self.lo))
+            && (v < self.hi || (self.hi_closed && v == self.hi))
+    }
+}
+
+impl std::fmt::Display for Range {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let hi = if self.hi.is_finite() {
+            format!("{}", self.hi)
+        } else {
+            "inf".into()
+        };
+        write!(
+            f,
+            "{}{}, {hi}{}",
+            if self.lo_closed { "[" } else { "(" },
+            self.lo,
+            if self.hi_closed && self.hi.is_finite() {
+                "]"
+            } else {
+                ")"
+            }
+        )
+    }
 }
 
 /// An error while running a scene.

@@ -6,7 +6,12 @@
 //! - The highest frequency bound must be finite: an infinite bound is a stable step of 0.
 //! - The stable step and the step used must be at least [`MIN_TIME_STEP`].
 //! - The number of steps ([`step_count`]) must be at most [`MAX_STEPS`].
-//! - A fixed-step run writes at most one frame per step: `output.frames` <= steps.
+//! - The step used must be at least [`MIN_TIME_STEP`] (a duration shorter than that is
+//!   refused at `duration`, or at `loading.rate` when the rate shortened it).
+//! - A mass scaling may not lengthen the step to the whole duration (one step), nor make a
+//!   mass overflow ([`check_mass_factor`]): refused at the field that gives the factor.
+//! - A fixed-step run writes at most one frame per step: `output.frames` <= steps (refused at
+//!   the mass scaling or the loading rate when without it there would be steps enough).
 //! - The history rows (`histories.csv`, held in memory until written, and `walls.csv`) must
 //!   stay below [`MAX_HISTORY_BYTES`].
 //!
@@ -192,16 +197,31 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
     }
     let n_steps = n as u64;
     let dt = duration / n;
+    check_scaled_steps(inp, h, n, dt)?;
     let adaptive = scene.integrator.time_step == TimeStep::Adaptive;
     let frames = scene.output.frames;
     if !adaptive && frames as u64 > n_steps {
-        return Err(bad(
-            "output.frames",
-            format!(
-                "{frames} frames over a run of {n_steps} step(s): a frame is written at the end \
-                 of a step, at most one per step"
+        // the input that cut the steps below the frames: the mass scaling or the loading
+        // rate when without it there would be enough steps, else the frames themselves
+        let (path, why, fix) = match slow_run_driver(inp) {
+            Some((path, gain, what)) if frames as f64 <= n * gain => (
+                path.clone(),
+                format!(" ({what} cuts the steps {gain:.3e}-fold)"),
+                format!("lower {path}, or ask for at most {n_steps} frame(s)"),
             ),
-            format!("ask for at most {n_steps} frame(s), or use a smaller time step"),
+            _ => (
+                "output.frames".to_string(),
+                String::new(),
+                format!("ask for at most {n_steps} frame(s), or use a smaller time step"),
+            ),
+        };
+        return Err(bad(
+            &path,
+            format!(
+                "{frames} frames over a run of {n_steps} step(s){why}: a frame is written at the \
+                 end of a step, at most one per step"
+            ),
+            fix,
         ));
     }
     check_history_rows(inp, n_steps)?;
@@ -210,6 +230,128 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
         dt,
         n_steps,
     })
+}
+
+/// A mass scaling factor `f` (given at `path`, or derived from it) on `model`: the scaled
+/// masses and densities must be finite numbers, else the error names `path`, not the density
+/// of a body.
+pub fn check_mass_factor(f: f64, path: &str, model: &Model, file: &Path) -> Result<(), SceneError> {
+    let m_max = model.mass.iter().fold(0.0f64, |a, m| a.max(*m));
+    let rho_max = model
+        .materials
+        .iter()
+        .fold(0.0f64, |a, (m, _)| a.max(m.density));
+    let factor = (0..model.triangles.len())
+        .map(|e| model.density_factor(e))
+        .fold(1.0f64, f64::max);
+    if (f * m_max).is_finite() && (f * rho_max * factor).is_finite() {
+        return Ok(());
+    }
+    Err(SceneError::invalid(
+        file,
+        path,
+        format!(
+            "a mass scaling factor {f:.3e} makes the masses (largest {m_max:.3e} kg, density \
+             {rho_max:.3e} kg/m^3) larger than any finite number"
+        ),
+        "give a mass scaling that lengthens the step a few times to some hundred times (the factor is the square of that)",
+    ))
+}
+
+/// The mass scaling or the loading rate of a scene, when it has one that cuts the number of
+/// steps: (its JSON path, the factor by which it cuts them, what it is in words).
+fn slow_run_driver(inp: &StepInputs) -> Option<(String, f64, String)> {
+    let scene = inp.scene;
+    if let Some((f, _)) = &inp.model.mass_scaling
+        && *f > 1.0
+    {
+        let path = match scene.mass_scaling.as_ref().and_then(|m| m.target_step) {
+            Some(_) => "mass_scaling.target_step",
+            None => "mass_scaling.factor",
+        };
+        return Some((
+            path.into(),
+            f.sqrt(),
+            format!("the mass scaling factor {f:.3e} (from `{path}`)"),
+        ));
+    }
+    let r = scene.loading.as_ref().map_or(1.0, |l| l.rate);
+    (r > 1.0).then(|| {
+        (
+            "loading.rate".into(),
+            r,
+            format!("the loading rate {r:.3e}"),
+        )
+    })
+}
+
+/// The steps of a slow run (`mass_scaling`, `loading.rate`), whose inputs lengthen the step
+/// or shorten the duration: a mass scaling that lengthens the step to the whole duration (a
+/// run of one step, nothing of its dynamics resolved) is refused at the mass scaling; a step
+/// used `dt` below [`MIN_TIME_STEP`] (the duration shorter than it) at the loading rate that
+/// shortened the duration, else at the duration.
+fn check_scaled_steps(inp: &StepInputs, h: f64, n: f64, dt: f64) -> Result<(), SceneError> {
+    let scene = inp.scene;
+    let duration = scene.duration.unwrap_or(0.0);
+    if let Some((f, _)) = &inp.model.mass_scaling
+        && *f > 1.0
+        && n <= 1.0
+    {
+        let (path, fix) = match scene.mass_scaling.as_ref().and_then(|m| m.target_step) {
+            Some(_) => (
+                "mass_scaling.target_step",
+                format!(
+                    "give a target step well below the duration, e.g. {:.3e} s (1000 steps)",
+                    1e-3 * duration
+                ),
+            ),
+            None => (
+                "mass_scaling.factor",
+                format!(
+                    "lower the factor (the step grows as its square root): {:.3e} gives 1000 steps",
+                    (f * (1e-3 * duration / h).powi(2)).max(1.0)
+                ),
+            ),
+        };
+        return Err(invalid(
+            inp,
+            path,
+            format!(
+                "the mass scaling factor {f:.3e} lengthens the time step to {h:.3e} s, at least \
+                 the duration {duration:.3e} s: the run would be a single step, nothing of its \
+                 dynamics resolved"
+            ),
+            fix,
+        ));
+    }
+    if dt >= MIN_TIME_STEP {
+        return Ok(());
+    }
+    let r = scene.loading.as_ref().map_or(1.0, |l| l.rate);
+    let (path, fix) = if r > 1.0 {
+        (
+            "loading.rate",
+            format!(
+                "lower the rate: it divides the duration as written, {:.3e} s; at most {:.3e}",
+                duration * r,
+                duration * r / MIN_TIME_STEP
+            ),
+        )
+    } else {
+        (
+            "duration",
+            format!("give a duration of at least {MIN_TIME_STEP:e} s"),
+        )
+    };
+    Err(invalid(
+        inp,
+        path,
+        format!(
+            "the duration {duration:.3e} s is shorter than the smallest step {MIN_TIME_STEP:e} s \
+             a run may use"
+        ),
+        fix,
+    ))
 }
 
 /// The error of a run of `n` steps of `h` (more than [`MAX_STEPS`]): names the duration, or the

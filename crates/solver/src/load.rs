@@ -141,6 +141,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     }
     let ms = scene.mass_scaling.clone();
     if let Some(f) = ms.as_ref().and_then(|m| m.factor) {
+        limits::check_mass_factor(f, "mass_scaling.factor", &model, file)?;
         model.scale_masses(f);
     }
     let parts = Parts {
@@ -155,6 +156,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         // the factor that gives the target step: the bounds fall as 1 / sqrt(factor)
         let h = scene.integrator.safety * timed.steps.dt_limit;
         let f = crate::scene::mass_scaling::factor_for_target(target, h, file)?;
+        limits::check_mass_factor(f, "mass_scaling.target_step", &model, file)?;
         model.scale_masses(f);
         timed = parts.timed(&model)?;
     }

@@ -23,6 +23,11 @@ use crate::scene::{BoundaryCondition, HistorySpec, MaterialSpec, Scene};
 use crate::time_history::{self, History};
 pub use crate::time_history::{ramp_factor, ramp_integral};
 
+/// A strain estimate above this (50 %) marks an input as far too large for the material: the
+/// constant-strain triangles represent strains well below 1 (`crate::diagnosis`, the initial
+/// stress's check in `crate::prestress`).
+pub const LARGE_STRAIN: f64 = 0.5;
+
 /// A load with a ramp or a time history: nodal forces (DOF, value) at full strength (factor 1).
 #[derive(Debug, Clone)]
 pub struct RampedLoad {
@@ -337,6 +342,33 @@ pub fn build(
     Ok(m)
 }
 
+/// A Young's modulus drawn by the heterogeneity of `spec` (material `key` of body `bi`) for
+/// the body's triangle `ti`: finite and positive, else the error names the distribution (its
+/// parameters, valid each, draw values no material has: a spread so wide that a draw
+/// overflows, or underflows to 0).
+fn check_drawn_young(
+    file: &Path,
+    bi: usize,
+    key: &str,
+    spec: &MaterialSpec,
+    young: f64,
+    ti: usize,
+) -> Result<(), SceneError> {
+    if young.is_finite() && young > 0.0 {
+        return Ok(());
+    }
+    let law = spec.heterogeneity.map_or("", |h| h.young.law());
+    let path = format!("bodies[{bi}].materials.{key}.heterogeneity.young.{law}");
+    Err(SceneError::invalid(
+        file,
+        path,
+        format!(
+            "the distribution drew Young's modulus {young} Pa for triangle {ti} of the body: its spread is so wide that a draw is not a positive finite number"
+        ),
+        "narrow the distribution: a larger Weibull `modulus`, a smaller `cov` (a spread of a few to some tens of percent is usual), and check the units of `scale` or `mean` (Pa)",
+    ))
+}
+
 /// Every body's edge groups in the model's numbering: (body, group name, edges).
 type EdgeGroups = Vec<(u32, String, Vec<[u32; 2]>)>;
 
@@ -395,8 +427,9 @@ fn add_bodies(
             let mi = if spec.heterogeneity.is_some() {
                 // its own row: Young's modulus drawn for its global index
                 m.drawn_young = true;
-                m.materials
-                    .push((spec.row(m.triangles.len() as u64), body.thickness));
+                let row = spec.row(m.triangles.len() as u64);
+                check_drawn_young(file, bi, key, spec, row.young, ti)?;
+                m.materials.push((row, body.thickness));
                 let id = match drawn_ids.iter().find(|(k, _)| *k == (bi, key.as_str())) {
                     Some(&(_, id)) => id,
                     None => {

@@ -181,10 +181,58 @@ pub fn field(
                 }
                 (None, None) => [0.0; 3],
             };
+            check_strain(scene, file, model, &path, e, (mt, t), add)?;
             for k in 0..3 {
                 s0[mt][k] += add[k];
             }
         }
     }
     Ok(s0)
+}
+
+/// The initial strain of entry `path` on triangle `mt` of the model (`local` in its body), its stress `add` over the
+/// triangle's Young's modulus, must stay below [`crate::model::LARGE_STRAIN`] (the
+/// triangles represent strains well below 1): a larger one is an input far outside its
+/// range (a unit slip: MPa for Pa), and the error names the entry, not the stiffness or the
+/// step it would break.
+fn check_strain(
+    scene: &Scene,
+    file: &Path,
+    model: &Model,
+    path: &str,
+    e: &crate::scene::InitialStress,
+    (mt, local): (usize, usize),
+    add: [f64; 3],
+) -> Result<(), SceneError> {
+    let young = model.materials[model.tri_material[mt] as usize].0.young;
+    let s = add.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let strain = s / young;
+    if strain <= crate::model::LARGE_STRAIN {
+        return Ok(());
+    }
+    let b = model.tri_body[mt] as usize;
+    let body = scene.bodies[b]
+        .name
+        .as_deref()
+        .map_or(format!("{b}"), |n| format!("'{}'", fdem_mesh::excerpt(n)));
+    let (at, fix) = if e.uniform.is_some() {
+        (
+            format!("{path}.uniform"),
+            "check the magnitude and units of the stress (Pa, tension positive) against the material's young (Pa)",
+        )
+    } else {
+        (
+            format!("{path}.gravity"),
+            "check g (m/s^2), density (kg/m^3) and surface_y (m) against the material's young (Pa)",
+        )
+    };
+    Err(SceneError::invalid(
+        file,
+        at,
+        format!(
+            "the initial stress {s:.3e} Pa on triangle {local} of body {body} is {strain:.3e} times its Young's modulus {young:.3e} Pa: a strain far above what the triangles represent (at most {})",
+            crate::model::LARGE_STRAIN
+        ),
+        fix,
+    ))
 }

@@ -269,13 +269,14 @@ pub(crate) fn validate(conditions: &[BoundaryCondition], file: &Path) -> Result<
             }
             BoundaryCondition::PointLoad(l) => l.ramp,
         };
-        if !(ramp >= 0.0 && ramp.is_finite()) {
-            return Err(bad(
-                format!("boundary_conditions[{i}].ramp"),
-                format!("ramp {ramp} is negative"),
-                "set ramp to a time >= 0 in seconds",
-            ));
-        }
+        crate::error::SceneError::check_range(
+            file,
+            format!("{p}.{}.ramp", bc.kind()),
+            "ramp",
+            ramp,
+            crate::error::Range::at_least(0.0),
+            "set ramp to a time >= 0 in seconds",
+        )?;
         history::check_with_ramp(bc.history(), ramp, &format!("{p}.{}", bc.kind()), file)?;
     }
     Ok(())

@@ -8,7 +8,7 @@ use fdem_contact::ContactLaw;
 use serde::{Deserialize, Serialize};
 
 use super::history::HistorySpec;
-use crate::error::SceneError;
+use crate::error::{Range, SceneError};
 
 /// The scene's `"contact"` section. Present and `enabled` (default true): contact between all
 /// bodies (and between separate pieces of one body, e.g. crack faces), and with the walls.
@@ -27,7 +27,7 @@ pub struct ContactSection {
     /// Rigid walls, floors and moving platens.
     #[serde(default)]
     pub walls: Vec<WallSpec>,
-    /// Detection buffer [m] (default 0: 0.2 times the mean triangle radius).
+    /// Detection buffer [m], >= 0 (default 0: 0.2 times the mean triangle radius).
     #[serde(default)]
     pub buffer: f64,
     /// Largest allowed `phi = 3 d / H` on a contact before the run stops as too deep a
@@ -41,6 +41,9 @@ pub struct ContactSection {
     #[serde(default = "default_active_every")]
     pub active_bound_every: u64,
 }
+
+/// The valid range of `contact.max_phi`.
+pub const MAX_PHI: Range = Range::open_closed(0.0, 1.0);
 
 fn yes() -> bool {
     true
@@ -174,56 +177,52 @@ impl ContactSection {
         Ok(())
     }
 
-    /// Checks the values (the body names are resolved by [`crate::resolve`]); `file` names
-    /// the scene in errors.
+    /// Checks the values, each against its range (the body names are resolved by
+    /// [`crate::resolve`]); `file` names the scene in errors.
     pub fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| SceneError::Invalid {
-            file: file.to_path_buf(),
-            path,
-            message,
-            fix: fix.into(),
+        let range = |path: String, what: &str, v: f64, r: Range, fix: &str| {
+            SceneError::check_range(file, path, what, v, r, fix)
         };
         let check_law = |path: String, l: &LawSpec| -> Result<(), SceneError> {
-            if let Some(p) = l.penalty
-                && (p.is_nan() || p <= 0.0)
-            {
-                return Err(bad(
+            if let Some(p) = l.penalty {
+                range(
                     format!("{path}.penalty"),
-                    format!("penalty {p} must be > 0"),
+                    "penalty",
+                    p,
+                    Range::above(0.0),
                     "give a positive penalty [Pa], e.g. 10 times Young's modulus",
-                ));
+                )?;
             }
-            if l.penalty_factor.is_nan() || l.penalty_factor <= 0.0 {
-                return Err(bad(
-                    format!("{path}.penalty_factor"),
-                    "must be > 0".into(),
-                    "use e.g. 10",
-                ));
-            }
-            if l.friction.is_nan() || l.friction < 0.0 {
-                return Err(bad(
-                    format!("{path}.friction"),
-                    "must be >= 0".into(),
-                    "use a Coulomb coefficient such as 0.5",
-                ));
-            }
-            if let Some(k) = l.tangential_penalty
-                && (k.is_nan() || k <= 0.0)
-            {
-                return Err(bad(
+            range(
+                format!("{path}.penalty_factor"),
+                "penalty factor",
+                l.penalty_factor,
+                Range::above(0.0),
+                "use e.g. 10 (the penalty is this times Young's modulus)",
+            )?;
+            range(
+                format!("{path}.friction"),
+                "friction coefficient",
+                l.friction,
+                Range::at_least(0.0),
+                "use a Coulomb coefficient such as 0.5 (0: frictionless)",
+            )?;
+            if let Some(k) = l.tangential_penalty {
+                range(
                     format!("{path}.tangential_penalty"),
-                    "must be > 0".into(),
+                    "tangential penalty",
+                    k,
+                    Range::above(0.0),
                     "leave it out to use the normal penalty",
-                ));
+                )?;
             }
-            if l.damping.is_nan() || l.damping < 0.0 {
-                return Err(bad(
-                    format!("{path}.damping"),
-                    "must be >= 0".into(),
-                    "use 0",
-                ));
-            }
-            Ok(())
+            range(
+                format!("{path}.damping"),
+                "contact damping",
+                l.damping,
+                Range::at_least(0.0),
+                "use 0, or 2 xi sqrt(6 p rho) for a damping ratio of about xi",
+            )
         };
         check_law("contact.default".into(), &self.default)?;
         for (i, p) in self.pairs.iter().enumerate() {
@@ -233,20 +232,34 @@ impl ContactSection {
             check_law(format!("contact.walls[{i}].law"), &w.law)?;
             let n = (w.normal[0].powi(2) + w.normal[1].powi(2)).sqrt();
             if !(n > 0.0 && n.is_finite()) {
-                return Err(bad(
+                return Err(SceneError::invalid(
+                    file,
                     format!("contact.walls[{i}].normal"),
-                    "the normal must be a nonzero vector".into(),
+                    "the normal must be a nonzero vector",
                     "give the outward normal, e.g. [0, 1] for a floor",
                 ));
             }
+            range(
+                format!("contact.walls[{i}].ramp"),
+                "ramp",
+                w.ramp,
+                Range::at_least(0.0),
+                "set ramp to a time >= 0 in seconds",
+            )?;
         }
-        if !(self.max_phi > 0.0 && self.max_phi <= 1.0) {
-            return Err(bad(
-                "contact.max_phi".into(),
-                "must be in (0, 1]".into(),
-                "use 0.5",
-            ));
-        }
-        Ok(())
+        range(
+            "contact.buffer".into(),
+            "detection buffer",
+            self.buffer,
+            Range::at_least(0.0),
+            "give the buffer in m, or 0 for 0.2 times the mean triangle radius",
+        )?;
+        range(
+            "contact.max_phi".into(),
+            "largest penetration ratio",
+            self.max_phi,
+            MAX_PHI,
+            "use 0.5",
+        )
     }
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize};
 
-use crate::error::SceneError;
+use crate::error::{Range, SceneError};
 
 /// The kind of analysis.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
@@ -123,6 +123,13 @@ impl<'de> Deserialize<'de> for TimeStep {
     }
 }
 
+/// The valid range of `integrator.safety`.
+pub const SAFETY: Range = Range::open_closed(0.0, 1.0);
+
+/// The valid range of `integrator.relaxation_tolerance`: a fraction of the load; at 1 or more
+/// the residual of the unloaded state, the load itself, passes.
+pub const RELAXATION_TOLERANCE: Range = Range::open(0.0, 1.0);
+
 /// Time integration settings.
 #[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -142,7 +149,8 @@ pub struct Integrator {
     /// bound costs about one contact pass over the detected couples).
     #[serde(default = "default_adapt_every")]
     pub adapt_every: u64,
-    /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8).
+    /// Relaxation analysis: stop when |residual| <= tolerance * |applied load| (default 1e-8;
+    /// in (0, 1)).
     #[serde(default = "default_tol")]
     pub relaxation_tolerance: f64,
     /// Relaxation analysis: `"kinetic"`, `"adaptive"`, `"viscous"` or
@@ -270,13 +278,22 @@ impl Integrator {
             SceneError::invalid(file, path, message, fix)
         };
 
-        if !(self.safety > 0.0 && self.safety <= 1.0) {
-            return Err(bad(
-                "integrator.safety".into(),
-                format!("safety factor {} is outside (0, 1]", self.safety),
-                "use a safety factor between 0.5 and 0.9",
-            ));
-        }
+        SceneError::check_range(
+            file,
+            "integrator.safety",
+            "safety factor",
+            self.safety,
+            SAFETY,
+            "use a safety factor between 0.5 and 0.9",
+        )?;
+        SceneError::check_range(
+            file,
+            "integrator.relaxation_tolerance",
+            "relaxation tolerance",
+            self.relaxation_tolerance,
+            RELAXATION_TOLERANCE,
+            "give the out-of-balance force to stop at as a fraction of the load, e.g. 1e-8 (the default); at 1 or more the unloaded state passes",
+        )?;
         if let TimeStep::Fixed(h) = self.time_step
             && !(h > 0.0 && h.is_finite())
         {
@@ -320,19 +337,24 @@ impl Integrator {
 }
 
 impl Damping {
-    /// Checks that the coefficients are >= 0; `file` names the scene in errors.
+    /// Checks that the coefficients are finite and >= 0, each at its path; `file` names the
+    /// scene in errors.
     pub(crate) fn validate(&self, file: &Path) -> Result<(), SceneError> {
-        let bad = |path: String, message: String, fix: &str| {
-            SceneError::invalid(file, path, message, fix)
-        };
-
-        if self.viscosity_ratio < 0.0 || self.mass_proportional < 0.0 {
-            return Err(bad(
-                "damping".into(),
-                "damping coefficients must be >= 0".into(),
-                "set viscosity_ratio and mass_proportional to values >= 0",
-            ));
-        }
-        Ok(())
+        SceneError::check_range(
+            file,
+            "damping.viscosity_ratio",
+            "viscosity ratio",
+            self.viscosity_ratio,
+            Range::at_least(0.0),
+            "give the damping ratio of the highest element mode, >= 0 (0: no viscosity)",
+        )?;
+        SceneError::check_range(
+            file,
+            "damping.mass_proportional",
+            "mass-proportional damping",
+            self.mass_proportional,
+            Range::at_least(0.0),
+            "give the coefficient alpha in 1/s, >= 0 (0: none)",
+        )
     }
 }
