@@ -96,6 +96,8 @@ mod trust_exits;
 mod trust_names;
 #[path = "trust_output.rs"]
 mod trust_output;
+#[path = "trust_resume.rs"]
+mod trust_resume;
 #[path = "velocity_dependence.rs"]
 mod velocity_dependence;
 
