@@ -80,7 +80,7 @@ impl HistoryWriter {
     /// is not finite.
     pub fn flush(&self) -> std::io::Result<()> {
         let end = self.finite.unwrap_or(self.text.len());
-        write_atomic(&self.path, self.text[..end].as_bytes())
+        write_atomic(&self.path, &self.text.as_bytes()[..end])
     }
 }
 
