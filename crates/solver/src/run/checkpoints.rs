@@ -137,7 +137,13 @@ pub fn describe_resume(l: &Loaded, header: &Header) -> String {
             header.time_step
         ),
         _ => format!(
-            "{from}: {} steps left of h = {:.4e} s, to step {} (t = {:.4e} s)",
+            "{from}: {}{} steps left of h = {:.4e} s, to step {} (t = {:.4e} s)",
+            // a relaxation ends when it converges
+            if l.scene.analysis == crate::scene::Analysis::Relaxation {
+                "at most "
+            } else {
+                ""
+            },
             l.n_steps.saturating_sub(header.step),
             l.dt,
             l.n_steps,
