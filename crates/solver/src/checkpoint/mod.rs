@@ -451,7 +451,7 @@ pub fn check_folder(dir: &Path, file: &Path, header: &Header) -> Result<(), Chec
             ));
         }
         Ok(text) if text.trim() != id => {
-            let folder = crate::excerpt(text.trim());
+            let folder = fdem_mesh::excerpt(text.trim());
             return Err(CheckpointError::new(
                 file,
                 format!(
