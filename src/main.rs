@@ -61,7 +61,9 @@ enum Command {
         #[arg(long, value_name = "STEPS|TIME", value_parser = parse_every)]
         checkpoint_every: Option<fdem_solver::checkpoint::Every>,
         /// Continue the run in DIR from its checkpoint; its frames, CSV files and summary
-        /// go on as if it had never stopped.
+        /// go on as if it had never stopped. Refused: a checkpoint of another run than the
+        /// one whose files DIR holds (run_id.txt), a folder without a file written before
+        /// the checkpoint, a `duration` that ends at or before the checkpoint.
         #[arg(long, value_name = "DIR")]
         resume: Option<PathBuf>,
         /// Stop after this many steps in all, with a checkpoint, as if interrupted (exit

@@ -100,6 +100,8 @@ mod trust_input;
 mod trust_names;
 #[path = "trust_output.rs"]
 mod trust_output;
+#[path = "trust_resume.rs"]
+mod trust_resume;
 #[path = "trust_rules.rs"]
 mod trust_rules;
 #[path = "velocity_dependence.rs"]

@@ -332,7 +332,8 @@ fn run_with(scene: &Path, size: usize, options: RunOptions) -> Vec<Result<Outcom
 }
 
 /// Resumes the run in `out` of `scene` on `size` ranks (1: one process) and asserts that its
-/// files are those of the run that never stopped, in `straight` (the checkpoint left aside).
+/// files are those of the run that never stopped, in `straight` (the checkpoint and the run's
+/// id left aside).
 fn resume_and_compare(scene: &Path, size: usize, out: &Path, straight: &Path) -> usize {
     let resumed = run_with(
         scene,
@@ -346,7 +347,7 @@ fn resume_and_compare(scene: &Path, size: usize, out: &Path, straight: &Path) ->
     for r in resumed {
         r.unwrap_or_else(|e| panic!("resumed on {size} ranks: {e}"));
     }
-    assert_same_files_but(straight, out, &["checkpoint.fdem"])
+    assert_same_files_but(straight, out, &["checkpoint.fdem", "run_id.txt"])
 }
 
 #[test]

@@ -29,13 +29,18 @@ fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// The files of a run folder that hold results, by name, with their bytes (the checkpoint
-/// and the summary apart).
+/// The files of a run folder that hold results, by name, with their bytes (the checkpoint,
+/// the run's id and the summary apart).
 fn result_files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .filter(|n| n != "checkpoint.fdem" && n != "summary.json")
+        .filter(|n| {
+            !matches!(
+                n.as_str(),
+                "checkpoint.fdem" | "run_id.txt" | "summary.json"
+            )
+        })
         .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
         .collect()
 }

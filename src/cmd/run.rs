@@ -62,6 +62,38 @@ pub(super) fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBu
     Ok(scene)
 }
 
+/// A resume of `loaded` from the checkpoint in `dir`, checked before anything is written
+/// (`driver::open_checkpoint`: the scene, the end, the folder) and with the checkpoint's time
+/// step kept, so that the scene's description gives the step the run takes; returns the line
+/// that says where the run goes on from. A static analysis is refused by the run itself.
+pub(super) fn open_resumed(
+    loaded: &mut fdem_solver::Loaded,
+    dir: &Path,
+) -> Result<Option<String>, fdem_solver::RunError> {
+    if loaded.scene.analysis == fdem_solver::scene::Analysis::Static {
+        return Ok(None);
+    }
+    let cp = driver::open_checkpoint(loaded, dir)?;
+    Ok(Some(driver::describe_resume(loaded, &cp.header)))
+}
+
+/// Fracturing scenes: the load-displacement curve of the run in `out`, when the run has one
+/// (platens, or a group with reaction and displacement probes).
+pub(super) fn plot_curve(out: &Path) {
+    if out.join("fractures.csv").exists() {
+        match super::plot::load_displacement(
+            std::slice::from_ref(&out.to_path_buf()),
+            None,
+            None,
+            None,
+            None,
+        ) {
+            Ok(files) => println!("load-displacement curve: {}", files[0].display()),
+            Err(e) => eprintln!("no load-displacement curve: {e:#}"),
+        }
+    }
+}
+
 /// The progress without a terminal: a line on stderr every tenth of the run and at its end.
 pub fn progress_lines() -> impl FnMut(&Progress) {
     let start = Instant::now();
@@ -110,7 +142,15 @@ pub fn run(args: RunArgs) -> Result<()> {
         PathBuf::from("results").join(stem)
     });
     let mut loaded = driver::load(scene)?;
+    let resumed = resume
+        .as_deref()
+        .map(|dir| open_resumed(&mut loaded, dir))
+        .transpose()?
+        .flatten();
     eprintln!("{}", loaded.describe());
+    if let Some(line) = &resumed {
+        eprintln!("{line}");
+    }
     let options = RunOptions {
         out_dir: out.clone(),
         raw,
@@ -138,9 +178,19 @@ pub fn run(args: RunArgs) -> Result<()> {
             bar.set_message(format!("{:.4e} s, step {}", p.time, p.step));
         });
         bar.finish_and_clear();
-        s?
+        s
     } else {
-        driver::run_outcome(&mut loaded, &options, &mut progress_lines())?
+        driver::run_outcome(&mut loaded, &options, &mut progress_lines())
+    };
+    let outcome = match outcome {
+        Ok(o) => o,
+        Err(e) => {
+            // a run stopped as unstable: its files so far, the curve included
+            if matches!(e, fdem_solver::RunError::Unstable { .. }) {
+                plot_curve(&out);
+            }
+            return Err(e.into());
+        }
     };
     let summary = &outcome.summary;
     println!("{}", summary.describe());
@@ -162,14 +212,7 @@ pub fn run(args: RunArgs) -> Result<()> {
             c.write_time / c.written as f64
         );
     }
-    // Fracturing scenes: the load-displacement curve, when the run has one (platens, or a
-    // group with reaction and displacement probes).
-    if out.join("fractures.csv").exists() {
-        match super::plot::load_displacement(std::slice::from_ref(&out), None, None, None, None) {
-            Ok(files) => println!("load-displacement curve: {}", files[0].display()),
-            Err(e) => eprintln!("no load-displacement curve: {e:#}"),
-        }
-    }
+    plot_curve(&out);
     println!("results in {}", out.display());
     // A relaxation that did not reach its tolerance: its output is written, and the exit
     // code (3) says the goal was not reached.

@@ -63,8 +63,15 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
     });
     // every rank loads the scene (the same checks, so a bad scene fails on every rank alike)
     let mut loaded = driver::load(&scene)?;
+    let resumed = match &args.resume {
+        Some(dir) => super::run::open_resumed(&mut loaded, dir)?,
+        None => None,
+    };
     if rank == 0 {
         eprintln!("{}", loaded.describe());
+        if let Some(line) = &resumed {
+            eprintln!("{line}");
+        }
         eprintln!("distributed over {size} processes");
     }
     // SIGINT and SIGTERM (mpirun passes them to every process): rank 0's stop is taken up
@@ -90,13 +97,7 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
             if rank == 0 {
                 println!("{}", outcome.summary.describe());
                 // the load-displacement curve of a fracturing scene, as a single process draws it
-                if out.join("fractures.csv").exists() {
-                    let dirs = std::slice::from_ref(&out);
-                    match super::plot::load_displacement(dirs, None, None, None, None) {
-                        Ok(files) => println!("load-displacement curve: {}", files[0].display()),
-                        Err(e) => eprintln!("no load-displacement curve: {e:#}"),
-                    }
-                }
+                super::run::plot_curve(&out);
                 println!("results in {}", out.display());
             }
             Ok(())
@@ -106,8 +107,14 @@ fn run_on(mpi: &fdem_mpi::Mpi, args: RunArgs) -> Result<()> {
             eprintln!("error: {e}");
             mpi.abort(1)
         }
-        // the scene's refusals and the run's checks fail on every rank alike
-        Err(e) => Err(e.into()),
+        // the scene's refusals and the run's checks fail on every rank alike; a run stopped
+        // as unstable has its curve so far, as a single process's
+        Err(e) => {
+            if rank == 0 && matches!(e, fdem_solver::RunError::Unstable { .. }) {
+                super::run::plot_curve(&out);
+            }
+            Err(e.into())
+        }
     }
 }
 

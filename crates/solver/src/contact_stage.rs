@@ -764,6 +764,12 @@ impl ForceContribution for ContactStage {
         }
     }
 
+    fn files(&self, files: &mut Vec<String>) {
+        if self.csv.is_some() {
+            files.push("walls.csv".into());
+        }
+    }
+
     fn finish(&mut self) {
         if let Some(w) = &mut self.csv {
             let _ = w.flush();

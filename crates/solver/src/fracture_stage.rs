@@ -868,6 +868,12 @@ impl ForceContribution for FractureStage {
         })
     }
 
+    fn files(&self, files: &mut Vec<String>) {
+        if self.csv.is_some() {
+            files.push("fractures.csv".into());
+        }
+    }
+
     fn finish(&mut self) {
         if let Some(w) = &mut self.csv {
             let _ = w.flush();

@@ -74,7 +74,8 @@ pub mod driver {
     pub use crate::load::{Loaded, load, load_text, step_count};
     pub use crate::output::{frame_from_parts, make_frame};
     pub use crate::run::{
-        ENERGY_GROWTH_BOUND, Progress, RunOptions, energy_growth, run, run_distributed, run_outcome,
+        ENERGY_GROWTH_BOUND, Progress, RunOptions, describe_resume, energy_growth, open_checkpoint,
+        run, run_distributed, run_outcome,
     };
     pub use crate::summary::{Outcome, Summary};
 }

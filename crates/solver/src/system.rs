@@ -86,8 +86,12 @@ pub trait ForceContribution: Send {
     /// `frame.extra_cell_scalars`) from its last force evaluation at positions `x`
     /// (default: nothing, so a scene without the term writes no such arrays).
     fn frame_fields(&self, _x: &[[f64; 2]], _frame: &mut FrameData) {}
-    /// Called once after the last step (flush files; default: nothing).
+    /// Called once after the last step, or at a stop on an instability (flush files;
+    /// default: nothing).
     fn finish(&mut self) {}
+    /// Adds to `files` the names of the files in the run's folder that this term appends to,
+    /// which a run resumed from a checkpoint goes on from (default: none).
+    fn files(&self, _files: &mut Vec<String>) {}
     /// Appends to a checkpoint everything this term carries from one step to the next
     /// (committed histories, couples, detection state, counters, energy sums, the last
     /// evaluation's results that reports and frames read, the length of its CSV file, which

@@ -4,7 +4,7 @@
 //!
 //! The file: the magic bytes `FDEMCKPT`, the format version ([`FORMAT`], `u32`), a header
 //! ([`Header`]: the fdem version, the hashes of the scene and of the mesh it belongs to, the
-//! step and time), the length of the state, the state (sections written by [`pack`]: the run,
+//! step and time, the run's id and the files of its folder that a resume needs), the length of the state, the state (sections written by [`pack`]: the run,
 //! the scheme, the step control, the energy books, the system, each stage, each observer), and
 //! an XXH3 checksum of header and state. It is written whole or not at all
 //! ([`CheckpointWriter`]: a temporary file, fsync, rename, fsync of the folder) on a
@@ -14,6 +14,11 @@
 //! end (`duration`), the output (`output`), the history interval (`histories.every`) and the
 //! title (`crate::run::scene_hash` leaves them out); anything else is a different scene and
 //! is refused.
+//!
+//! A checkpoint belongs to its folder: a run draws an id ([`new_run_id`]) at its first
+//! checkpoint and writes it into the folder ([`RUN_ID_FILE`]) and into the header of each
+//! checkpoint; a resumed run keeps it. A resume checks the id, and that the folder holds the
+//! files the header lists ([`check_folder`]), before anything in the folder changes.
 
 pub mod pack;
 
@@ -27,7 +32,9 @@ pub use pack::{Dec, DecodeError, Enc, Pack};
 /// The checkpoint file's name in a run folder.
 pub const FILE_NAME: &str = "checkpoint.fdem";
 /// The format version this fdem writes and the only one it reads.
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
+/// The file of a run folder that holds the id of the run whose checkpoints it holds.
+pub const RUN_ID_FILE: &str = "run_id.txt";
 const MAGIC: &[u8; 8] = b"FDEMCKPT";
 
 /// What a checkpoint says of itself before its state.
@@ -48,6 +55,11 @@ pub struct Header {
     pub time_step: f64,
     /// The scene file (absolute), for `fdem run --resume DIR` without a scene.
     pub scene_file: PathBuf,
+    /// The id of the run that wrote it (its folder's [`RUN_ID_FILE`] holds the same).
+    pub run_id: u64,
+    /// The files of the run's folder that a resume goes on from (the frames listed in the
+    /// collections at the checkpoint, the stages' CSV files), by name.
+    pub files: Vec<String>,
 }
 
 impl Header {
@@ -59,6 +71,8 @@ impl Header {
         e.put(&self.time);
         e.put(&self.time_step);
         e.put(&self.scene_file.to_string_lossy().into_owned());
+        e.put(&self.run_id);
+        e.put(&self.files);
     }
 
     fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
@@ -70,6 +84,8 @@ impl Header {
             time: d.get()?,
             time_step: d.get()?,
             scene_file: PathBuf::from(d.get::<String>()?),
+            run_id: d.get()?,
+            files: d.get()?,
         })
     }
 }
@@ -384,6 +400,105 @@ pub fn write_durably(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
+/// A new run id: a hash of the wall-clock time, the process, a count of the ids this process
+/// drew and the folder `dir`, so that two runs (of one scene, in one folder or two) differ.
+pub fn new_run_id(dir: &Path) -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static DRAWN: AtomicU64 = AtomicU64::new(0);
+    let mut e = Enc::default();
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64);
+    e.put(&now);
+    e.put(&u64::from(std::process::id()));
+    e.put(&DRAWN.fetch_add(1, Ordering::Relaxed));
+    e.put(&dir.to_string_lossy().into_owned());
+    twox_hash::XxHash3_64::oneshot(&e.buf)
+}
+
+/// A run id as the folder's [`RUN_ID_FILE`] and the messages write it: 16 hex digits.
+pub fn run_id_text(id: u64) -> String {
+    format!("{id:016x}")
+}
+
+/// Writes run `id` into `dir` ([`RUN_ID_FILE`]), whole or not at all.
+pub fn write_run_id(dir: &Path, id: u64) -> std::io::Result<()> {
+    write_durably(
+        &dir.join(RUN_ID_FILE),
+        format!("{}\n", run_id_text(id)).as_bytes(),
+    )
+}
+
+/// Checks that the folder `dir` of checkpoint `file` (with `header`) is the one its run
+/// wrote: its [`RUN_ID_FILE`] holds the checkpoint's run id, and every file the header lists
+/// is there. Reads only: a refused folder is left as it is.
+pub fn check_folder(dir: &Path, file: &Path, header: &Header) -> Result<(), CheckpointError> {
+    let id = run_id_text(header.run_id);
+    let id_file = dir.join(RUN_ID_FILE);
+    let fix_id = format!(
+        "resume the folder in which the checkpoint was written (a copy of that whole folder resumes too), or start the run afresh: fdem run SCENE --out {}",
+        dir.display()
+    );
+    match std::fs::read_to_string(&id_file) {
+        Err(e) => {
+            return Err(CheckpointError::new(
+                file,
+                format!(
+                    "the checkpoint belongs to run {id}, but {} cannot be read ({e}): the checkpoint was written in another folder, or the folder's run id was removed",
+                    id_file.display()
+                ),
+                fix_id,
+            ));
+        }
+        Ok(text) if text.trim() != id => {
+            let folder = fdem_mesh::excerpt(text.trim());
+            return Err(CheckpointError::new(
+                file,
+                format!(
+                    "the checkpoint belongs to run {id}, but the folder holds the files of run {folder} ({}): the checkpoint was copied from another run's folder",
+                    id_file.display()
+                ),
+                fix_id,
+            ));
+        }
+        Ok(_) => {}
+    }
+    let missing: Vec<&str> = header
+        .files
+        .iter()
+        .filter(|f| !dir.join(f).is_file())
+        .map(String::as_str)
+        .collect();
+    if let Some(first) = missing.first() {
+        let more = match missing.len() {
+            1 => String::new(),
+            n => format!(
+                " (and {} more: {})",
+                n - 1,
+                missing[1..]
+                    .iter()
+                    .take(5)
+                    .cloned()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
+        return Err(CheckpointError::new(
+            file,
+            format!(
+                "{first}{more}, written by the run before its checkpoint at step {}, is missing from {}: a resumed run goes on from the files written before its checkpoint and does not write them again",
+                header.step,
+                dir.display()
+            ),
+            format!(
+                "put the missing file back (or resume a whole copy of the folder), or start the run afresh: fdem run SCENE --out {}",
+                dir.display()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -397,6 +512,8 @@ mod tests {
             time: 1.5e-3,
             time_step: 1e-7,
             scene_file: "/x/scene.json".into(),
+            run_id: 0x0123_4567_89ab_cdef,
+            files: vec!["frame_0000.vtu".into(), "joints_0000.vtu".into()],
         }
     }
 

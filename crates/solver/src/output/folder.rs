@@ -7,9 +7,10 @@ use std::path::{Path, PathBuf};
 
 /// The fixed names of the files a run writes (with [`NUMBERED`] and the temporaries of
 /// [`is_run_file`]). A new output file must be added here.
-pub const FIXED: [&str; 9] = [
+pub const FIXED: [&str; 10] = [
     "results.pvd",
     "checkpoint.fdem",
+    crate::checkpoint::RUN_ID_FILE,
     "summary.json",
     "histories.csv",
     "joints.pvd",
@@ -91,6 +92,7 @@ mod tests {
             "joints.pvd",
             "histories.csv",
             "summary.json",
+            "run_id.txt",
             "fractures.csv",
             "walls.csv",
             "load_displacement.png",

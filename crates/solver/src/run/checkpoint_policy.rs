@@ -26,6 +26,9 @@ pub struct Checkpointing {
     pub(super) any: bool,
     /// The scene's and the mesh's hashes, computed at the first checkpoint.
     pub(super) hashes: Option<(u64, u64)>,
+    /// The run's id (`crate::checkpoint::new_run_id`): drawn at the first checkpoint, or
+    /// the checkpoint's when resumed.
+    pub(super) run_id: Option<u64>,
     /// The checkpoint file's writer.
     pub writer: CheckpointWriter,
 }
@@ -44,6 +47,7 @@ impl Checkpointing {
             stop_after: options.stop_after,
             any: false,
             hashes: None,
+            run_id: None,
             writer: CheckpointWriter::new(&options.out_dir),
         }
     }

@@ -66,13 +66,13 @@ pub fn mesh_hash(m: &Model) -> u64 {
 }
 
 /// The header of a checkpoint of `l` (its model `model`: during a run the system holds it)
-/// at `step`, time `time`.
-pub fn header(l: &Loaded, model: &Model, step: u64, time: f64) -> Header {
-    header_with(l, (scene_hash(l), mesh_hash(model)), step, time)
+/// at `step`, time `time`, of run `run_id` (no files listed).
+pub fn header(l: &Loaded, model: &Model, step: u64, time: f64, run_id: u64) -> Header {
+    header_with(l, (scene_hash(l), mesh_hash(model)), step, time, run_id)
 }
 
 /// [`header`] with the scene's and the mesh's hashes already computed.
-fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64) -> Header {
+fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64, run_id: u64) -> Header {
     Header {
         version: env!("CARGO_PKG_VERSION").to_string(),
         scene,
@@ -81,6 +81,8 @@ fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64) -> H
         time,
         time_step: l.dt,
         scene_file: std::path::absolute(&l.file).unwrap_or_else(|_| l.file.clone()),
+        run_id,
+        files: Vec::new(),
     }
 }
 
@@ -92,6 +94,61 @@ pub fn keep_time_step(l: &mut Loaded, header: &Header) {
         l.dt = header.time_step;
         let duration = l.scene.duration.unwrap_or(0.0);
         l.n_steps = crate::limits::step_count(duration, l.dt) as u64;
+    }
+}
+
+/// Checks that the run of `l`, its time step kept ([`keep_time_step`]), has steps left after
+/// the checkpoint `file` with `header`: its end (`duration`) is after the checkpoint's time.
+pub fn check_end(l: &Loaded, file: &Path, header: &Header) -> Result<(), CheckpointError> {
+    let duration = l.scene.duration.unwrap_or(0.0);
+    let done = match l.scene.integrator.time_step {
+        crate::scene::TimeStep::Adaptive => header.time >= duration * (1.0 - 1e-12),
+        _ => header.step >= l.n_steps,
+    };
+    if !done {
+        return Ok(());
+    }
+    Err(CheckpointError::new(
+        file,
+        format!(
+            "`duration` = {duration:e} s of {} ends at or before the checkpoint's time t = {:e} s (step {}): the resumed run would have no step left to take",
+            l.file.display(),
+            header.time,
+            header.step
+        ),
+        format!(
+            "resume with a scene whose `duration` is longer than {:e} s (its end extends the run), or start the run afresh",
+            header.time
+        ),
+    ))
+}
+
+/// What a resumed run of `l` (its time step kept: [`keep_time_step`]) does from the checkpoint
+/// with `header`, in one line: the step it goes on from, the step and the steps left.
+pub fn describe_resume(l: &Loaded, header: &Header) -> String {
+    let duration = l.scene.duration.unwrap_or(0.0);
+    let from = format!(
+        "resuming from step {} (t = {:.4e} s)",
+        header.step, header.time
+    );
+    match l.scene.integrator.time_step {
+        crate::scene::TimeStep::Adaptive => format!(
+            "{from}: adaptive steps (the last {:.4e} s) up to t = {duration:.4e} s",
+            header.time_step
+        ),
+        _ => format!(
+            "{from}: {}{} steps left of h = {:.4e} s, to step {} (t = {:.4e} s)",
+            // a relaxation ends when it converges
+            if l.scene.analysis == crate::scene::Analysis::Relaxation {
+                "at most "
+            } else {
+                ""
+            },
+            l.n_steps.saturating_sub(header.step),
+            l.dt,
+            l.n_steps,
+            l.n_steps as f64 * l.dt
+        ),
     }
 }
 
@@ -261,10 +318,15 @@ impl<'a> Run<'a> {
             .checkpoints
             .hashes
             .get_or_insert_with(|| (scene_hash(l), mesh_hash(model)));
-        let file = crate::checkpoint::encode_file(
-            &header_with(self.loaded, hashes, self.steps, self.state.t),
-            &state,
-        );
+        let run_id = self.run_id()?;
+        let mut header = header_with(self.loaded, hashes, self.steps, self.state.t, run_id);
+        for c in &self.sys.contributions {
+            c.files(&mut header.files);
+        }
+        for o in observers.iter() {
+            o.files(&mut header.files);
+        }
+        let file = crate::checkpoint::encode_file(&header, &state);
         let w = &mut self.checkpoints.writer;
         let path = w.path().to_path_buf();
         let failed = |e: std::io::Error| RunError::Output {
@@ -279,6 +341,21 @@ impl<'a> Run<'a> {
         self.checkpoints.any = true;
         self.sys.timers.output += s.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// The run's id: drawn at its first checkpoint and written into the folder then (a resumed
+    /// run keeps the checkpoint's).
+    fn run_id(&mut self) -> Result<u64, RunError> {
+        if let Some(id) = self.checkpoints.run_id {
+            return Ok(id);
+        }
+        let id = crate::checkpoint::new_run_id(self.out_dir);
+        crate::checkpoint::write_run_id(self.out_dir, id).map_err(|e| RunError::Output {
+            file: self.out_dir.join(crate::checkpoint::RUN_ID_FILE),
+            message: format!("cannot write the run's id: {e}"),
+        })?;
+        self.checkpoints.run_id = Some(id);
+        Ok(id)
     }
 
     /// After step `steps` of the loop: a stop asked for (a checkpoint, an interrupted
@@ -463,6 +540,7 @@ impl<'a> Run<'a> {
             conjugate,
         };
         run.checkpoints.any = true;
+        run.checkpoints.run_id = Some(cp.header.run_id);
         for o in observers.iter_mut() {
             let mut view = run.view(false, false);
             d.section("observer", |d| o.restore(&mut view, d))

@@ -315,6 +315,12 @@ impl Observer for FrameWriter {
         Ok(())
     }
 
+    /// The frames of the collections (written whole by [`Observer::save`]).
+    fn files(&self, files: &mut Vec<String>) {
+        let frames = self.pvd.entries().iter().chain(self.joints.entries());
+        files.extend(frames.map(|(_, name)| name.clone()));
+    }
+
     /// The collections as they were at the checkpoint, rewritten; later frames removed.
     fn restore(&mut self, _run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
         if let Some(h) = self.pending.take() {

@@ -202,6 +202,12 @@ impl Observer for Histories {
         self.flush()
     }
 
+    /// The rows up to the stop written (a failure to write them is not reported over the
+    /// run's error).
+    fn stopped(&mut self, _summary: &mut Summary) {
+        let _ = self.flush();
+    }
+
     /// The rows so far travel in the checkpoint (the file on disk may hold rows of steps
     /// after it, or fewer), and are written whole at the next flush.
     fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {

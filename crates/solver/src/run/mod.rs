@@ -52,7 +52,9 @@ mod stepping;
 use std::time::Instant;
 
 pub use checkpoint_policy::{AGREE_EVERY, Checkpointing};
-pub use checkpoints::{check_belongs, header, mesh_hash, scene_hash};
+pub use checkpoints::{
+    check_belongs, check_end, describe_resume, header, keep_time_step, mesh_hash, scene_hash,
+};
 pub use frames::{FrameClock, FrameWriter, state_frame};
 pub use histories::Histories;
 pub use observer::{Flow, Halt, Observer, RunView};
@@ -102,16 +104,26 @@ pub fn run_outcome(
     // the stages' own input, checked before the folder is claimed
     crate::fracture_stage::check_initial_state(&l.scene, &l.file)?;
     if options.resume {
-        // the checkpoint read and checked before anything in the folder changes
-        let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
-        let cp = crate::checkpoint::read(&file)?;
-        check_belongs(l, &file, &cp.header)?;
-        checkpoints::keep_time_step(l, &cp.header);
+        let cp = open_checkpoint(l, &options.out_dir)?;
         let writer = FrameWriter::resume(options, &l.scene.output);
         return dynamic(l, options, progress, writer, wall, Some(&cp));
     }
     let writer = FrameWriter::new(options, &l.scene.output)?;
     dynamic(l, options, progress, writer, wall, None)
+}
+
+/// The checkpoint of the run in `dir` that `l` resumes, read and checked before anything in
+/// the folder changes: of `l`'s scene and mesh ([`check_belongs`]), with `l`'s end after it
+/// once the checkpoint's time step is kept ([`keep_time_step`], [`check_end`]), in the folder
+/// its run wrote (`crate::checkpoint::check_folder`: the run's id, the frames before it).
+pub fn open_checkpoint(l: &mut Loaded, dir: &std::path::Path) -> Result<Checkpoint, RunError> {
+    let file = dir.join(crate::checkpoint::FILE_NAME);
+    let cp = crate::checkpoint::read(&file)?;
+    check_belongs(l, &file, &cp.header)?;
+    keep_time_step(l, &cp.header);
+    check_end(l, &file, &cp.header)?;
+    crate::checkpoint::check_folder(dir, &file, &cp.header)?;
+    Ok(cp)
 }
 
 /// The static solve, written as a run of one frame.
@@ -274,11 +286,7 @@ pub fn run_distributed(
     let wall = Instant::now();
     let (rank, size) = (comm.rank(), comm.size());
     let resume = if options.resume {
-        let file = options.out_dir.join(crate::checkpoint::FILE_NAME);
-        let cp = crate::checkpoint::read(&file)?;
-        check_belongs(l, &file, &cp.header)?;
-        checkpoints::keep_time_step(l, &cp.header);
-        Some(cp)
+        Some(open_checkpoint(l, &options.out_dir)?)
     } else {
         None
     };

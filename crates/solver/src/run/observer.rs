@@ -91,6 +91,11 @@ pub trait Observer {
     /// Takes up what [`Observer::save`] wrote, in place of [`Observer::start`], on a run
     /// resumed from a checkpoint (the run's state is restored; no force was evaluated).
     fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError>;
+
+    /// Adds to `files` the names of the files in the run's folder that a run resumed from a
+    /// checkpoint written now goes on from, and that [`Observer::restore`] does not write
+    /// again (called after [`Observer::save`]; default: none).
+    fn files(&self, _files: &mut Vec<String>) {}
 }
 
 /// An observer a scene may lack (no histories, not a relaxation) is an `Option`.
@@ -121,6 +126,12 @@ impl<O: Observer> Observer for Option<O> {
     fn save(&mut self, e: &mut Enc) -> Result<(), RunError> {
         e.put(&self.is_some());
         self.as_mut().map_or(Ok(()), |o| o.save(e))
+    }
+
+    fn files(&self, files: &mut Vec<String>) {
+        if let Some(o) = self {
+            o.files(files);
+        }
     }
 
     fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {

@@ -334,8 +334,9 @@ impl<'a> Run<'a> {
         }
     }
 
-    /// The end of a run stopped by an observer: an instability writes the partial summary
-    /// and is diagnosed in the scene's terms.
+    /// The end of a run stopped by an observer: an instability writes every file of the run
+    /// up to the stop (the observers' `stopped`: frames, histories; the stages' CSV files)
+    /// and the partial summary, and is diagnosed in the scene's terms.
     fn halt(self, halt: Halt, observers: &mut [&mut dyn Observer]) -> RunError {
         let found = match halt {
             Halt::Failed(e) => return e,
@@ -343,6 +344,9 @@ impl<'a> Run<'a> {
         };
         let energy = self.energies(summed_report(self.sys, self.state.x_nodes()).as_ref());
         let mut summary = self.summary(energy);
+        for c in &mut self.sys.contributions {
+            c.finish();
+        }
         for o in observers.iter_mut() {
             o.stopped(&mut summary);
         }
