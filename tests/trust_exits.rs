@@ -13,28 +13,8 @@ use std::process::Command;
 
 use serde_json::json;
 
-/// Runs `fdem ARGS`; returns (exit code, stdout, stderr).
-fn fdem(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-/// `fdem run SCENE --out OUT`.
-fn run(scene: &Path, out: &Path) -> (i32, String, String) {
-    fdem(&[
-        "run".as_ref(),
-        scene.as_os_str(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ])
-}
+use crate::common::fdem;
+use crate::common::fdem_run as run;
 
 /// The static cantilever on the coarse mesh (205 nodes), edited.
 fn static_cantilever(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) -> PathBuf {

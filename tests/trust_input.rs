@@ -7,22 +7,10 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::json;
 
-/// Runs `fdem ARGS`; returns (exit code, stdout, stderr).
-fn fdem(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
+use crate::common::fdem;
 
 /// A scene refused alike by `fdem check` and `fdem run`: exit code 2 from both, the same
 /// message, no output folder; returns the message.

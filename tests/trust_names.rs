@@ -7,7 +7,7 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use fdem_solver::resolve::{RefKind, reference_fields};
@@ -16,31 +16,11 @@ use serde_json::{Value, json};
 /// Runs the fdem binary with `args`, killed after `limit` (then the code is -9); returns (exit
 /// code, stderr).
 fn fdem(args: &[&str], limit: Duration) -> (i32, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            let mut err = String::new();
-            use std::io::Read;
-            child
-                .stderr
-                .take()
-                .unwrap()
-                .read_to_string(&mut err)
-                .unwrap();
-            return (status.code().unwrap_or(-1), err);
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            return (-9, format!("killed after {limit:?}: {args:?}"));
-        }
-        std::thread::sleep(Duration::from_millis(20));
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_fdem"));
+    cmd.args(args);
+    match common::run_limited(&mut cmd, limit) {
+        Some((code, err)) => (code.unwrap_or(-1), err),
+        None => (-9, format!("killed after {limit:?}: {args:?}")),
     }
 }
 

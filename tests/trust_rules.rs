@@ -6,32 +6,11 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::Command;
 
 use serde_json::{Value, json};
 
-/// Runs `fdem ARGS`; returns (exit code, stdout, stderr).
-fn fdem(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_fdem"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-/// `fdem run SCENE --out OUT`.
-fn run(scene: &Path, out: &Path) -> (i32, String, String) {
-    fdem(&[
-        "run".as_ref(),
-        scene.as_os_str(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ])
-}
+use crate::common::fdem;
+use crate::common::fdem_run as run;
 
 /// A run that must end with exit code 0; returns its output folder.
 fn succeeds(scene: &Path, tag: &str) -> std::path::PathBuf {

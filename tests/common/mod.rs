@@ -356,3 +356,83 @@ pub fn state_bits(o: &fdem_solver::driver::Outcome) -> Vec<u64> {
         .flat_map(|d| [d[0].to_bits(), d[1].to_bits()])
         .collect()
 }
+
+/// A small deterministic generator (splitmix64), for the fuzzers.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// The next 64 random bits.
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` (0 when `n` is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+
+    /// An element of `v` (not empty).
+    pub fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
+        &v[self.below(v.len())]
+    }
+}
+
+/// Runs `fdem ARGS`; returns (exit code, -1 for a signal; stdout; stderr).
+pub fn fdem(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_fdem"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// `fdem run SCENE --out OUT` ([`fdem`]).
+pub fn fdem_run(scene: &Path, out: &Path) -> (i32, String, String) {
+    fdem(&[
+        "run".as_ref(),
+        scene.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ])
+}
+
+/// Runs `cmd` with stdout discarded, killed after `limit`: `Some((exit code, stderr))`, the
+/// code `None` when a signal ended it; `None` when it was killed at the limit.
+pub fn run_limited(
+    cmd: &mut std::process::Command,
+    limit: std::time::Duration,
+) -> Option<(Option<i32>, String)> {
+    use std::io::Read;
+    let mut child = cmd
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    // stderr read on a thread of its own: a child that writes much never blocks on the pipe
+    let mut pipe = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut err = String::new();
+        let _ = pipe.read_to_string(&mut err);
+        err
+    });
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return Some((status.code(), reader.join().unwrap_or_default()));
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
