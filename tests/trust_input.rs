@@ -384,4 +384,21 @@ fn class10_a_static_load_that_would_overflow_is_refused_at_its_path() {
             && !err.contains("time step"),
         "{err}"
     );
+    // its mirror, 1e-300 Pa on a modulus of 1e300 Pa: displacements that underflow to 0 were
+    // refused by the solve as a singular stiffness (exit 2 from `fdem run` alone)
+    let s = common::edited_example("cantilever-static.json", "class10-static-tiny", |v| {
+        v["bodies"][0]["mesh"] = json!(
+            common::root()
+                .join("examples/meshes/cantilever-coarse.json")
+                .display()
+                .to_string()
+        );
+        v["bodies"][0]["materials"]["beam"]["young"] = json!(1e300);
+        v["boundary_conditions"][1]["traction"]["value"] = json!([0.0, 1e-300]);
+    });
+    let err = refused(&s);
+    assert!(
+        err.contains("at `boundary_conditions[1]`") && err.contains("underflow"),
+        "{err}"
+    );
 }

@@ -19,7 +19,8 @@
 //! - **A static solution is a number** ([`check_static_range`]): a linear static solve scales
 //!   with its loads, so a load whose strain estimate `s` ([`crate::diagnosis::input_strains`])
 //!   gives an energy density `s^2 E` beyond the floating-point range would give a solution
-//!   that cannot be written. Refused at the load's JSON path before the solve.
+//!   that cannot be written, and one with `s` below `MIN_POSITIVE / EPSILON` (about 1e-292)
+//!   displacements that underflow to zero. Refused at the load's JSON path before the solve.
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -495,6 +496,46 @@ pub fn check_static_range(
     let young = (model.materials.iter())
         .map(|m| m.0.young)
         .fold(0.0, f64::max);
+    // a load whose displacements would be subnormal or zero (the solve loses them): its
+    // force against the stiffest E t L, compared without forming the tiny strain
+    let et_l = {
+        let t = model.tri_thickness.iter().copied().fold(0.0, f64::max);
+        let (lo, hi) = model.x0.iter().fold(
+            ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+            |(lo, hi), p| {
+                (
+                    [lo[0].min(p[0]), lo[1].min(p[1])],
+                    [hi[0].max(p[0]), hi[1].max(p[1])],
+                )
+            },
+        );
+        young * t * (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+    };
+    let loaded = scene
+        .boundary_conditions
+        .iter()
+        .enumerate()
+        .filter(|(_, bc)| {
+            matches!(
+                bc,
+                BoundaryCondition::Pressure(_)
+                    | BoundaryCondition::Traction(_)
+                    | BoundaryCondition::PointLoad(_)
+            )
+        });
+    for ((i, _), load) in loaded.zip(&model.loads) {
+        let f = load.forces.iter().map(|(_, f)| f.abs()).fold(0.0, f64::max);
+        if f > 0.0 && f < f64::MIN_POSITIVE / f64::EPSILON * et_l {
+            return Err(SceneError::invalid(
+                file,
+                format!("boundary_conditions[{i}]"),
+                format!(
+                    "a nodal force of {f:.3e} N against a stiffness E t L of {et_l:.3e} N: the static solution's displacements would underflow the floating-point range (a strain below about 1e-292)"
+                ),
+                "check the magnitude and units of the load (N for point loads, Pa for pressures and tractions) against the material (young in Pa)",
+            ));
+        }
+    }
     let inputs = crate::diagnosis::input_strains(scene, model);
     match inputs.first() {
         Some(l) if !(l.strain * l.strain * young).is_finite() => Err(SceneError::invalid(
