@@ -337,14 +337,7 @@ fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
     }
 }
 
-/// Every file of a folder with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
-        .collect()
-}
+use crate::common::snapshot;
 
 /// Resuming `dir` (with `scene`, if given) fails with exit code 2, a message that contains
 /// `what`, and leaves every file of the folder as it was.

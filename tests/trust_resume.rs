@@ -5,7 +5,6 @@
 //! does (class 8). Every refusal is exit code 2 with a message and its fix, and leaves the
 //! folder as it was.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
@@ -140,14 +139,7 @@ fn class7_an_unstable_fracturing_run_writes_its_csv_files_and_its_curve() {
 
 // ---- class 8: a resume that mixes runs ----
 
-/// Every file of a folder with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
-        .collect()
-}
+use crate::common::snapshot;
 
 /// Resuming `dir` (with `scene`, if given) fails with exit code 2 and a message with a fix
 /// that contains each of `what`, and leaves every file of the folder as it was; returns the

@@ -436,3 +436,12 @@ pub fn run_limited(
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
 }
+
+/// Every file of a folder with its bytes.
+pub fn snapshot(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .map(|n| (n.clone(), std::fs::read(dir.join(&n)).unwrap()))
+        .collect()
+}
