@@ -96,16 +96,18 @@ pub fn check_loaded_edges(
         else {
             continue;
         };
-        let mut interior = group.edges.iter().filter(|e| {
-            let k = (e[0].0.min(e[1].0), e[0].0.max(e[1].0));
-            mesh.edges.iter().any(|m| {
-                m.right.is_some()
-                    && (
-                        m.nodes[0].0.min(m.nodes[1].0),
-                        m.nodes[0].0.max(m.nodes[1].0),
-                    ) == k
+        // the mesh's internal edges, by sorted node pair: built once per loaded group
+        let internal: HashSet<(u32, u32)> = (mesh.edges.iter())
+            .filter(|m| m.right.is_some())
+            .map(|m| {
+                (
+                    m.nodes[0].0.min(m.nodes[1].0),
+                    m.nodes[0].0.max(m.nodes[1].0),
+                )
             })
-        });
+            .collect();
+        let mut interior = (group.edges.iter())
+            .filter(|e| internal.contains(&(e[0].0.min(e[1].0), e[0].0.max(e[1].0))));
         let Some(first) = interior.next() else {
             continue;
         };
