@@ -96,7 +96,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
         }
         l.model.v0.clone_from(&first.last_frame.velocity);
         if saved {
-            l.scene.fracture.as_mut().unwrap().initial_state = Some(js.clone());
+            l.initial_joint_state = Some(js.clone());
         }
         let o = run(&mut l, &dir.join(tag));
         let u: Vec<[f64; 2]> = o
@@ -165,9 +165,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
     // fresh stage's list and not in the adopted one's, which is shorter by at least them.
     let l = driver::load(&p).unwrap();
     let pairs = |saved: Option<fdem_fracture::JointState>| {
-        let set = fdem_solver::fracture_stage::joint_set(&l.scene, &l.model, &l.file)
-            .unwrap()
-            .unwrap();
+        let set = l.fracturing.set.clone().unwrap();
         let tris = set.triangles.clone();
         let (_, bonded, _) =
             fdem_solver::fracture_stage::FractureStage::new(set, &l.model, None, saved, false);
@@ -211,11 +209,7 @@ fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
     let dir = common::temp_dir("stage-setup");
     std::fs::create_dir_all(&dir).unwrap();
     let l = driver::load(&scene(&dir)).unwrap();
-    let set = || {
-        fdem_solver::fracture_stage::joint_set(&l.scene, &l.model, &l.file)
-            .unwrap()
-            .unwrap()
-    };
+    let set = || l.fracturing.set.clone().unwrap();
     let s = set();
     let mut want_pairs = Vec::new();
     fdem_solver::star_bonds::StarBonds::with_pairs(
@@ -264,7 +258,7 @@ fn a_saved_state_of_another_scene_is_refused_before_the_folder_is_touched() {
     js.intact.pop();
     let before = std::fs::read(out.join("summary.json")).unwrap();
     let mut l = load(&p, dt, n / 10);
-    l.scene.fracture.as_mut().unwrap().initial_state = Some(js);
+    l.initial_joint_state = Some(js);
     let e = driver::run_outcome(
         &mut l,
         &RunOptions {

@@ -265,7 +265,7 @@ fn run_from(
         *x = [x[0] + u[0], x[1] + u[1]];
     }
     l.model.v0 = v.to_vec();
-    l.scene.fracture.as_mut().unwrap().initial_state = Some(js.clone());
+    l.initial_joint_state = Some(js.clone());
     let out = scene.parent().unwrap().join("out");
     let options = RunOptions {
         out_dir: out,

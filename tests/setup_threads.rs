@@ -7,7 +7,6 @@
 //! definition).
 
 use fdem_solver::driver::{self, RunOptions};
-use fdem_solver::fracture_stage::joint_set;
 use serde_json::json;
 
 use crate::common;
@@ -53,8 +52,7 @@ fn setup_and_two_steps(scene: &std::path::Path, out: &std::path::Path) -> String
         mesh.edges,
         mesh.groups
     );
-    let fracture = l.scene.fracture.as_ref().unwrap();
-    let joints = &fracture.joints[0].1;
+    let joints = &l.fracturing.bodies[0].1;
     assert_eq!(joints.len(), 29_800);
     for j in joints {
         let [p, q] = [j.nodes[0], j.nodes[1]].map(|n| mesh.nodes[n as usize]);
@@ -62,7 +60,7 @@ fn setup_and_two_steps(scene: &std::path::Path, out: &std::path::Path) -> String
         assert_eq!(j.ref_length.to_bits(), h.to_bits(), "{j:?}");
         key += &format!(" {:?}{:?}{}", j.nodes, j.triangles, j.material);
     }
-    let set = joint_set(&l.scene, &l.model, &l.file).unwrap().unwrap();
+    let set = l.fracturing.set.clone().unwrap();
     assert_eq!(
         set.nodes,
         joints.iter().map(|j| j.nodes).collect::<Vec<_>>()

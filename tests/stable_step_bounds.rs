@@ -23,14 +23,14 @@ fn top_frequency(l: &fdem_solver::Loaded, dir: &Path) -> f64 {
 fn top_and_active(l: &fdem_solver::Loaded, dir: &Path) -> (f64, f64) {
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     sys.set_timing(false);
-    fdem_solver::stages::attach(&l.scene, &l.file, &mut sys, l.dt, dir, u64::MAX).unwrap();
+    fdem_solver::stages::attach(l, &mut sys, l.dt, dir, u64::MAX).unwrap();
     let n = 2 * l.model.n_nodes();
     let x0 = l.model.x0.as_flattened().to_vec();
     let zero = vec![0.0; n];
     let mut a0 = vec![0.0; n];
     sys.acceleration(0.0, &x0, &zero, &mut a0);
     let we = l.elements.max_frequency_bound(&l.model.x0);
-    let wj = fdem_solver::stages::omega_joints(&l.scene, &l.model, &l.file).unwrap();
+    let wj = l.frequency.joints;
     let active = fdem_solver::stages::omega_active(&mut sys, &l.model.x0, we, wj);
     let mut s = 1u64;
     let mut v: Vec<f64> = (0..n)
@@ -223,10 +223,8 @@ fn joint_bound_is_within_ten_percent_of_the_joints_top_frequency() {
     std::fs::write(&file, v.to_string()).unwrap();
     let ld = fdem_solver::load(&file).unwrap();
     let we = ld.elements.max_frequency_bound(&ld.model.x0);
-    let set = fdem_solver::fracture_stage::joint_set(&ld.scene, &ld.model, &file)
-        .unwrap()
-        .unwrap();
-    let wj = fdem_solver::fracture_stage::omega_joints(&set, &ld.model);
+    let set = ld.fracturing.set.as_ref().unwrap();
+    let wj = fdem_solver::fracture_stage::omega_joints(set, &ld.model);
     let bound = (we * we + wj * wj).sqrt();
     let top = top_frequency(&ld, &dir);
     let ratio = bound / top;

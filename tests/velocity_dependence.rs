@@ -18,7 +18,7 @@ fn system(example: &str) -> SceneSystem {
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     let out = common::temp_dir("velocity-dependence");
     std::fs::create_dir_all(&out).unwrap();
-    fdem_solver::stages::attach(&l.scene, &l.file, &mut sys, l.dt, &out, 1).expect("stages");
+    fdem_solver::stages::attach(&l, &mut sys, l.dt, &out, 1).expect("stages");
     let _ = std::fs::remove_dir_all(&out);
     assert_eq!(
         sys.contributions.len(),

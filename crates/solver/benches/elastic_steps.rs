@@ -79,6 +79,12 @@ fn loaded() -> Loaded {
         n_steps: STEPS,
         contributions: Vec::new(),
         load_s: 0.0,
+        fracturing: Default::default(),
+        initial_joint_state: None,
+        frequency: fdem_solver::problem::FrequencyTerms {
+            elements: omega_max,
+            ..Default::default()
+        },
         warnings: Vec::new(),
     }
 }

@@ -2,7 +2,7 @@
 //! resolved to joints of its body's fracture region at load time ([`resolve`]), and the joint
 //! state a run starts from ([`initial_state`]): the fresh state at the reference positions
 //! with the crack's joints broken (damage 1, no force, no time of failure). The fracture
-//! stage adopts it as it adopts a saved state (`FractureSection::initial_state`): the broken
+//! stage adopts it as it adopts a saved state (`Loaded::initial_joint_state`): the broken
 //! joints' own pairs and the vertex pairs of their end nodes' stars leave the bonded set
 //! before the first force evaluation, so the contact stage's first detection makes the crack
 //! faces contact couples, with the contact law of the body with itself.
@@ -16,53 +16,52 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use fdem_fracture::{JointHistory, JointSet, JointState};
+use fdem_fracture::{Joint, JointHistory, JointState};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
 use crate::model::Model;
+use crate::problem::{CrackJoints, Fracturing};
 use crate::scene::Scene;
 
-/// Resolves every crack of the scene to joints of its body (`Crack::body_index`,
-/// `Crack::joints`), after the fracturing bodies were exploded (`meshes[i]` of `bodies[i]`,
-/// as exploded). The names were resolved before ([`crate::resolve`]): the group is an edge
-/// group of the crack's body, or of the only body that has it. Errors: a crack without
-/// contact between its faces, a crack edge that is not a joint.
-pub fn resolve(scene: &mut Scene, file: &Path, meshes: &[Mesh]) -> Result<(), SceneError> {
-    let n_cracks = scene.fracture.as_ref().map_or(0, |f| f.cracks.len());
-    for i in 0..n_cracks {
+/// Resolves every crack of the scene to joints of its body, after the fracturing bodies were
+/// exploded (`meshes[i]` of `bodies[i]`, as exploded; `joints`: the bodies' joints,
+/// [`crate::problem::Fracturing::bodies`]). The names were resolved before
+/// ([`crate::resolve`]): the group is an edge group of the crack's body, or of the only body
+/// that has it. Errors: a crack without contact between its faces, a crack edge that is not a
+/// joint.
+pub fn resolve(
+    scene: &Scene,
+    file: &Path,
+    meshes: &[Mesh],
+    joints: &[(usize, Vec<Joint>)],
+) -> Result<Vec<CrackJoints>, SceneError> {
+    let Some(section) = &scene.fracture else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::with_capacity(section.cracks.len());
+    for (i, c) in section.cracks.iter().enumerate() {
         let path = format!("fracture.cracks[{i}]");
-        let (bi, joints) = {
-            let section = scene
-                .fracture
-                .as_ref()
-                .expect("cracks lie in a fracture section");
-            let c = &section.cracks[i];
-            let bi = match &c.body {
-                Some(b) => scene
-                    .bodies
-                    .iter()
-                    .position(|x| x.name.as_deref() == Some(b)),
-                None => meshes
-                    .iter()
-                    .position(|m| edge_group(m, &c.group).is_some()),
-            }
-            .unwrap_or(0);
-            contact_between_faces(scene, file, &path, bi)?;
-            let local = section
-                .joints
+        let bi = match &c.body {
+            Some(b) => scene
+                .bodies
                 .iter()
-                .find(|(b, _)| *b == bi)
-                .map(|(_, j)| j.as_slice())
-                .unwrap_or(&[]);
-            let joints = crack_joints(file, &path, &meshes[bi], &c.group, local)?;
-            (bi, joints)
-        };
-        let c = &mut scene.fracture.as_mut().expect("checked above").cracks[i];
-        c.body_index = bi;
-        c.joints = joints;
+                .position(|x| x.name.as_deref() == Some(b)),
+            None => meshes
+                .iter()
+                .position(|m| edge_group(m, &c.group).is_some()),
+        }
+        .unwrap_or(0);
+        contact_between_faces(scene, file, &path, bi)?;
+        let local = joints
+            .iter()
+            .find(|(b, _)| *b == bi)
+            .map(|(_, j)| j.as_slice())
+            .unwrap_or(&[]);
+        let joints = crack_joints(file, &path, &meshes[bi], &c.group, local)?;
+        out.push(CrackJoints { body: bi, joints });
     }
-    Ok(())
+    Ok(out)
 }
 
 /// The edge (dimension-1) group `name` of `mesh`.
@@ -116,7 +115,7 @@ fn crack_joints(
     path: &str,
     mesh: &Mesh,
     group: &str,
-    joints: &[fdem_fracture::Joint],
+    joints: &[Joint],
 ) -> Result<Vec<u32>, SceneError> {
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut of_edge = HashMap::with_capacity(2 * joints.len());
@@ -170,19 +169,19 @@ fn crack_joints(
 
 /// The state a run starts from when the scene has cracks and no saved state: the fresh state
 /// at the model's reference positions with every crack joint broken. `None` without cracks
-/// (nothing is computed then). The crack's joints are found in `set` by the joint order of
-/// `crate::fracture_stage::joint_set` (the bodies' joint lists one after another, in the
-/// order the bodies were exploded).
-pub fn initial_state(scene: &Scene, set: &JointSet, model: &Model) -> Option<JointState> {
-    let section = scene.fracture.as_ref()?;
-    if section.cracks.is_empty() {
+/// (nothing is computed then). The crack's joints are found in the joint set by the joint
+/// order of `crate::fracture_stage::joint_set` (the bodies' joint lists one after another, in
+/// the order the bodies were exploded).
+pub fn initial_state(fracturing: &Fracturing, model: &Model) -> Option<JointState> {
+    let set = fracturing.set.as_ref()?;
+    if fracturing.cracks.is_empty() {
         return None;
     }
     let mut state = JointState::new(set, &model.x0);
-    for c in &section.cracks {
+    for c in &fracturing.cracks {
         let mut base = 0usize;
-        for (bi, joints) in &section.joints {
-            if *bi == c.body_index {
+        for (bi, joints) in &fracturing.bodies {
+            if *bi == c.body {
                 for &j in &c.joints {
                     break_at_start(&mut state, base + j as usize);
                 }

@@ -386,7 +386,7 @@ impl Stepper {
             l.elements.clone(),
             l.scene.damping.mass_proportional,
         );
-        crate::stages::attach_to(&l.scene, &l.file, &mut sys, l.dt, None, u64::MAX, false)?;
+        crate::stages::attach_to(l, &mut sys, l.dt, None, u64::MAX, false)?;
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();
@@ -451,13 +451,9 @@ impl Stepper {
             .contributions
             .iter()
             .find_map(|c| c.joint_state())?;
-        let mut set =
-            crate::fracture_stage::joint_set(&l.scene, &self.sys.model, &l.file).ok()??;
-        let s0 = &self.sys.elements.initial_stress;
-        crate::prestress::prestress_joints(&l.scene, &l.file, &self.sys.model, s0, &mut set)
-            .ok()?;
+        let set = l.fracturing.set.as_ref()?;
         let x = self.state.x_nodes();
-        let frame = crate::output::JointFrame::new(&set, state, x);
+        let frame = crate::output::JointFrame::new(set, state, x);
         let mut u = 0.0f64;
         for j in 0..frame.len() {
             if frame.damage[j] > 0.0 || frame.broken[j] != 0 {

@@ -59,13 +59,15 @@ mod distributed;
 /// Explodes body `bi`'s mesh when fracture regions name the body (as
 /// [`crate::resolve::resolve`] found them in `refs`): the union of their groups (the whole
 /// body when one names none). Records its joints (local node and triangle ids, the material
-/// of each from [`crate::joint_assign::assign`]) in the scene; returns the mesh the body uses.
+/// of each from [`crate::joint_assign::assign`]) in `bodies`
+/// ([`crate::problem::Fracturing::bodies`]); returns the mesh the body uses.
 pub fn explode_body(
-    scene: &mut Scene,
+    scene: &Scene,
     file: &Path,
     bi: usize,
     refs: &Resolved,
     mesh: Mesh,
+    bodies: &mut Vec<(usize, Vec<Joint>)>,
 ) -> Result<Mesh, SceneError> {
     let regions = &refs.fracture_regions[bi];
     let b = &scene.bodies[bi];
@@ -73,7 +75,7 @@ pub fn explode_body(
         Some(n) => format!("body '{n}' ({})", b.mesh.display()),
         None => format!("bodies[{bi}] ({})", b.mesh.display()),
     };
-    let (Some(section), Some(&ri)) = (scene.fracture.as_mut(), regions.first()) else {
+    let (Some(section), Some(&ri)) = (scene.fracture.as_ref(), regions.first()) else {
         return Ok(mesh);
     };
     let mut names: Option<Vec<&str>> = Some(Vec::new());
@@ -116,14 +118,14 @@ pub fn explode_body(
             }
         })
         .collect();
-    section.joints.push((bi, joints));
+    bodies.push((bi, joints));
     Ok(ex.mesh)
 }
 
-/// All joints in the model's numbering.
-pub(crate) fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joint> {
-    let mut out = Vec::with_capacity(section.joints.iter().map(|(_, j)| j.len()).sum());
-    for (bi, joints) in &section.joints {
+/// All joints of `bodies` ([`crate::problem::Fracturing::bodies`]) in the model's numbering.
+pub(crate) fn global_joints(bodies: &[(usize, Vec<Joint>)], model: &Model) -> Vec<Joint> {
+    let mut out = Vec::with_capacity(bodies.iter().map(|(_, j)| j.len()).sum());
+    for (bi, joints) in bodies {
         let node_base = model.body_nodes[*bi].start;
         let tri_base = model
             .tri_body
@@ -140,21 +142,22 @@ pub(crate) fn global_joints(section: &FractureSection, model: &Model) -> Vec<Joi
     out
 }
 
-/// Builds the joint set of a scene (thickness: that of the first fracturing body).
+/// Builds the joint set of a scene whose fracturing bodies have the joints `bodies`
+/// ([`crate::problem::Fracturing::bodies`]; thickness: that of the first fracturing body).
 pub fn joint_set(
     scene: &Scene,
+    bodies: &[(usize, Vec<Joint>)],
     model: &Model,
     file: &Path,
 ) -> Result<Option<JointSet>, SceneError> {
     let Some(section) = &scene.fracture else {
         return Ok(None);
     };
-    let mut joints = global_joints(section, model);
+    let mut joints = global_joints(bodies, model);
     if joints.is_empty() {
         return Ok(None);
     }
-    let th = section
-        .joints
+    let th = bodies
         .first()
         .map_or(1.0, |(bi, _)| scene.bodies[*bi].thickness);
     let list = section.material_list();
@@ -178,22 +181,22 @@ pub fn joint_set(
         })
 }
 
-/// Checks that a saved fracture state ([`FractureSection::initial_state`]) has as many joints
-/// as the scene: `Ok` without a saved state (nothing is computed then).
-pub fn check_initial_state(scene: &Scene, file: &Path) -> Result<(), SceneError> {
-    let Some(section) = &scene.fracture else {
+/// Checks that a saved fracture state to start from (`Loaded::initial_joint_state`) has as
+/// many joints as the scene (`n_joints`): `Ok` without a saved state.
+pub fn check_initial_state(
+    state: Option<&JointState>,
+    n_joints: usize,
+    file: &Path,
+) -> Result<(), SceneError> {
+    let Some(s) = state else {
         return Ok(());
     };
-    let Some(s) = &section.initial_state else {
-        return Ok(());
-    };
-    let n: usize = section.joints.iter().map(|(_, j)| j.len()).sum();
-    if s.intact.len() != n {
+    if s.intact.len() != n_joints {
         return Err(SceneError::Invalid {
             file: file.to_path_buf(),
             path: "fracture".into(),
             message: format!(
-                "the saved fracture state has {} joints, the scene {n}",
+                "the saved fracture state has {} joints, the scene {n_joints}",
                 s.intact.len()
             ),
             fix: "start from a state saved by a run of this scene".into(),

@@ -166,18 +166,19 @@ pub fn check_fracture_regions(scene: &Scene, file: &Path) -> Result<(), SceneErr
 }
 
 /// Refuses a fracturing body (one with a region) that has no joint once exploded: its regions
-/// have no internal edge (e.g. a single triangle). `scene.fracture.joints` holds the joints
-/// found per body.
-pub fn check_fracture_acts(scene: &Scene, file: &Path, refs: &Resolved) -> Result<(), SceneError> {
-    let Some(f) = &scene.fracture else {
-        return Ok(());
-    };
+/// have no internal edge (e.g. a single triangle). `bodies` holds the joints found per body
+/// ([`crate::problem::Fracturing::bodies`]).
+pub fn check_fracture_acts(
+    scene: &Scene,
+    file: &Path,
+    refs: &Resolved,
+    bodies: &[(usize, Vec<fdem_fracture::Joint>)],
+) -> Result<(), SceneError> {
     for (bi, regions) in refs.fracture_regions.iter().enumerate() {
         let Some(&ri) = regions.first() else {
             continue;
         };
-        let joints = f
-            .joints
+        let joints = bodies
             .iter()
             .filter(|(b, _)| *b == bi)
             .map(|(_, j)| j.len())

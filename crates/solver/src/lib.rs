@@ -46,6 +46,7 @@ pub mod mesh_input;
 pub mod model;
 pub mod output;
 pub mod prestress;
+pub mod problem;
 pub mod resolve;
 pub mod run;
 pub mod scene;

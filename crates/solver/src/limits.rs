@@ -29,6 +29,7 @@ use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
 use crate::model::Model;
+use crate::problem::FrequencyTerms;
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 
 /// The most steps a run may take: `1e10`. Far above any useful run (fdem steps about 1.5e7
@@ -91,6 +92,9 @@ pub struct StepInputs<'a> {
     pub scheme: SchemeKind,
     /// The highest frequency bound [rad/s].
     pub omega_max: f64,
+    /// The terms of the a-priori frequency bound (elements, contact, joints), for naming the
+    /// one that sets the step.
+    pub frequency: FrequencyTerms,
     /// The damping ratio of the highest mode.
     pub z_high: f64,
     /// A fixed `time_step` above the stable limit: lowered to it (`true`) or refused.
@@ -515,8 +519,8 @@ pub fn step_driver(inp: &StepInputs) -> StepDriver {
             (t_max, w_el) = (t, w);
         }
     }
-    let w_c = size(crate::contact_stage::omega_contact(scene, model));
-    let w_j = size(crate::stages::omega_joints(scene, model, inp.file).unwrap_or(0.0));
+    let w_c = size(inp.frequency.contact);
+    let w_j = size(inp.frequency.joints);
     if w_el >= w_c && w_el >= w_j && !model.triangles.is_empty() {
         return element_driver(scene, model, t_max, w_el);
     }

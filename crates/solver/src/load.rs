@@ -22,6 +22,7 @@ use crate::input_checks;
 use crate::limits::{self, StepInputs};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
+use crate::problem::{Fracturing, FrequencyTerms};
 use crate::resolve::MeshNames;
 use crate::scene::{Analysis, Scene};
 use crate::static_checks;
@@ -58,6 +59,20 @@ pub struct Loaded {
     /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
     /// run summary's `timers.setup`.
     pub load_s: f64,
+    /// The joints of the fracturing bodies, the cracks resolved to joints and the joint set,
+    /// built once at load (empty without a `"fracture"` section).
+    pub fracturing: Fracturing,
+    /// A saved fracture state to start from instead of the fresh one (not part of the scene
+    /// file): the joints' histories (damage, shear secant, mode indicator, energy books),
+    /// which are broken and when, e.g. a run's `Outcome::joint_state` (`crate::summary`).
+    /// The fracture stage adopts it when attached: the broken joints stay broken and the
+    /// pairs their breaks and softenings released are contact couples from the first force
+    /// evaluation. `None` (as loaded): the fresh state at the model's reference positions,
+    /// with the pre-existing cracks broken ([`crate::cracks::initial_state`]).
+    pub initial_joint_state: Option<fdem_fracture::JointState>,
+    /// The terms of the a-priori frequency bound of the loaded model; `omega_max` is their
+    /// combination ([`FrequencyTerms::omega_max`]) until a contribution is added.
+    pub frequency: FrequencyTerms,
     /// What the scene asks for that does nothing but is not wrong (a joint material that
     /// nothing uses): each a line with the JSON path and the fix, shown by [`Loaded::describe`].
     pub warnings: Vec<String>,
@@ -86,7 +101,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
 /// edited scene, a scene built by a program).
 pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     let started = std::time::Instant::now();
-    let mut scene = Scene::from_json(text, file)?;
+    let scene = Scene::from_json(text, file)?;
     static_checks::check_sections(&scene, file)?;
     input_checks::check_fracture_regions(&scene, file)?;
     // The schemes' stability limits (computed once per process, the same numbers on any
@@ -113,13 +128,14 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     let warnings = input_checks::unused_materials(&scene);
     let mut meshes = Vec::new();
     let mut inputs = Vec::new();
+    let mut bodies = Vec::new();
     for (i, mesh) in read.into_iter().enumerate() {
-        let mesh = crate::fracture_stage::explode_body(&mut scene, file, i, &refs, mesh)?;
+        let mesh = crate::fracture_stage::explode_body(&scene, file, i, &refs, mesh, &mut bodies)?;
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
-    input_checks::check_fracture_acts(&scene, file, &refs)?;
-    crate::cracks::resolve(&mut scene, file, &meshes)?;
+    input_checks::check_fracture_acts(&scene, file, &refs, &bodies)?;
+    let cracks = crate::cracks::resolve(&scene, file, &meshes, &bodies)?;
     let mut model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
         static_checks::check_supports(&scene, file, &model)?;
@@ -144,6 +160,12 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         limits::check_mass_factor(f, "mass_scaling.factor", &model, file)?;
         model.scale_masses(f);
     }
+    let set = crate::fracture_stage::joint_set(&scene, &bodies, &model, file)?;
+    let mut fracturing = Fracturing {
+        bodies,
+        cracks,
+        set,
+    };
     let parts = Parts {
         scene: &scene,
         file,
@@ -151,18 +173,18 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         refs: &refs,
         scheme,
     };
-    let mut timed = parts.timed(&model)?;
+    let mut timed = parts.timed(&model, &mut fracturing)?;
     if let Some(target) = ms.as_ref().and_then(|m| m.target_step) {
         // the factor that gives the target step: the bounds fall as 1 / sqrt(factor)
         let h = scene.integrator.safety * timed.steps.dt_limit;
         let f = crate::scene::mass_scaling::factor_for_target(target, h, file)?;
         limits::check_mass_factor(f, "mass_scaling.target_step", &model, file)?;
         model.scale_masses(f);
-        timed = parts.timed(&model)?;
+        timed = parts.timed(&model, &mut fracturing)?;
     }
     let Timed {
         elements,
-        omega_max,
+        frequency,
         z_high,
         steps,
     } = timed;
@@ -173,13 +195,16 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         model,
         elements,
         scheme,
-        omega_max,
+        omega_max: frequency.omega_max(),
         z_high,
         dt_limit: steps.dt_limit,
         dt: steps.dt,
         n_steps: steps.n_steps,
         contributions: Vec::new(),
         load_s: started.elapsed().as_secs_f64(),
+        fracturing,
+        initial_joint_state: None,
+        frequency,
         warnings,
     })
 }
@@ -197,14 +222,15 @@ struct Parts<'a> {
 /// time steps.
 struct Timed {
     elements: Elements,
-    omega_max: f64,
+    frequency: FrequencyTerms,
     z_high: f64,
     steps: limits::Steps,
 }
 
 impl Parts<'_> {
-    /// The elements (with their initial stress) and the time step of `model`.
-    fn timed(&self, model: &Model) -> Result<Timed, SceneError> {
+    /// The elements (with their initial stress) and the time step of `model`; the joint set
+    /// of `fracturing` prestressed by the elements' initial stress.
+    fn timed(&self, model: &Model, fracturing: &mut Fracturing) -> Result<Timed, SceneError> {
         let (scene, file) = (self.scene, self.file);
         let xi = scene.damping.viscosity_ratio;
         let mut elements =
@@ -222,14 +248,20 @@ impl Parts<'_> {
             self.refs,
         )?);
         if elements.prestressed()
-            && let Some(mut set) = crate::fracture_stage::joint_set(scene, model, file)?
+            && let Some(set) = &mut fracturing.set
         {
             // refuse at load a joint that the initial stress would start broken
             let s0 = &elements.initial_stress;
-            crate::prestress::prestress_joints(scene, file, model, s0, &mut set)?;
+            let bodies = &fracturing.bodies;
+            crate::prestress::prestress_joints(scene, file, model, s0, set, bodies)?;
         }
-        let omega_max =
-            crate::stages::omega_max(scene, model, file, elements.max_frequency_bound(&model.x0))?;
+        let frequency = FrequencyTerms {
+            elements: elements.max_frequency_bound(&model.x0),
+            contact: crate::contact_stage::omega_contact(scene, model),
+            joints: (fracturing.set.as_ref())
+                .map_or(0.0, |set| crate::fracture_stage::omega_joints(set, model)),
+        };
+        let omega_max = frequency.omega_max();
         let z_visc = (0..elements.len())
             .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
             .fold(0.0, f64::max);
@@ -241,12 +273,13 @@ impl Parts<'_> {
             elements: &elements,
             scheme: self.scheme,
             omega_max,
+            frequency,
             z_high,
             lower_fixed_step: false,
         })?;
         Ok(Timed {
             elements,
-            omega_max,
+            frequency,
             z_high,
             steps,
         })
@@ -295,6 +328,7 @@ impl Loaded {
                 elements: &self.elements,
                 scheme: self.scheme,
                 omega_max,
+                frequency: self.frequency,
                 z_high: self.z_high,
                 lower_fixed_step: true,
             })?;

@@ -55,7 +55,8 @@ pub fn joint_tractions(set: &JointSet, x0: &[[f64; 2]], s0: &[[f64; 3]]) -> Vec<
 }
 
 /// Prestresses the joints of `set` ([`joint_tractions`]) when the scene has an initial stress
-/// (`s0` non-empty; nothing is done otherwise). Error: a joint whose initial tension or shear
+/// (`s0` non-empty; nothing is done otherwise). `bodies`: the joints per body
+/// ([`crate::problem::Fracturing::bodies`]), for the messages. Error: a joint whose initial tension or shear
 /// reaches its strength (it would start broken), naming the joint's material.
 pub fn prestress_joints(
     scene: &Scene,
@@ -63,6 +64,7 @@ pub fn prestress_joints(
     model: &Model,
     s0: &[[f64; 3]],
     set: &mut JointSet,
+    bodies: &[(usize, Vec<fdem_fracture::Joint>)],
 ) -> Result<(), SceneError> {
     if s0.is_empty() {
         return Ok(());
@@ -82,7 +84,7 @@ pub fn prestress_joints(
         let path = section
             .and_then(|sec| {
                 let list = sec.material_list();
-                let joints = crate::fracture_stage::global_joints(sec, model);
+                let joints = crate::fracture_stage::global_joints(bodies, model);
                 joints
                     .get(j)
                     .and_then(|jt| list.get(jt.material as usize))

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::error::SceneError;
-use crate::model::Model;
+use crate::load::Loaded;
 use crate::scene::Scene;
 use crate::system::{SceneSystem, StageReport};
 
@@ -15,34 +15,6 @@ pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
         c.validate(file)?;
     }
     Ok(())
-}
-
-/// The highest frequency bound with the optional stages:
-/// `omega^2 = omega_el^2 + omega_contact^2 + omega_joints^2` (docs/time-integration.md, "The stable step of a scene").
-/// Also validates the joints (fracture energies against the pre-peak work on every edge).
-pub fn omega_max(
-    scene: &Scene,
-    model: &Model,
-    file: &Path,
-    omega_el: f64,
-) -> Result<f64, SceneError> {
-    let wc = crate::contact_stage::omega_contact(scene, model);
-    let wj = match crate::fracture_stage::joint_set(scene, model, file)? {
-        Some(set) => crate::fracture_stage::omega_joints(&set, model),
-        None => 0.0,
-    };
-    Ok((omega_el * omega_el + wc * wc + wj * wj).sqrt())
-}
-
-/// The joints' term of the frequency bound [rad/s] (0 without joints): the a-priori term,
-/// tight for intact joints (docs/fracture.md section 8); softening only lowers it.
-pub fn omega_joints(scene: &Scene, model: &Model, file: &Path) -> Result<f64, SceneError> {
-    Ok(
-        match crate::fracture_stage::joint_set(scene, model, file)? {
-            Some(set) => crate::fracture_stage::omega_joints(&set, model),
-            None => 0.0,
-        },
-    )
 }
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
@@ -100,20 +72,18 @@ pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
         .unwrap_or(0.0)
 }
 
-/// Attaches the stages a scene needs to `sys` (time step `dt`, histories every `every` steps
-/// into `out_dir`): joints first (from the scene's saved fracture state when it has one,
-/// [`crate::fracture_stage::FractureSection::initial_state`], else with the pre-existing
-/// cracks broken, [`crate::cracks::initial_state`]), then contact (which excludes
-/// the bonded pairs: intact joints and stars).
+/// Attaches the stages a loaded scene needs to `sys` (time step `dt`, histories every `every`
+/// steps into `out_dir`): joints first (from [`Loaded::initial_joint_state`] when it is set,
+/// else with the pre-existing cracks broken, [`crate::cracks::initial_state`]), then contact
+/// (which excludes the bonded pairs: intact joints and stars).
 pub fn attach(
-    scene: &Scene,
-    file: &Path,
+    l: &Loaded,
     sys: &mut SceneSystem,
     dt: f64,
     out_dir: &Path,
     every: u64,
 ) -> Result<(), SceneError> {
-    attach_to(scene, file, sys, dt, Some(out_dir), every, false)
+    attach_to(l, sys, dt, Some(out_dir), every, false)
 }
 
 /// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
@@ -121,26 +91,27 @@ pub fn attach(
 /// files of a run resumed from a checkpoint (their state comes next, from
 /// [`ForceContribution::restore`](crate::system::ForceContribution::restore)).
 pub fn attach_to(
-    scene: &Scene,
-    file: &Path,
+    l: &Loaded,
     sys: &mut SceneSystem,
     dt: f64,
     out_dir: Option<&Path>,
     every: u64,
     resume: bool,
 ) -> Result<(), SceneError> {
+    let (scene, fracturing) = (&l.scene, &l.fracturing);
     let mut bonded = None;
-    crate::fracture_stage::check_initial_state(scene, file)?;
-    if let Some(mut set) = crate::fracture_stage::joint_set(scene, &sys.model, file)? {
-        let s0 = &sys.elements.initial_stress;
-        crate::prestress::prestress_joints(scene, file, &sys.model, s0, &mut set)?;
-        let initial = scene
-            .fracture
-            .as_ref()
-            .and_then(|f| f.initial_state.clone())
-            .or_else(|| crate::cracks::initial_state(scene, &set, &sys.model));
-        let (mut stage, b, _) =
-            crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial, resume);
+    let initial = l.initial_joint_state.as_ref();
+    crate::fracture_stage::check_initial_state(initial, fracturing.n_joints(), &l.file)?;
+    if let Some(set) = &fracturing.set {
+        let initial =
+            (initial.cloned()).or_else(|| crate::cracks::initial_state(fracturing, &sys.model));
+        let (mut stage, b, _) = crate::fracture_stage::FractureStage::new(
+            set.clone(),
+            &sys.model,
+            out_dir,
+            initial,
+            resume,
+        );
         stage.write_properties = scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));

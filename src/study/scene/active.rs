@@ -47,7 +47,7 @@ pub(super) fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active
         return Ok(None);
     }
     let omega_el = l.elements.max_frequency_bound(&l.model.x0);
-    let omega_j = fdem_solver::stages::omega_joints(&l.scene, &l.model, &l.file)?;
+    let omega_j = l.frequency.joints;
     let k = SchemeKind::CentralDifference;
     l.scheme = k;
     l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);

@@ -281,8 +281,10 @@ fn probe_scene(
     }
     // The joints' history at T (scenes with joints): adopted by the fracture stage of the
     // seed's system and of the probe run.
-    if let (Some(f), Some(js)) = (&mut l.scene.fracture, start.and_then(|s| s.joints.as_ref())) {
-        f.initial_state = Some(js.clone());
+    if l.scene.fracture.is_some()
+        && let Some(js) = start.and_then(|s| s.joints.as_ref())
+    {
+        l.initial_joint_state = Some(js.clone());
     }
     // From a contact state: the positions become the start (the elements keep their own
     // reference shape, built at load), and the velocities are the state's.

@@ -35,7 +35,7 @@ pub(super) fn top_mode_velocity(
     sys.model.loads.clear();
     sys.model.gravity = None;
     std::fs::create_dir_all(dir)?;
-    fdem_solver::stages::attach(&l.scene, &l.file, &mut sys, l.dt, dir, u64::MAX)?;
+    fdem_solver::stages::attach(l, &mut sys, l.dt, dir, u64::MAX)?;
     let x0: Vec<f64> = l.model.x0.as_flattened().to_vec();
     let zero = vec![0.0; 2 * n];
     let mut a0 = vec![0.0; 2 * n];

@@ -48,17 +48,9 @@ fn stage(
     out: Option<&Path>,
     resume: bool,
 ) -> (FractureStage, Shared<BondedPairs>, Shared<FractureReport>) {
-    let mut set = super::joint_set(&l.scene, &sys.model, &l.file)
-        .unwrap()
-        .unwrap();
-    let s0 = &sys.elements.initial_stress;
-    crate::prestress::prestress_joints(&l.scene, &l.file, &sys.model, s0, &mut set).unwrap();
-    let initial = l
-        .scene
-        .fracture
-        .as_ref()
-        .and_then(|f| f.initial_state.clone())
-        .or_else(|| crate::cracks::initial_state(&l.scene, &set, &sys.model));
+    let set = l.fracturing.set.clone().unwrap();
+    let initial = (l.initial_joint_state.clone())
+        .or_else(|| crate::cracks::initial_state(&l.fracturing, &sys.model));
     let (mut stage, bonded, report) = FractureStage::new(set, &sys.model, out, initial, resume);
     stage.write_properties = l.scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
     (stage, bonded, report)

@@ -446,8 +446,7 @@ impl<'a> Run<'a> {
         let bad = |e: DecodeError| unreadable(&file, e);
         let stage_dir = super::stepping::stage_dir(sys, out_dir);
         crate::stages::attach_to(
-            &l.scene,
-            &l.file,
+            l,
             &mut *sys,
             l.dt,
             stage_dir,

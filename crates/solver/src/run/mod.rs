@@ -102,7 +102,8 @@ pub fn run_outcome(
         return static_run(l, options, progress, wall);
     }
     // the stages' own input, checked before the folder is claimed
-    crate::fracture_stage::check_initial_state(&l.scene, &l.file)?;
+    let n_joints = l.fracturing.n_joints();
+    crate::fracture_stage::check_initial_state(l.initial_joint_state.as_ref(), n_joints, &l.file)?;
     if options.resume {
         let cp = open_checkpoint(l, &options.out_dir)?;
         let writer = FrameWriter::resume(options, &l.scene.output);

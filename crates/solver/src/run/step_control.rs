@@ -54,7 +54,7 @@ impl StepControl {
             z_high: l.z_high,
             t_end: l.scene.duration.unwrap_or(0.0),
             omega_el: sys.elements.max_frequency_bound(&sys.model.x0),
-            omega_j: crate::stages::omega_joints(&l.scene, &sys.model, &l.file).unwrap_or(0.0),
+            omega_j: l.frequency.joints,
             look_ahead: Vec::new(),
             h_min: f64::INFINITY,
             h_max: 0.0,

@@ -69,15 +69,7 @@ impl<'a> Run<'a> {
         wall: Instant,
     ) -> Result<Self, RunError> {
         let stage_dir = stage_dir(sys, out_dir);
-        crate::stages::attach_to(
-            &l.scene,
-            &l.file,
-            &mut *sys,
-            l.dt,
-            stage_dir,
-            history_interval(l),
-            false,
-        )?;
+        crate::stages::attach_to(l, &mut *sys, l.dt, stage_dir, history_interval(l), false)?;
         let n = sys.model.n_nodes();
         let mut x0 = sys.model.x0.as_flattened().to_vec();
         let mut v0 = sys.model.v0.as_flattened().to_vec();

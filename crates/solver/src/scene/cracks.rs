@@ -1,7 +1,7 @@
 //! Pre-existing cracks of the `"fracture"` section (`fracture.cracks`): edge groups of a
 //! fracturing body whose joints start broken, their faces in contact through the scene's
-//! contact law. The crack stage (`crate::cracks`) resolves them to joints at load time and
-//! makes the joint state they start from.
+//! contact law. `crate::cracks` resolves them to joints at load time (into the prepared
+//! problem, `crate::problem::Fracturing::cracks`) and makes the joint state they start from.
 
 use serde::{Deserialize, Serialize};
 
@@ -16,11 +16,4 @@ pub struct Crack {
     pub body: Option<String>,
     /// The edge group whose edges are the crack.
     pub group: String,
-    /// The body the crack lies in (filled at load time by `crate::cracks::resolve`).
-    #[serde(skip)]
-    pub body_index: usize,
-    /// The crack's joints, as indices into the body's joint list
-    /// (`FractureSection::joints`; filled at load time by `crate::cracks::resolve`).
-    #[serde(skip)]
-    pub joints: Vec<u32>,
 }

@@ -1,11 +1,10 @@
 //! The optional `"fracture"` section: the fracturing regions (exploded into joints at load
 //! time) and the joint materials (`super::joint_materials`: named materials, interfaces,
-//! heterogeneity). The fracture stage (`crate::fracture_stage`) reads it and fills its joints.
+//! heterogeneity). Loading explodes its regions into the prepared problem's joints (`crate::problem`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use fdem_fracture::{Joint, JointState};
 use serde::{Deserialize, Serialize};
 
 use super::joint_materials::{Interface, JointMaterialSpec, NamedMaterial, material_list};
@@ -34,17 +33,6 @@ pub struct FractureSection {
     /// (default none; `crate::scene::cracks`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cracks: Vec<super::cracks::Crack>,
-    /// The joints found at load time, per body (filled by `crate::fracture_stage::explode_body`).
-    #[serde(skip)]
-    pub joints: Vec<(usize, Vec<Joint>)>,
-    /// A saved fracture state to start from (not part of the scene file): the joints'
-    /// histories (damage, shear secant, mode indicator, energy books), which are broken and
-    /// when, e.g. a run's `Outcome::joint_state` (`crate::summary`). The stage adopts it when
-    /// attached: the broken joints stay broken and the pairs their breaks and softenings
-    /// released are contact couples from the first force evaluation. `None`: the fresh
-    /// state at the model's reference positions.
-    #[serde(skip)]
-    pub initial_state: Option<JointState>,
 }
 
 /// A fracturing region.

@@ -69,7 +69,7 @@ fn temp_dir(tag: &str) -> PathBuf {
 fn system(file: &Path, out: Option<&Path>, resume: bool) -> (SceneSystem, State, f64) {
     let l = crate::load(file).expect("scene loads");
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
-    crate::stages::attach_to(&l.scene, &l.file, &mut sys, l.dt, out, 1, resume).unwrap();
+    crate::stages::attach_to(&l, &mut sys, l.dt, out, 1, resume).unwrap();
     assert_eq!(sys.contributions.len(), 1, "the contact stage");
     let state = State::new(
         0.0,

@@ -1,0 +1,57 @@
+//! The data sets a scene is prepared into at load time, besides the model and the elements:
+//! the joints of the exploded bodies, the pre-existing cracks resolved to joints, the joint set
+//! in the model's numbering, and the terms of the frequency bound. Each is computed once, in
+//! [`crate::load`]; the parsed scene ([`crate::scene::Scene`]) stays as it was read.
+
+use fdem_fracture::{Joint, JointSet};
+
+/// A pre-existing crack (`fracture.cracks[i]`) resolved to joints.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CrackJoints {
+    /// The body the crack lies in (an index into `bodies`).
+    pub body: usize,
+    /// The crack's joints, as indices into that body's joint list ([`Fracturing::bodies`]),
+    /// sorted, each once.
+    pub joints: Vec<u32>,
+}
+
+/// The joints of a scene's fracturing bodies, found when they were exploded.
+#[derive(Debug, Clone, Default)]
+pub struct Fracturing {
+    /// Per fracturing body, in the order the bodies were exploded (the scene's order): the
+    /// body's index and its joints in the body's own node and triangle numbering.
+    pub bodies: Vec<(usize, Vec<Joint>)>,
+    /// `fracture.cracks`, in the scene's order, resolved to joints.
+    pub cracks: Vec<CrackJoints>,
+    /// Every joint in the model's numbering with its material row, prestressed by the initial
+    /// stress when the scene has one; `None` without joints.
+    pub set: Option<JointSet>,
+}
+
+impl Fracturing {
+    /// The number of joints of every body.
+    pub fn n_joints(&self) -> usize {
+        self.bodies.iter().map(|(_, j)| j.len()).sum()
+    }
+}
+
+/// The terms of the a-priori frequency bound of a scene [rad/s]:
+/// `omega_max^2 = elements^2 + contact^2 + joints^2` (docs/time-integration.md, "The stable
+/// step of a scene"). Each term is 0 when the scene lacks it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FrequencyTerms {
+    /// The largest element frequency bound at the reference positions.
+    pub elements: f64,
+    /// The contact term: every edge pressed flat with the contact penalty.
+    pub contact: f64,
+    /// The joints' term, over every joint intact.
+    pub joints: f64,
+}
+
+impl FrequencyTerms {
+    /// `sqrt(elements^2 + contact^2 + joints^2)`.
+    pub fn omega_max(&self) -> f64 {
+        let (e, c, j) = (self.elements, self.contact, self.joints);
+        (e * e + c * c + j * j).sqrt()
+    }
+}
