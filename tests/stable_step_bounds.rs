@@ -224,7 +224,7 @@ fn joint_bound_is_within_ten_percent_of_the_joints_top_frequency() {
     let ld = fdem_solver::load(&file).unwrap();
     let we = ld.elements.max_frequency_bound(&ld.model.x0);
     let set = ld.fracturing.set.as_ref().unwrap();
-    let wj = fdem_solver::fracture_stage::omega_joints(set, &ld.model);
+    let wj = fdem_solver::problem::joints::omega_joints(set, &ld.model);
     let bound = (we * we + wj * wj).sqrt();
     let top = top_frequency(&ld, &dir);
     let ratio = bound / top;

@@ -77,7 +77,6 @@ fn loaded() -> Loaded {
         dt_limit,
         dt: 0.5 * dt_limit,
         n_steps: STEPS,
-        contributions: Vec::new(),
         load_s: 0.0,
         fracturing: Default::default(),
         initial_joint_state: None,

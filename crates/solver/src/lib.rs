@@ -30,34 +30,27 @@
 
 pub mod checkpoint;
 pub mod contact_stage;
-pub mod cracks;
 pub mod diagnosis;
 pub mod distributed;
 pub mod error;
 pub mod estimate;
 pub mod fracture_stage;
-pub mod input_checks;
-pub mod joint_assign;
+pub mod input;
 pub mod ledger;
-pub mod limits;
-pub mod load;
-pub mod mesh_adapter;
-pub mod mesh_input;
-pub mod model;
 pub mod output;
-pub mod prestress;
 pub mod problem;
-pub mod resolve;
 pub mod run;
-pub mod scene;
-pub mod schemes;
 pub mod stages;
 pub mod star_bonds;
-pub mod static_checks;
 pub mod static_solve;
 pub mod summary;
 pub mod system;
-pub mod time_history;
+
+pub use input::{mesh_input, resolve, scene, schemes};
+pub use problem::{
+    cracks, input_checks, joint_assign, limits, load, mesh_adapter, model, prestress,
+    static_checks, time_history,
+};
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 

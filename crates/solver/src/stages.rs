@@ -6,16 +6,7 @@ use std::path::Path;
 
 use crate::error::SceneError;
 use crate::load::Loaded;
-use crate::scene::Scene;
 use crate::system::{SceneSystem, StageReport};
-
-/// Checks the optional sections of a scene.
-pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
-    if let Some(c) = &scene.contact {
-        c.validate(file)?;
-    }
-    Ok(())
-}
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
 /// whose forces were last evaluated at `x`:
@@ -101,7 +92,7 @@ pub fn attach_to(
     let (scene, fracturing) = (&l.scene, &l.fracturing);
     let mut bonded = None;
     let initial = l.initial_joint_state.as_ref();
-    crate::fracture_stage::check_initial_state(initial, fracturing.n_joints(), &l.file)?;
+    crate::problem::joints::check_initial_state(initial, fracturing.n_joints(), &l.file)?;
     if let Some(set) = &fracturing.set {
         let initial =
             (initial.cloned()).or_else(|| crate::cracks::initial_state(fracturing, &sys.model));

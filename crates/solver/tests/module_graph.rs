@@ -2,7 +2,7 @@
 //!
 //! - **No import cycle among its files.** Every path that starts with `crate::`, `super::`
 //!   or `self::` (in `use` items, grouped ones included, and in expressions and types such as
-//!   `crate::fracture_stage::joint_set(..)`), and every `use` of a child module declared in
+//!   `crate::problem::joints::joint_set(..)`), and every `use` of a child module declared in
 //!   the same file (`mod vtu;` ... `pub use vtu::write_frame;`), is an edge from the file it is
 //!   written in to the file that defines the module it names: the longest prefix of the path
 //!   that is a module with a file (`a/b.rs` or `a/b/mod.rs`; an inline `mod tests { .. }`

@@ -4,7 +4,7 @@ use fdem_mesh::{Elements, TriId};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::arrays::ArraySet;
+use crate::input::arrays::ArraySet;
 use crate::model::Model;
 
 /// One frame: node and triangle arrays in SI units. Points are the current positions.
@@ -254,9 +254,9 @@ fn frame_from_parts_of(
         nodal_von_mises: Vec::new(),
         extra_point_vectors: Vec::new(),
         // Young's modulus per cell [Pa], only when some triangle's is drawn
-        extra_cell_scalars: if model.drawn_young && when(super::arrays::YOUNG) {
+        extra_cell_scalars: if model.drawn_young && when(crate::input::arrays::YOUNG) {
             vec![(
-                super::arrays::YOUNG.into(),
+                crate::input::arrays::YOUNG.into(),
                 model
                     .tri_material
                     .iter()

@@ -26,10 +26,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::arrays::ArraySet;
 use super::joint_frame::JointFrame;
 use super::pvd::Collection;
 use super::vtu::{Column, Grid, VTK_LINE, Values};
+use crate::input::arrays::ArraySet;
 
 /// The grid of the joints' line cells with the arrays of `arrays`, borrowed from `j`.
 pub fn grid<'a>(j: &'a JointFrame, arrays: &ArraySet) -> Grid<'a> {

@@ -6,7 +6,6 @@
 //! so an interrupted run leaves a readable result. A run owns its folder: it first removes
 //! every file an earlier run wrote there ([`folder::claim`]).
 
-pub mod arrays;
 pub mod atomic;
 pub mod csv;
 pub mod folder;
@@ -20,7 +19,7 @@ pub mod vtu;
 #[cfg(test)]
 mod vtu_vtkio;
 
-pub use arrays::ArraySet;
+pub use crate::input::arrays::ArraySet;
 pub use atomic::{write_atomic, write_atomic_with};
 pub use csv::{csv_length, open_csv, truncate_csv};
 pub use frame::{FrameData, frame_from_parts, make_frame, make_frame_of};

@@ -26,9 +26,9 @@ use rayon::prelude::*;
 
 use std::path::{Path, PathBuf};
 
-use super::arrays::ArraySet;
 use super::atomic::write_atomic_with;
 use super::frame::FrameData;
+use crate::input::arrays::ArraySet;
 
 /// Uncompressed bytes per zlib block.
 pub const BLOCK: usize = 1 << 16;

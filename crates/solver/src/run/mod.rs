@@ -103,7 +103,7 @@ pub fn run_outcome(
     }
     // the stages' own input, checked before the folder is claimed
     let n_joints = l.fracturing.n_joints();
-    crate::fracture_stage::check_initial_state(l.initial_joint_state.as_ref(), n_joints, &l.file)?;
+    crate::problem::joints::check_initial_state(l.initial_joint_state.as_ref(), n_joints, &l.file)?;
     if options.resume {
         let cp = open_checkpoint(l, &options.out_dir)?;
         let writer = FrameWriter::resume(options, &l.scene.output);
@@ -143,7 +143,7 @@ fn static_run(
         && frame.energy_density.iter().all(|e| e.is_finite());
     if !all_finite {
         // bad input, as a singular stiffness: nothing written
-        let largest = crate::diagnosis::input_strains(&l.scene, &l.model);
+        let largest = crate::problem::strains::input_strains(&l.scene, &l.model);
         return Err(RunError::Static {
             message: "the solution overflows the floating-point range (non-finite displacements, stresses or energy densities)".into(),
             fix: match largest.first() {
@@ -204,9 +204,9 @@ fn static_run(
 }
 
 /// A dynamic run. The model and elements are moved out of `l` into the run's system (no
-/// copy: the run only reads them) and put back when it ends, on the error paths too, with
-/// the scene's own contributions; the contact and fracture stages attached for the run are
-/// dropped (a second run attaches fresh stages). Only a panic inside the run leaves `l`
+/// copy: the run only reads them) and put back when it ends, on the error paths too; the
+/// contact and fracture stages attached for the run are dropped (a second run attaches fresh
+/// stages). Only a panic inside the run leaves `l`
 /// without its model.
 fn dynamic(
     l: &mut Loaded,
@@ -220,11 +220,7 @@ fn dynamic(
     let model = std::mem::take(&mut l.model);
     let elements = std::mem::take(&mut l.elements);
     let mut sys = SceneSystem::new(model, elements, alpha);
-    sys.contributions = std::mem::take(&mut l.contributions);
-    let n_own = sys.contributions.len();
     let outcome = dynamic_run(l, &mut sys, options, progress, writer, wall, resume);
-    sys.contributions.truncate(n_own);
-    l.contributions = std::mem::take(&mut sys.contributions);
     l.model = std::mem::take(&mut sys.model);
     l.elements = std::mem::take(&mut sys.elements);
     outcome

@@ -26,7 +26,6 @@ use crate::problem::{Fracturing, FrequencyTerms};
 use crate::resolve::MeshNames;
 use crate::scene::{Analysis, Scene};
 use crate::static_checks;
-use crate::system::ForceContribution;
 
 /// A scene with its meshes and model, ready to run.
 pub struct Loaded {
@@ -52,10 +51,6 @@ pub struct Loaded {
     pub dt: f64,
     /// Number of steps (0 for static).
     pub n_steps: u64,
-    /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
-    /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
-    /// time step for their frequency bound.
-    pub contributions: Vec<Box<dyn ForceContribution>>,
     /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
     /// run summary's `timers.setup`.
     pub load_s: f64,
@@ -130,7 +125,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     let mut inputs = Vec::new();
     let mut bodies = Vec::new();
     for (i, mesh) in read.into_iter().enumerate() {
-        let mesh = crate::fracture_stage::explode_body(&scene, file, i, &refs, mesh, &mut bodies)?;
+        let mesh = crate::problem::joints::explode_body(&scene, file, i, &refs, mesh, &mut bodies)?;
         inputs.push(mesh_adapter::to_input(&mesh));
         meshes.push(mesh);
     }
@@ -141,7 +136,9 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         static_checks::check_supports(&scene, file, &model)?;
         input_checks::check_static_range(&scene, file, &model)?;
     }
-    crate::stages::validate(&scene, file)?;
+    if let Some(c) = &scene.contact {
+        c.validate(file)?;
+    }
     let scheme: SchemeKind = scene
         .integrator
         .scheme
@@ -160,7 +157,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         limits::check_mass_factor(f, "mass_scaling.factor", &model, file)?;
         model.scale_masses(f);
     }
-    let set = crate::fracture_stage::joint_set(&scene, &bodies, &model, file)?;
+    let set = crate::problem::joints::joint_set(&scene, &bodies, &model, file)?;
     let mut fracturing = Fracturing {
         bodies,
         cracks,
@@ -200,7 +197,6 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         dt_limit: steps.dt_limit,
         dt: steps.dt,
         n_steps: steps.n_steps,
-        contributions: Vec::new(),
         load_s: started.elapsed().as_secs_f64(),
         fracturing,
         initial_joint_state: None,
@@ -257,9 +253,9 @@ impl Parts<'_> {
         }
         let frequency = FrequencyTerms {
             elements: elements.max_frequency_bound(&model.x0),
-            contact: crate::contact_stage::omega_contact(scene, model),
+            contact: crate::problem::contact_laws::omega_contact(scene, model),
             joints: (fracturing.set.as_ref())
-                .map_or(0.0, |set| crate::fracture_stage::omega_joints(set, model)),
+                .map_or(0.0, |set| crate::problem::joints::omega_joints(set, model)),
         };
         let omega_max = frequency.omega_max();
         let z_visc = (0..elements.len())
@@ -312,34 +308,6 @@ pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
 }
 
 impl Loaded {
-    /// Adds a force contribution (contact, joints). The highest frequency becomes
-    /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
-    /// and checked with it ([`crate::limits::time_steps`]; an explicit `time_step` above the
-    /// new limit is lowered to it).
-    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) -> Result<(), SceneError> {
-        let wc = c.frequency_bound();
-        self.contributions.push(c);
-        if wc > 0.0 && self.scene.analysis != Analysis::Static {
-            let omega_max = (self.omega_max * self.omega_max + wc * wc).sqrt();
-            let steps = limits::time_steps(&StepInputs {
-                scene: &self.scene,
-                file: &self.file,
-                model: &self.model,
-                elements: &self.elements,
-                scheme: self.scheme,
-                omega_max,
-                frequency: self.frequency,
-                z_high: self.z_high,
-                lower_fixed_step: true,
-            })?;
-            self.omega_max = omega_max;
-            self.dt_limit = steps.dt_limit;
-            self.dt = steps.dt;
-            self.n_steps = steps.n_steps;
-        }
-        Ok(())
-    }
-
     /// A short description: meshes, model size, analysis, time step.
     pub fn describe(&self) -> String {
         let mut s = String::new();

@@ -6,7 +6,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::error::SceneError;
-use crate::output::arrays::{ArraySet, Offer};
+use crate::input::arrays::{ArraySet, Offer};
 
 /// Field output.
 #[derive(Debug, Clone, Deserialize, Serialize)]

@@ -1,7 +1,30 @@
-//! The data sets a scene is prepared into at load time, besides the model and the elements:
-//! the joints of the exploded bodies, the pre-existing cracks resolved to joints, the joint set
-//! in the model's numbering, and the terms of the frequency bound. Each is computed once, in
-//! [`crate::load`]; the parsed scene ([`crate::scene::Scene`]) stays as it was read.
+//! The prepared problem: a scene loaded ([`load`](mod@load)) into the data sets a run reads,
+//! each computed once at load, while the parsed scene ([`crate::input::scene::Scene`]) stays
+//! as it was read:
+//!
+//! - [`model`]: all bodies in one node numbering, constraints, consistent nodal loads;
+//!   [`mesh_adapter`]: the meshes read and the elements built; [`time_history`]: the factor
+//!   of a condition in time.
+//! - [`Fracturing`]: the joints of the exploded bodies ([`joint_assign`]: their materials),
+//!   the pre-existing cracks resolved to joints ([`cracks`]), the joint set, prestressed by the
+//!   initial stress ([`prestress`]).
+//! - [`FrequencyTerms`]: the terms of the a-priori frequency bound; [`limits`]: the step, the
+//!   steps, the frames and the rows checked.
+//! - [`input_checks`], [`static_checks`]: what the scene asks checked against what it acts on.
+
+pub mod contact_laws;
+pub mod cracks;
+pub mod input_checks;
+pub mod joint_assign;
+pub mod joints;
+pub mod limits;
+pub mod load;
+pub mod mesh_adapter;
+pub mod model;
+pub mod prestress;
+pub mod static_checks;
+pub mod strains;
+pub mod time_history;
 
 use fdem_fracture::{Joint, JointSet};
 

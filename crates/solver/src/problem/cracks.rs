@@ -170,7 +170,7 @@ fn crack_joints(
 /// The state a run starts from when the scene has cracks and no saved state: the fresh state
 /// at the model's reference positions with every crack joint broken. `None` without cracks
 /// (nothing is computed then). The crack's joints are found in the joint set by the joint
-/// order of `crate::fracture_stage::joint_set` (the bodies' joint lists one after another, in
+/// order of `crate::problem::joints::joint_set` (the bodies' joint lists one after another, in
 /// the order the bodies were exploded).
 pub fn initial_state(fracturing: &Fracturing, model: &Model) -> Option<JointState> {
     let set = fracturing.set.as_ref()?;

@@ -238,8 +238,8 @@ impl Scene {
 
 impl Scene {
     /// What the scene has that adds arrays to its frames (`output.arrays`).
-    pub fn array_offer(&self) -> crate::output::arrays::Offer {
-        crate::output::arrays::Offer {
+    pub fn array_offer(&self) -> crate::input::arrays::Offer {
+        crate::input::arrays::Offer {
             contact: self.contact.as_ref().is_some_and(|c| c.enabled),
             drawn_young: self
                 .bodies

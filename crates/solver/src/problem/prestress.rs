@@ -84,7 +84,7 @@ pub fn prestress_joints(
         let path = section
             .and_then(|sec| {
                 let list = sec.material_list();
-                let joints = crate::fracture_stage::global_joints(bodies, model);
+                let joints = crate::problem::joints::global_joints(bodies, model);
                 joints
                     .get(j)
                     .and_then(|jt| list.get(jt.material as usize))

@@ -3,7 +3,7 @@
 //!
 //! - `frame_NNNN.vtu` point data: `displacement`, `velocity`, `force`, `reaction`, then
 //!   `contact_force` (scenes with contact), then the recovered nodal stresses
-//!   `nodal_stress`, `nodal_principal_stress`, `nodal_von_mises` ([`super::recovery`]);
+//!   `nodal_stress`, `nodal_principal_stress`, `nodal_von_mises` ([`crate::output::recovery`]);
 //! - its cell data: `stress`, `principal_stress`, `von_mises`, `strain_energy_density`,
 //!   `material`, `body`, then `young` (scenes whose Young's modulus is drawn per triangle) and
 //!   `contact_active` (scenes with contact);
@@ -17,7 +17,7 @@
 
 /// Point arrays of every frame.
 pub const POINT: [&str; 4] = ["displacement", "velocity", "force", "reaction"];
-/// The recovered nodal stress arrays of every frame (point data, [`super::recovery`]).
+/// The recovered nodal stress arrays of every frame (point data, [`crate::output::recovery`]).
 pub const NODAL: [&str; 3] = ["nodal_stress", "nodal_principal_stress", "nodal_von_mises"];
 /// Cell arrays of every frame.
 pub const CELL: [&str; 6] = [

@@ -17,7 +17,7 @@
 //!   and the depth, unless the scene says the overlap is deliberate
 //!   (`allow_initial_overlap` on the contact pair or the wall).
 //! - **A static solution is a number** ([`check_static_range`]): a linear static solve scales
-//!   with its loads, so a load whose strain estimate `s` ([`crate::diagnosis::input_strains`])
+//!   with its loads, so a load whose strain estimate `s` ([`crate::problem::strains::input_strains`])
 //!   gives an energy density `s^2 E` beyond the floating-point range would give a solution
 //!   that cannot be written, and one with `s` below `MIN_POSITIVE / EPSILON` (about 1e-292)
 //!   displacements that underflow to zero. Refused at the load's JSON path before the solve.
@@ -539,7 +539,7 @@ pub fn check_static_range(
             ));
         }
     }
-    let inputs = crate::diagnosis::input_strains(scene, model);
+    let inputs = crate::problem::strains::input_strains(scene, model);
     match inputs.first() {
         Some(l) if !(l.strain * l.strain * young).is_finite() => Err(SceneError::invalid(
             file,
