@@ -80,7 +80,7 @@ fn loaded() -> Loaded {
         load_s: 0.0,
         fracturing: Default::default(),
         initial_joint_state: None,
-        frequency: fdem_solver::problem::FrequencyTerms {
+        frequency: fdem_solver::problem::stable_step::FrequencyTerms {
             elements: omega_max,
             ..Default::default()
         },

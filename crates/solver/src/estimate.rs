@@ -9,9 +9,9 @@ use fdem_time::{SchemeKind, State};
 
 use crate::checkpoint::pack::Enc;
 use crate::error::SceneError;
-use crate::limits::{self, stable_step};
 use crate::load::Loaded;
 use crate::model;
+use crate::problem::stable_step::{stable_step, step_count};
 use crate::scene::{Analysis, RelaxationMethod};
 use crate::system::{ForceContribution, SceneSystem};
 
@@ -108,7 +108,7 @@ pub fn check_report(l: &Loaded) -> String {
             // relaxation stops at the same time)
             (
                 h,
-                limits::step_count(duration, h) * e.steps as f64 / l.n_steps.max(1) as f64,
+                step_count(duration, h) * e.steps as f64 / l.n_steps.max(1) as f64,
             )
         };
         let est = n * e.per_step * k.cost().force_equivalents(false) as f64 / own;

@@ -64,9 +64,9 @@ pub mod driver {
         check_report, expected_steps, run_time_estimate,
     };
     pub use crate::ledger::Energies;
-    pub use crate::limits::stable_step;
     pub use crate::load::{Loaded, load, load_text, step_count};
     pub use crate::output::{frame_from_parts, make_frame};
+    pub use crate::problem::stable_step::stable_step;
     pub use crate::run::{
         ENERGY_GROWTH_BOUND, Progress, RunOptions, describe_resume, energy_growth, open_checkpoint,
         run, run_distributed, run_outcome,

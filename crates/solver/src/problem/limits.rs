@@ -5,7 +5,7 @@
 //!
 //! - The highest frequency bound must be finite: an infinite bound is a stable step of 0.
 //! - The stable step and the step used must be at least [`MIN_TIME_STEP`].
-//! - The number of steps ([`step_count`]) must be at most [`MAX_STEPS`].
+//! - The number of steps ([`step_count`](crate::problem::stable_step::step_count)) must be at most [`MAX_STEPS`].
 //! - The step used must be at least [`MIN_TIME_STEP`] (a duration shorter than that is
 //!   refused at `duration`, or at `loading.rate` when the rate shortened it).
 //! - A mass scaling may not lengthen the step to the whole duration (one step), nor make a
@@ -29,7 +29,7 @@ use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
 use crate::model::Model;
-use crate::problem::FrequencyTerms;
+use crate::problem::stable_step::{FrequencyTerms, stable_step, step_count};
 use crate::scene::{Analysis, Probe, Scene, TimeStep};
 
 /// The most steps a run may take: `1e10`. Far above any useful run (fdem steps about 1.5e7
@@ -46,37 +46,6 @@ pub const MIN_TIME_STEP: f64 = 1e-18;
 /// The most bytes of history rows a run may write: 2 GiB (`histories.csv` is held in memory
 /// until it is written; `walls.csv` goes to disk as it runs). A row value takes about 25 bytes.
 pub const MAX_HISTORY_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
-
-/// Relative tolerance of [`step_count`]: `duration / h` within `1e-12` of a whole number is
-/// that number.
-pub const STEP_TOLERANCE: f64 = 1e-12;
-
-/// The number of steps of about `h` that span `duration`: `duration / h` when it is a whole
-/// number within a relative [`STEP_TOLERANCE`] (so `2e-5 / 1e-8 = 2000.0000000000002` is
-/// 2000 steps, not 2001), else rounded up; at least 1. The step used is then
-/// `duration / steps`, within `1e-12` of `h` relative when `duration / h` is whole (so a
-/// fixed step given at the stable limit may exceed it by that much, far inside the margins of
-/// the limit, an upper bound of the frequencies). Returned
-/// as a float: it may be huge or infinite, which [`time_steps`] refuses.
-pub fn step_count(duration: f64, h: f64) -> f64 {
-    let r = duration / h;
-    if !r.is_finite() {
-        return r;
-    }
-    let k = r.round();
-    let n = if k >= 1.0 && (r - k).abs() <= STEP_TOLERANCE * r {
-        k
-    } else {
-        r.ceil()
-    };
-    n.max(1.0)
-}
-
-/// The stable step of `scheme` for highest frequency `omega` and its damping ratio `z`:
-/// `(h omega)_scheme / omega * (sqrt(1 + z^2) - z)`.
-pub fn stable_step(scheme: SchemeKind, omega: f64, z: f64) -> f64 {
-    scheme.stability_limit() / omega * ((1.0 + z * z).sqrt() - z)
-}
 
 /// What [`time_steps`] needs.
 pub struct StepInputs<'a> {

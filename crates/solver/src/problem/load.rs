@@ -2,7 +2,7 @@
 //! model, the elements and the time step, checked before anything is written ([`load`]).
 //!
 //! Time step: `h_limit = (h omega)_scheme / omega_max * (sqrt(1 + z^2) - z)`
-//! ([`crate::limits::stable_step`]), where `omega_max` is the largest element frequency bound
+//! ([`crate::problem::stable_step`]), where `omega_max` is the largest element frequency bound
 //! of the mesh crate, `(h omega)_scheme` the scheme's stability limit on the undamped
 //! oscillator, and `z` the damping ratio of the highest mode (element viscosity and
 //! mass-proportional damping). `"auto"` takes `safety * h_limit`; a fixed step above
@@ -14,7 +14,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use fdem_mesh::{Elements, Mesh, TriId};
+use fdem_mesh::{Elements, Mesh};
 use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
@@ -22,7 +22,8 @@ use crate::input_checks;
 use crate::limits::{self, StepInputs};
 use crate::mesh_adapter;
 use crate::model::{self, Model};
-use crate::problem::{Fracturing, FrequencyTerms};
+use crate::problem::Fracturing;
+use crate::problem::stable_step::{self, FrequencyTerms};
 use crate::resolve::MeshNames;
 use crate::scene::{Analysis, Scene};
 use crate::static_checks;
@@ -66,7 +67,7 @@ pub struct Loaded {
     /// with the pre-existing cracks broken ([`crate::cracks::initial_state`]).
     pub initial_joint_state: Option<fdem_fracture::JointState>,
     /// The terms of the a-priori frequency bound of the loaded model; `omega_max` is their
-    /// combination ([`FrequencyTerms::omega_max`]) until a contribution is added.
+    /// combination ([`FrequencyTerms::omega_max`]).
     pub frequency: FrequencyTerms,
     /// What the scene asks for that does nothing but is not wrong (a joint material that
     /// nothing uses): each a line with the JSON path and the fix, shown by [`Loaded::describe`].
@@ -251,17 +252,9 @@ impl Parts<'_> {
             let bodies = &fracturing.bodies;
             crate::prestress::prestress_joints(scene, file, model, s0, set, bodies)?;
         }
-        let frequency = FrequencyTerms {
-            elements: elements.max_frequency_bound(&model.x0),
-            contact: crate::problem::contact_laws::omega_contact(scene, model),
-            joints: (fracturing.set.as_ref())
-                .map_or(0.0, |set| crate::problem::joints::omega_joints(set, model)),
-        };
+        let frequency = FrequencyTerms::of(scene, model, &elements, fracturing.set.as_ref());
         let omega_max = frequency.omega_max();
-        let z_visc = (0..elements.len())
-            .map(|t| elements.high_mode_damping(TriId(t as u32), &model.x0))
-            .fold(0.0, f64::max);
-        let z_high = z_visc + scene.damping.mass_proportional / (2.0 * omega_max);
+        let z_high = stable_step::high_mode_damping(scene, model, &elements, omega_max);
         let steps = limits::time_steps(&StepInputs {
             scene,
             file,
@@ -299,11 +292,11 @@ fn read_meshes(scene: &Scene, file: &Path) -> Result<Vec<Mesh>, SceneError> {
     Ok(read)
 }
 
-/// The number of steps of about `h` that span `duration` ([`limits::step_count`]: a whole
+/// The number of steps of about `h` that span `duration` ([`stable_step::step_count`]: a whole
 /// `duration / h` within a relative 1e-12 is that number, else rounded up), as an integer
 /// (saturating), and the step that spans the duration exactly.
 pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
-    let n = limits::step_count(duration, h);
+    let n = stable_step::step_count(duration, h);
     (n as u64, duration / n)
 }
 

@@ -8,8 +8,8 @@
 //! - [`Fracturing`]: the joints of the exploded bodies ([`joint_assign`]: their materials),
 //!   the pre-existing cracks resolved to joints ([`cracks`]), the joint set, prestressed by the
 //!   initial stress ([`prestress`]).
-//! - [`FrequencyTerms`]: the terms of the a-priori frequency bound; [`limits`]: the step, the
-//!   steps, the frames and the rows checked.
+//! - [`stable_step`]: the terms of the frequency bound and the stable step built from them;
+//!   [`limits`]: the step, the steps, the frames and the rows checked.
 //! - [`input_checks`], [`static_checks`]: what the scene asks checked against what it acts on.
 
 pub mod contact_laws;
@@ -22,6 +22,7 @@ pub mod load;
 pub mod mesh_adapter;
 pub mod model;
 pub mod prestress;
+pub mod stable_step;
 pub mod static_checks;
 pub mod strains;
 pub mod time_history;
@@ -55,26 +56,5 @@ impl Fracturing {
     /// The number of joints of every body.
     pub fn n_joints(&self) -> usize {
         self.bodies.iter().map(|(_, j)| j.len()).sum()
-    }
-}
-
-/// The terms of the a-priori frequency bound of a scene [rad/s]:
-/// `omega_max^2 = elements^2 + contact^2 + joints^2` (docs/time-integration.md, "The stable
-/// step of a scene"). Each term is 0 when the scene lacks it.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct FrequencyTerms {
-    /// The largest element frequency bound at the reference positions.
-    pub elements: f64,
-    /// The contact term: every edge pressed flat with the contact penalty.
-    pub contact: f64,
-    /// The joints' term, over every joint intact.
-    pub joints: f64,
-}
-
-impl FrequencyTerms {
-    /// `sqrt(elements^2 + contact^2 + joints^2)`.
-    pub fn omega_max(&self) -> f64 {
-        let (e, c, j) = (self.elements, self.contact, self.joints);
-        (e * e + c * c + j * j).sqrt()
     }
 }

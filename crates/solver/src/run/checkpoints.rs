@@ -93,7 +93,7 @@ pub fn keep_time_step(l: &mut Loaded, header: &Header) {
     if l.dt != header.time_step {
         l.dt = header.time_step;
         let duration = l.scene.duration.unwrap_or(0.0);
-        l.n_steps = crate::limits::step_count(duration, l.dt) as u64;
+        l.n_steps = crate::problem::stable_step::step_count(duration, l.dt) as u64;
     }
 }
 

@@ -4,8 +4,8 @@
 use fdem_time::{SchemeKind, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::limits::stable_step;
 use crate::load::Loaded;
+use crate::problem::stable_step::stable_step;
 use crate::scene::TimeStep;
 use crate::system::SceneSystem;
 
