@@ -90,6 +90,29 @@ pub fn check_report(l: &Loaded) -> String {
     if !e.why.is_empty() {
         let _ = writeln!(s, "{}", e.why);
     }
+    scheme_table(&mut s, l, &e);
+    let _ = writeln!(
+        s,
+        "estimated run time {:.3} s (the steps; frames and histories come on top)",
+        e.seconds
+    );
+    let c = &e.checkpoint;
+    let _ = writeln!(
+        s,
+        "a checkpoint: {:.2} MB ({:.0} bytes per triangle); the run waits {:.3} s to encode it, then it is written on a thread of its own ({:.3} s with fsync in {}); at the default interval (10 min) the run waits {:.4} % of its time",
+        c.bytes as f64 / 1e6,
+        c.bytes as f64 / n_tri as f64,
+        c.encode,
+        c.write,
+        std::env::temp_dir().display(),
+        100.0 * c.encode / 600.0
+    );
+    s
+}
+
+/// `fdem check`'s table of every scheme: its `h omega` limit, stable step, step used, steps
+/// and estimated time, the scene's scheme from the timed sample `e`.
+fn scheme_table(s: &mut String, l: &Loaded, e: &RunTimeEstimate) {
     let duration = l.scene.duration.unwrap_or(0.0);
     let safety = l.scene.integrator.safety;
     let _ = writeln!(
@@ -124,23 +147,6 @@ pub fn check_report(l: &Loaded) -> String {
             if k == l.scheme { "  <- scene" } else { "" }
         );
     }
-    let _ = writeln!(
-        s,
-        "estimated run time {:.3} s (the steps; frames and histories come on top)",
-        e.seconds
-    );
-    let c = &e.checkpoint;
-    let _ = writeln!(
-        s,
-        "a checkpoint: {:.2} MB ({:.0} bytes per triangle); the run waits {:.3} s to encode it, then it is written on a thread of its own ({:.3} s with fsync in {}); at the default interval (10 min) the run waits {:.4} % of its time",
-        c.bytes as f64 / 1e6,
-        c.bytes as f64 / n_tri as f64,
-        c.encode,
-        c.write,
-        std::env::temp_dir().display(),
-        100.0 * c.encode / 600.0
-    );
-    s
 }
 
 /// The estimated stepping time of a run ([`run_time_estimate`]).

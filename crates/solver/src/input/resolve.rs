@@ -179,6 +179,23 @@ fn walk<'a>(
     scene: &'a Scene,
     f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
 ) -> Result<(), SceneError> {
+    walk_bodies(scene, f)?;
+    walk_conditions(scene, f)?;
+    walk_probes(scene, f)?;
+    if let Some(fr) = &scene.fracture {
+        walk_regions(fr, f)?;
+        walk_interfaces(fr, f)?;
+        walk_cracks(fr, f)?;
+    }
+    walk_initial_stress(scene, f)?;
+    walk_contact(scene, f)
+}
+
+/// The bodies' names and material keys, for [`walk`].
+fn walk_bodies<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
     for (i, b) in scene.bodies.iter().enumerate() {
         if let Some(n) = &b.name {
             f(Ref {
@@ -203,6 +220,14 @@ fn walk<'a>(
             })?;
         }
     }
+    Ok(())
+}
+
+/// The bodies and groups of `boundary_conditions`, for [`walk`].
+fn walk_conditions<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
     for (i, bc) in scene.boundary_conditions.iter().enumerate() {
         let k = condition_kind(bc);
         if let Some(b) = bc.body() {
@@ -232,6 +257,14 @@ fn walk<'a>(
             slot: Slot::Condition(i),
         })?;
     }
+    Ok(())
+}
+
+/// The bodies and groups of `histories.probes`, for [`walk`].
+fn walk_probes<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
     for (i, p) in scene.histories.probes.iter().enumerate() {
         let (k, g) = match p {
             Probe::Displacement(g) => ("displacement", g),
@@ -258,43 +291,54 @@ fn walk<'a>(
             slot: Slot::Probe(i),
         })?;
     }
-    if let Some(fr) = &scene.fracture {
-        for (i, r) in fr.regions.iter().enumerate() {
-            if let Some(b) = &r.body {
-                f(Ref {
-                    path: format!("fracture.regions[{i}].body"),
-                    pointer: format!("/fracture/regions/{i}/body"),
-                    kind: RefKind::Body,
-                    name: b,
-                    body: Scope::None,
-                    slot: Slot::Region(i),
-                })?;
-            }
-            for (j, g) in r.groups.iter().flatten().enumerate() {
-                f(Ref {
-                    path: format!("fracture.regions[{i}].groups[{j}]"),
-                    pointer: format!("/fracture/regions/{i}/groups/{j}"),
-                    kind: RefKind::SurfaceGroup,
-                    name: g,
-                    body: Scope::Named(r.body.as_deref()),
-                    slot: Slot::None,
-                })?;
-            }
-            if let Some(m) = &r.material {
-                f(Ref {
-                    path: format!("fracture.regions[{i}].material"),
-                    pointer: format!("/fracture/regions/{i}/material"),
-                    kind: RefKind::JointMaterial,
-                    name: m,
-                    body: Scope::None,
-                    slot: Slot::None,
-                })?;
-            }
+    Ok(())
+}
+
+/// The bodies, groups and materials of `fracture.regions`, for [`walk`].
+fn walk_regions<'a>(
+    fr: &'a FractureSection,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, r) in fr.regions.iter().enumerate() {
+        if let Some(b) = &r.body {
+            f(Ref {
+                path: format!("fracture.regions[{i}].body"),
+                pointer: format!("/fracture/regions/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::Region(i),
+            })?;
         }
-        walk_interfaces(fr, f)?;
-        walk_cracks(fr, f)?;
+        for (j, g) in r.groups.iter().flatten().enumerate() {
+            f(Ref {
+                path: format!("fracture.regions[{i}].groups[{j}]"),
+                pointer: format!("/fracture/regions/{i}/groups/{j}"),
+                kind: RefKind::SurfaceGroup,
+                name: g,
+                body: Scope::Named(r.body.as_deref()),
+                slot: Slot::None,
+            })?;
+        }
+        if let Some(m) = &r.material {
+            f(Ref {
+                path: format!("fracture.regions[{i}].material"),
+                pointer: format!("/fracture/regions/{i}/material"),
+                kind: RefKind::JointMaterial,
+                name: m,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
     }
-    walk_initial_stress(scene, f)?;
+    Ok(())
+}
+
+/// The bodies of `contact.pairs` and the names of `contact.walls`, for [`walk`].
+fn walk_contact<'a>(
+    scene: &'a Scene,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
     if let Some(c) = &scene.contact {
         for (i, p) in c.pairs.iter().enumerate() {
             for (k, b) in p.bodies.iter().enumerate() {

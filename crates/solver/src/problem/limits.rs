@@ -171,6 +171,20 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
     let n_steps = n as u64;
     let dt = duration / n;
     check_scaled_steps(inp, h, n, dt)?;
+    check_frames(inp, n, n_steps)?;
+    check_history_rows(inp, n_steps)?;
+    Ok(Steps {
+        dt_limit,
+        dt,
+        n_steps,
+    })
+}
+
+/// A fixed-step run of `n_steps` steps (`n` as a float) writes at most one frame per step:
+/// refused at the mass scaling or the loading rate when without it there would be steps
+/// enough, else at `output.frames`.
+fn check_frames(inp: &StepInputs, n: f64, n_steps: u64) -> Result<(), SceneError> {
+    let scene = inp.scene;
     let adaptive = scene.integrator.time_step == TimeStep::Adaptive;
     let frames = scene.output.frames;
     if !adaptive && frames as u64 > n_steps {
@@ -188,7 +202,8 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
                 format!("ask for at most {n_steps} frame(s), or use a smaller time step"),
             ),
         };
-        return Err(bad(
+        return Err(invalid(
+            inp,
             &path,
             format!(
                 "{frames} frames over a run of {n_steps} step(s){why}: a frame is written at the \
@@ -197,12 +212,7 @@ pub fn time_steps(inp: &StepInputs) -> Result<Steps, SceneError> {
             fix,
         ));
     }
-    check_history_rows(inp, n_steps)?;
-    Ok(Steps {
-        dt_limit,
-        dt,
-        n_steps,
-    })
+    Ok(())
 }
 
 /// A mass scaling factor `f` (given at `path`, or derived from it) on `model`: the scaled
