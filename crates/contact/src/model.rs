@@ -637,8 +637,8 @@ impl Contact {
         dt: f64,
     ) -> ContactStats {
         self.gather_triangles(x, tris);
-        self.couple_forces(v, tris, material, dt);
-        self.wall_forces(v, tris, dt);
+        self.couple_pass(v, tris, material, dt);
+        self.plane_pass(v, tris, dt);
         // Serial, fixed-order reduction of the statistics (in a distributed run, of the
         // couples and plane pairs this rank leads).
         let s = ContactStats::tally(self.couples.len(), self.tallies());
@@ -675,7 +675,7 @@ impl Contact {
 
     /// The force of every couple, into `results` (trial friction into `ft_trial`); see
     /// [`Self::compute_forces`].
-    fn couple_forces(&mut self, v: &[V2], tris: &[[u32; 3]], material: &[u32], dt: f64) {
+    fn couple_pass(&mut self, v: &[V2], tris: &[[u32; 3]], material: &[u32], dt: f64) {
         let laws = &self.laws;
         let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
         let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
@@ -743,7 +743,7 @@ impl Contact {
 
     /// The force of every plane pair, into `wall_results` (trial friction into
     /// `wall_ft_trial`); see [`Self::compute_forces`].
-    fn wall_forces(&mut self, v: &[V2], tris: &[[u32; 3]], dt: f64) {
+    fn plane_pass(&mut self, v: &[V2], tris: &[[u32; 3]], dt: f64) {
         let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
         let tri_x = &self.tri_x;
         let part = &self.part;

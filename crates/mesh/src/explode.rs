@@ -163,11 +163,7 @@ fn new_node(mesh: &Mesh, tris: &[[u32; 3]], t: TriId, orig: NodeId) -> NodeId {
 
 /// The groups of the exploded mesh: a point group holds every copy of its nodes, an edge
 /// group the edge of each triangle beside it, a triangle group the same triangles.
-fn exploded_groups(
-    mesh: &Mesh,
-    original_node: &[NodeId],
-    tris: &[[u32; 3]],
-) -> Vec<PhysicalGroup> {
+fn exploded_groups(mesh: &Mesh, original_node: &[NodeId], tris: &[[u32; 3]]) -> Vec<PhysicalGroup> {
     let new_of = |t: TriId, orig: NodeId| new_node(mesh, tris, t, orig);
     // Copies of each original node (for point groups; none built without one).
     let mut copies: Vec<Vec<NodeId>> = Vec::new();

@@ -497,7 +497,6 @@ fn regions_of(groups: &[PhysicalGroup], n_tris: usize) -> (Vec<String>, Vec<Regi
     (regions, tri_region)
 }
 
-
 fn build_edges(path: &str, tris: &[[u32; 3]], tri_tags: &[u64]) -> Result<Edges, MeshError> {
     let keys = edge_keys(tris);
     let mut edges = Vec::with_capacity(keys.len() / 2 + 1);

@@ -118,7 +118,12 @@ fn manifest(dir: &str) -> Manifest {
         let Some((key, _)) = line.split_once('=') else {
             continue;
         };
-        let key = key.split('.').next().unwrap_or(key).trim().trim_matches('"');
+        let key = key
+            .split('.')
+            .next()
+            .unwrap_or(key)
+            .trim()
+            .trim_matches('"');
         let package = string_value(line, "package").unwrap_or_else(|| key.to_string());
         deps.entry(kind).or_default().insert(package);
     }
@@ -211,7 +216,9 @@ fn crate_dependencies_point_down_the_layers() {
     }
     for (name, _) in LAYERS {
         if !all.iter().any(|m| m.name == *name) {
-            problems.push(format!("LAYERS names {name}, which is no crate of the workspace"));
+            problems.push(format!(
+                "LAYERS names {name}, which is no crate of the workspace"
+            ));
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
@@ -222,7 +229,11 @@ type Row = (u32, String, String, BTreeSet<String>);
 
 /// The words in backticks of a table cell.
 fn quoted(cell: &str) -> Vec<String> {
-    cell.split('`').skip(1).step_by(2).map(str::to_string).collect()
+    cell.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
 }
 
 /// The rows of the crate table of the guide, with the line of each.
@@ -248,7 +259,10 @@ fn guide_table() -> Vec<(usize, Row)> {
         let (Some(name), Some(folder)) = (name, folder) else {
             panic!("{GUIDE}:{}: the crate and its folder in backticks", k + 1);
         };
-        rows.push((k + 1, (layer, name, folder, quoted(cells[3]).into_iter().collect())));
+        rows.push((
+            k + 1,
+            (layer, name, folder, quoted(cells[3]).into_iter().collect()),
+        ));
     }
     rows
 }
@@ -272,7 +286,9 @@ fn the_guides_crate_table_matches_the_manifests() {
             problems.push(format!("{GUIDE}:{line}: {name} is listed twice"));
         }
         match expected.get(name) {
-            None => problems.push(format!("{GUIDE}:{line}: {name} is no crate of the workspace")),
+            None => problems.push(format!(
+                "{GUIDE}:{line}: {name} is no crate of the workspace"
+            )),
             Some(e) if e != row => problems.push(format!(
                 "{GUIDE}:{line}: the row of {name} says layer {}, folder `{}`, depends on \
                  {:?}; the manifests and LAYERS say layer {}, folder `{}`, depends on {:?}",
@@ -292,14 +308,20 @@ fn the_guides_crate_table_matches_the_manifests() {
 #[test]
 fn manifest_lines_are_read_as_cargo_reads_them() {
     assert_eq!(without_comment("a = \"x#y\" # note"), "a = \"x#y\" ");
-    assert_eq!(string_value("name = \"fdem-mesh\"", "name"), Some("fdem-mesh".into()));
+    assert_eq!(
+        string_value("name = \"fdem-mesh\"", "name"),
+        Some("fdem-mesh".into())
+    );
     assert_eq!(string_value("rename = \"x\"", "name"), None);
     assert_eq!(
         string_value("m = { package = \"fdem-mesh\", path = \"..\" }", "package"),
         Some("fdem-mesh".into())
     );
     assert_eq!(dependency_table("dependencies"), Some((Kind::Normal, None)));
-    assert_eq!(dependency_table("build-dependencies"), Some((Kind::Normal, None)));
+    assert_eq!(
+        dependency_table("build-dependencies"),
+        Some((Kind::Normal, None))
+    );
     assert_eq!(
         dependency_table("target.'cfg(unix)'.dev-dependencies"),
         Some((Kind::Dev, None))
@@ -310,5 +332,8 @@ fn manifest_lines_are_read_as_cargo_reads_them() {
     );
     assert_eq!(dependency_table("workspace.dependencies"), None);
     assert_eq!(dependency_table("package"), None);
-    assert_eq!(quoted("`fdem-solver`, `fdem-time`"), ["fdem-solver", "fdem-time"]);
+    assert_eq!(
+        quoted("`fdem-solver`, `fdem-time`"),
+        ["fdem-solver", "fdem-time"]
+    );
 }

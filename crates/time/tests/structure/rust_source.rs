@@ -4,7 +4,6 @@
 
 use std::collections::BTreeSet;
 
-
 #[derive(Debug, Clone, PartialEq)]
 enum Tok {
     Ident(String),
@@ -522,4 +521,3 @@ pub fn functions(text: &str) -> Vec<(String, usize, usize)> {
     }
     out
 }
-
