@@ -10,15 +10,21 @@
 //! Exit codes ([`EXIT_CODES`], from the typed error: [`exit_code`]): 0 success, 2 bad input,
 //! 3 a run that did not reach its goal, 4 a run interrupted (resumable), 1 anything else.
 
+mod atomic;
 mod cmd;
+mod input_error;
 mod plot;
 mod study;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Parser, Subcommand};
+
+// the helpers every command uses, as `crate::bad_input` and `crate::write_atomically`
+use atomic::write_atomically;
+use input_error::{BadInput, bad_input};
 
 /// The exit codes, as `--help` shows them (README.md, "Exit codes", says the same).
 const EXIT_CODES: &str = "\
@@ -114,15 +120,6 @@ fn parse_rebalance(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all: a temporary file beside it, then a rename.
-pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".part");
-    std::fs::write(&tmp, bytes)
-        .with_context(|| format!("writing {}", Path::new(&tmp).display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -134,7 +131,7 @@ fn main() -> ExitCode {
             resume,
             stop_after,
             rebalance,
-        } => cmd::run::run(cmd::run::RunArgs {
+        } => cmd::run_scene(cmd::run::RunArgs {
             scene,
             out,
             raw,
@@ -163,24 +160,6 @@ fn main() -> ExitCode {
             ExitCode::from(exit_code(&e))
         }
     }
-}
-
-/// An error in the input a command was given (its arguments, or a file or folder they name
-/// that is not what the command needs): exit code 2.
-#[derive(Debug)]
-pub(crate) struct BadInput(pub String);
-
-impl std::fmt::Display for BadInput {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for BadInput {}
-
-/// A [`BadInput`] error with `message`.
-pub(crate) fn bad_input(message: impl Into<String>) -> anyhow::Error {
-    BadInput(message.into()).into()
 }
 
 /// The exit code of an error (the table in [`EXIT_CODES`]), from the first typed error in

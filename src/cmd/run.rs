@@ -113,13 +113,9 @@ pub fn progress_lines() -> impl FnMut(&Progress) {
     }
 }
 
-/// Runs a scene (or resumes a run), writing into `out` (default `results/<scene name>`).
+/// Runs a scene (or resumes a run) in this process, writing into `out` (default
+/// `results/<scene name>`).
 pub fn run(args: RunArgs) -> Result<()> {
-    // one of several processes of a parallel launcher (`mpirun -np N`, `srun -n N`): a
-    // distributed run, or its refusal in a build without MPI
-    if let Some((n, var)) = fdem_mpi::launched_among().filter(|&(n, _)| n > 1) {
-        return super::run_mpi::run(args, n, var);
-    }
     let RunArgs {
         scene,
         out,

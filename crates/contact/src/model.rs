@@ -636,10 +636,19 @@ impl Contact {
         material: &[u32],
         dt: f64,
     ) -> ContactStats {
-        let laws = &self.laws;
-        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
-        let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
-        // Vertices and boxes of every triangle in a couple or plane candidate, once.
+        self.gather_triangles(x, tris);
+        self.couple_pass(v, tris, material, dt);
+        self.plane_pass(v, tris, dt);
+        // Serial, fixed-order reduction of the statistics (in a distributed run, of the
+        // couples and plane pairs this rank leads).
+        let s = ContactStats::tally(self.couples.len(), self.tallies());
+        self.stats = s;
+        s
+    }
+
+    /// The vertices and box of every triangle in a couple or plane candidate, once per pass
+    /// (of the triangles this pass reads, module `part`).
+    fn gather_triangles(&mut self, x: &[V2], tris: &[[u32; 3]]) {
         self.tri_x.resize(tris.len(), [[0.0; 2]; 3]);
         self.tri_box.resize(tris.len(), [0.0; 4]);
         self.tri_used.resize(tris.len(), 3);
@@ -662,6 +671,14 @@ impl Contact {
                     tx[0][1].max(tx[1][1]).max(tx[2][1]),
                 ];
             });
+    }
+
+    /// The force of every couple, into `results` (trial friction into `ft_trial`); see
+    /// [`Self::compute_forces`].
+    fn couple_pass(&mut self, v: &[V2], tris: &[[u32; 3]], material: &[u32], dt: f64) {
+        let laws = &self.laws;
+        let mat = |i: u32| material.get(i as usize).copied().unwrap_or(0);
+        let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
         let (tri_x, tri_box) = (&self.tri_x, &self.tri_box);
         let part = &self.part;
         let local = |t: u32| part.get(t as usize).is_none_or(|r| r & LOCAL != 0);
@@ -722,6 +739,15 @@ impl Contact {
                 couple_force_from_loads(res, &tri_x[i], &tri_x[j], &loads, &vs, ft_old, dt, law);
                 *ftt = res.ft;
             });
+    }
+
+    /// The force of every plane pair, into `wall_results` (trial friction into
+    /// `wall_ft_trial`); see [`Self::compute_forces`].
+    fn plane_pass(&mut self, v: &[V2], tris: &[[u32; 3]], dt: f64) {
+        let vel = |n: u32| v.get(n as usize).copied().unwrap_or([0.0; 2]);
+        let tri_x = &self.tri_x;
+        let part = &self.part;
+        let local = |t: u32| part.get(t as usize).is_none_or(|r| r & LOCAL != 0);
         let walls = &self.walls;
         self.wall_results
             .resize(self.wall_pairs.len(), WallForce::default());
@@ -749,11 +775,6 @@ impl Contact {
                 *res = wall_force(plane, &xs, &vs, *ft_old, dt);
                 *ftt = res.ft;
             });
-        // Serial, fixed-order reduction of the statistics (in a distributed run, of the
-        // couples and plane pairs this rank leads).
-        let s = ContactStats::tally(self.couples.len(), self.tallies());
-        self.stats = s;
-        s
     }
 
     /// Adds all contact forces (normal + friction + damping) of the last pass to `f`, in

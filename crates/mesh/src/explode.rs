@@ -44,6 +44,56 @@ pub struct Exploded {
 /// sharing nodes among themselves. Every internal edge with at least one exploded triangle
 /// becomes an [`InternalEdge`]. Errors if a named group is missing or is not of dimension 2.
 pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, MeshError> {
+    let selected = selected_triangles(mesh, only_groups)?;
+    let (original_node, tris) = new_nodes(mesh, &selected);
+    let new_of = |t: TriId, orig: NodeId| new_node(mesh, &tris, t, orig);
+    let local = |t: TriId, orig: NodeId| local_node(mesh, t, orig);
+    // In parallel over the edges, collected in edge order.
+    let internal_edges: Vec<InternalEdge> = (mesh.edges.par_iter())
+        .with_min_len(PAR_CHUNK)
+        .filter_map(|e| {
+            let (t1, t2) = (e.left, e.right?);
+            if !(selected[t1.idx()] || selected[t2.idx()]) {
+                return None;
+            }
+            let [p0, q0] = e.nodes;
+            Some(InternalEdge {
+                tris: [t1, t2],
+                nodes: [
+                    new_of(t1, p0),
+                    new_of(t1, q0),
+                    new_of(t2, q0),
+                    new_of(t2, p0),
+                ],
+                local_edge: [local(t1, p0) as u8, local(t2, q0) as u8],
+            })
+        })
+        .collect();
+    let groups = exploded_groups(mesh, &original_node, &tris);
+    let par_nodes = || original_node.par_iter().with_min_len(PAR_CHUNK);
+    let nodes = par_nodes().map(|o| mesh.nodes[o.idx()]).collect();
+    let node_tags = par_nodes().map(|o| mesh.node_tags[o.idx()]).collect();
+    let exploded = Mesh::build(
+        RawMesh {
+            path: format!("{} (exploded)", mesh.source),
+            node_tags,
+            nodes,
+            triangles: tris,
+            tri_tags: mesh.tri_tags.clone(),
+            groups,
+        },
+        false,
+    )?;
+    Ok(Exploded {
+        mesh: exploded,
+        original_node,
+        internal_edges,
+    })
+}
+
+/// Which triangles explode: all with `only_groups = None`, else those of the named
+/// dimension-2 groups.
+fn selected_triangles(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Vec<bool>, MeshError> {
     let nt = mesh.triangles.len();
     let mut selected = vec![only_groups.is_none(); nt];
     if let Some(names) = only_groups {
@@ -68,6 +118,14 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
             }
         }
     }
+    Ok(selected)
+}
+
+/// The nodes of the exploded mesh: each selected triangle gets three of its own, the others
+/// share one per original node. Returns the original node of each new node and the new
+/// triangles.
+fn new_nodes(mesh: &Mesh, selected: &[bool]) -> (Vec<NodeId>, Vec<[u32; 3]>) {
+    let nt = mesh.triangles.len();
     const NONE: u32 = u32::MAX;
     let mut shared = vec![NONE; mesh.nodes.len()];
     let mut original_node = Vec::with_capacity(3 * nt);
@@ -89,32 +147,24 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
         }
         tris.push(nt3);
     }
-    let local = |t: TriId, orig: NodeId| -> usize {
-        let tri = mesh.triangles[t.idx()];
-        (0..3).find(|&k| tri[k] == orig.0).unwrap_or(0)
-    };
-    let new_of = |t: TriId, orig: NodeId| NodeId(tris[t.idx()][local(t, orig)]);
-    // In parallel over the edges, collected in edge order.
-    let internal_edges: Vec<InternalEdge> = (mesh.edges.par_iter())
-        .with_min_len(PAR_CHUNK)
-        .filter_map(|e| {
-            let (t1, t2) = (e.left, e.right?);
-            if !(selected[t1.idx()] || selected[t2.idx()]) {
-                return None;
-            }
-            let [p0, q0] = e.nodes;
-            Some(InternalEdge {
-                tris: [t1, t2],
-                nodes: [
-                    new_of(t1, p0),
-                    new_of(t1, q0),
-                    new_of(t2, q0),
-                    new_of(t2, p0),
-                ],
-                local_edge: [local(t1, p0) as u8, local(t2, q0) as u8],
-            })
-        })
-        .collect();
+    (original_node, tris)
+}
+
+/// The local index (0..3) of original node `orig` in triangle `t` of `mesh`.
+fn local_node(mesh: &Mesh, t: TriId, orig: NodeId) -> usize {
+    let tri = mesh.triangles[t.idx()];
+    (0..3).find(|&k| tri[k] == orig.0).unwrap_or(0)
+}
+
+/// The new node of triangle `t` (of the new triangles `tris`) at original node `orig`.
+fn new_node(mesh: &Mesh, tris: &[[u32; 3]], t: TriId, orig: NodeId) -> NodeId {
+    NodeId(tris[t.idx()][local_node(mesh, t, orig)])
+}
+
+/// The groups of the exploded mesh: a point group holds every copy of its nodes, an edge
+/// group the edge of each triangle beside it, a triangle group the same triangles.
+fn exploded_groups(mesh: &Mesh, original_node: &[NodeId], tris: &[[u32; 3]]) -> Vec<PhysicalGroup> {
+    let new_of = |t: TriId, orig: NodeId| new_node(mesh, tris, t, orig);
     // Copies of each original node (for point groups; none built without one).
     let mut copies: Vec<Vec<NodeId>> = Vec::new();
     if mesh.groups.iter().any(|g| g.dim == 0) {
@@ -136,8 +186,7 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
             edge_of.insert((a, b), *e);
         }
     }
-    let groups = mesh
-        .groups
+    mesh.groups
         .iter()
         .map(|g| {
             let mut edges = Vec::new();
@@ -165,24 +214,5 @@ pub fn explode(mesh: &Mesh, only_groups: Option<&[&str]>) -> Result<Exploded, Me
                 triangles: g.triangles.clone(),
             }
         })
-        .collect();
-    let par_nodes = || original_node.par_iter().with_min_len(PAR_CHUNK);
-    let nodes = par_nodes().map(|o| mesh.nodes[o.idx()]).collect();
-    let node_tags = par_nodes().map(|o| mesh.node_tags[o.idx()]).collect();
-    let exploded = Mesh::build(
-        RawMesh {
-            path: format!("{} (exploded)", mesh.source),
-            node_tags,
-            nodes,
-            triangles: tris,
-            tri_tags: mesh.tri_tags.clone(),
-            groups,
-        },
-        false,
-    )?;
-    Ok(Exploded {
-        mesh: exploded,
-        original_node,
-        internal_edges,
-    })
+        .collect()
 }

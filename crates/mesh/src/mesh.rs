@@ -117,62 +117,12 @@ impl Mesh {
             tri_tags,
             mut groups,
         } = raw;
-        let nn = nodes.len();
-        for (i, p) in nodes.iter().enumerate() {
-            if !p[0].is_finite() || !p[1].is_finite() {
-                return Err(MeshError::NonFinite {
-                    path,
-                    tag: node_tags[i],
-                });
-            }
-        }
+        check_finite(&path, &nodes, &node_tags)?;
         if triangles.is_empty() {
             return Err(MeshError::NoTriangles { path });
         }
-        // Orientation and zero area, per triangle in parallel: the count of reversed
-        // triangles and the first flat one (in triangle order) do not depend on the threads.
-        let (flat, reoriented) = triangles
-            .par_iter_mut()
-            .with_min_len(TRI_CHUNK)
-            .enumerate()
-            .map(|(t, tri)| match doubled_area(&nodes, *tri) {
-                None => (Some(t), 0),
-                Some(a2) if a2 < 0.0 => {
-                    tri.swap(1, 2);
-                    (None, 1)
-                }
-                Some(_) => (None, 0),
-            })
-            .reduce(
-                || (None, 0),
-                |a, b| (a.0.into_iter().chain(b.0).min(), a.1 + b.1),
-            );
-        if let Some(t) = flat {
-            let tri = triangles[t];
-            return Err(MeshError::ZeroArea {
-                path,
-                tri: TriId(t as u32),
-                element: tri_tags[t],
-                area: tri_area(&nodes, tri),
-                nodes: tri.map(|n| node_tags[n as usize]),
-            });
-        }
-        // Unused nodes.
-        let mut used = vec![false; nn];
-        for tri in &triangles {
-            for &n in tri {
-                used[n as usize] = true;
-            }
-        }
-        if let Some(n) = used.iter().position(|u| !u) {
-            return Err(MeshError::UnusedNode {
-                path,
-                node: NodeId(n as u32),
-                tag: node_tags[n],
-                x: nodes[n][0],
-                y: nodes[n][1],
-            });
-        }
+        let reoriented = orient_triangles(&path, &nodes, &mut triangles, &node_tags, &tri_tags)?;
+        check_every_node_used(&path, &nodes, &triangles, &node_tags)?;
         if check_coincident {
             check_duplicates(&path, &nodes, &node_tags)?;
         }
@@ -183,74 +133,8 @@ impl Mesh {
             .filter(|(_, e)| e.right.is_none())
             .map(|(i, _)| EdgeId(i as u32))
             .collect();
-        // Groups: node sets, edge orientation, sort.
-        groups.sort_by_key(|g| (g.dim, g.tag));
-        // The boundary edges reversed, for the groups' edges (none asked: none built).
-        let mut edge_dir = std::collections::HashSet::new();
-        if groups.iter().any(|g| !g.edges.is_empty()) {
-            edge_dir.extend(
-                (edges.iter())
-                    .filter(|e| e.right.is_none())
-                    .map(|e| (e.nodes[1], e.nodes[0])),
-            );
-        }
-        for g in &mut groups {
-            let mut ns: Vec<NodeId> = g.nodes.clone();
-            for e in &mut g.edges {
-                if edge_dir.contains(&(e[0], e[1])) {
-                    e.swap(0, 1);
-                }
-                ns.extend_from_slice(e);
-            }
-            g.triangles.sort_unstable();
-            g.triangles.dedup();
-            for t in &g.triangles {
-                ns.extend(triangles[t.idx()].map(NodeId));
-            }
-            ns.sort_unstable();
-            ns.dedup();
-            g.nodes = ns;
-        }
-        // Regions: the dimension-2 groups, in order, that are the first group of some triangle.
-        let mut regions: Vec<String> = Vec::new();
-        let mut first = vec![usize::MAX; triangles.len()];
-        for (gi, g) in groups.iter().enumerate().filter(|(_, g)| g.dim == 2) {
-            for t in &g.triangles {
-                if first[t.idx()] == usize::MAX {
-                    first[t.idx()] = gi;
-                }
-            }
-        }
-        let mut used_group = vec![false; groups.len()];
-        for &gi in first.iter().filter(|&&gi| gi != usize::MAX) {
-            used_group[gi] = true;
-        }
-        let mut region_of_group = vec![u32::MAX; groups.len()];
-        for (gi, g) in groups.iter().enumerate() {
-            if used_group[gi] {
-                region_of_group[gi] = regions.len() as u32;
-                regions.push(g.name.clone());
-            }
-        }
-        let mut tri_region: Vec<RegionId> = first
-            .iter()
-            .map(|&gi| {
-                RegionId(if gi == usize::MAX {
-                    u32::MAX
-                } else {
-                    region_of_group[gi]
-                })
-            })
-            .collect();
-        if tri_region.iter().any(|r| r.0 == u32::MAX) {
-            let r = RegionId(regions.len() as u32);
-            regions.push("default".to_string());
-            for x in &mut tri_region {
-                if x.0 == u32::MAX {
-                    *x = r;
-                }
-            }
-        }
+        complete_groups(&mut groups, &edges, &triangles);
+        let (regions, tri_region) = regions_of(&groups, triangles.len());
         Ok(Mesh {
             nodes,
             triangles,
@@ -455,6 +339,162 @@ fn check_groups_are_sets(raw: &RawMesh) -> Result<(), MeshError> {
         }
     }
     Ok(())
+}
+
+/// Every node position is finite.
+fn check_finite(path: &str, nodes: &[[f64; 2]], node_tags: &[u64]) -> Result<(), MeshError> {
+    for (i, p) in nodes.iter().enumerate() {
+        if !p[0].is_finite() || !p[1].is_finite() {
+            return Err(MeshError::NonFinite {
+                path: path.to_string(),
+                tag: node_tags[i],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Reverses the clockwise triangles and refuses a flat one; returns how many were reversed.
+/// Per triangle in parallel: the count of reversed triangles and the first flat one (in
+/// triangle order) do not depend on the threads.
+fn orient_triangles(
+    path: &str,
+    nodes: &[[f64; 2]],
+    triangles: &mut [[u32; 3]],
+    node_tags: &[u64],
+    tri_tags: &[u64],
+) -> Result<usize, MeshError> {
+    let (flat, reoriented) = triangles
+        .par_iter_mut()
+        .with_min_len(TRI_CHUNK)
+        .enumerate()
+        .map(|(t, tri)| match doubled_area(nodes, *tri) {
+            None => (Some(t), 0),
+            Some(a2) if a2 < 0.0 => {
+                tri.swap(1, 2);
+                (None, 1)
+            }
+            Some(_) => (None, 0),
+        })
+        .reduce(
+            || (None, 0),
+            |a, b| (a.0.into_iter().chain(b.0).min(), a.1 + b.1),
+        );
+    if let Some(t) = flat {
+        let tri = triangles[t];
+        return Err(MeshError::ZeroArea {
+            path: path.to_string(),
+            tri: TriId(t as u32),
+            element: tri_tags[t],
+            area: tri_area(nodes, tri),
+            nodes: tri.map(|n| node_tags[n as usize]),
+        });
+    }
+    Ok(reoriented)
+}
+
+/// Every node belongs to a triangle.
+fn check_every_node_used(
+    path: &str,
+    nodes: &[[f64; 2]],
+    triangles: &[[u32; 3]],
+    node_tags: &[u64],
+) -> Result<(), MeshError> {
+    let mut used = vec![false; nodes.len()];
+    for tri in triangles {
+        for &n in tri {
+            used[n as usize] = true;
+        }
+    }
+    if let Some(n) = used.iter().position(|u| !u) {
+        return Err(MeshError::UnusedNode {
+            path: path.to_string(),
+            node: NodeId(n as u32),
+            tag: node_tags[n],
+            x: nodes[n][0],
+            y: nodes[n][1],
+        });
+    }
+    Ok(())
+}
+
+/// Sorts the groups by (dimension, tag) and completes each: its edges oriented as the
+/// boundary runs, its triangles sorted and unique, its node set holding the nodes of its
+/// edges and triangles.
+fn complete_groups(groups: &mut [PhysicalGroup], edges: &[MeshEdge], triangles: &[[u32; 3]]) {
+    groups.sort_by_key(|g| (g.dim, g.tag));
+    // The boundary edges reversed, for the groups' edges (none asked: none built).
+    let mut edge_dir = std::collections::HashSet::new();
+    if groups.iter().any(|g| !g.edges.is_empty()) {
+        edge_dir.extend(
+            (edges.iter())
+                .filter(|e| e.right.is_none())
+                .map(|e| (e.nodes[1], e.nodes[0])),
+        );
+    }
+    for g in groups {
+        let mut ns: Vec<NodeId> = g.nodes.clone();
+        for e in &mut g.edges {
+            if edge_dir.contains(&(e[0], e[1])) {
+                e.swap(0, 1);
+            }
+            ns.extend_from_slice(e);
+        }
+        g.triangles.sort_unstable();
+        g.triangles.dedup();
+        for t in &g.triangles {
+            ns.extend(triangles[t.idx()].map(NodeId));
+        }
+        ns.sort_unstable();
+        ns.dedup();
+        g.nodes = ns;
+    }
+}
+
+/// The material regions ([`Mesh::regions`]) and the region of each of `n_tris` triangles:
+/// the dimension-2 groups, in order, that are the first group of some triangle, then
+/// `"default"` for the triangles in none.
+fn regions_of(groups: &[PhysicalGroup], n_tris: usize) -> (Vec<String>, Vec<RegionId>) {
+    let mut regions: Vec<String> = Vec::new();
+    let mut first = vec![usize::MAX; n_tris];
+    for (gi, g) in groups.iter().enumerate().filter(|(_, g)| g.dim == 2) {
+        for t in &g.triangles {
+            if first[t.idx()] == usize::MAX {
+                first[t.idx()] = gi;
+            }
+        }
+    }
+    let mut used_group = vec![false; groups.len()];
+    for &gi in first.iter().filter(|&&gi| gi != usize::MAX) {
+        used_group[gi] = true;
+    }
+    let mut region_of_group = vec![u32::MAX; groups.len()];
+    for (gi, g) in groups.iter().enumerate() {
+        if used_group[gi] {
+            region_of_group[gi] = regions.len() as u32;
+            regions.push(g.name.clone());
+        }
+    }
+    let mut tri_region: Vec<RegionId> = first
+        .iter()
+        .map(|&gi| {
+            RegionId(if gi == usize::MAX {
+                u32::MAX
+            } else {
+                region_of_group[gi]
+            })
+        })
+        .collect();
+    if tri_region.iter().any(|r| r.0 == u32::MAX) {
+        let r = RegionId(regions.len() as u32);
+        regions.push("default".to_string());
+        for x in &mut tri_region {
+            if x.0 == u32::MAX {
+                *x = r;
+            }
+        }
+    }
+    (regions, tri_region)
 }
 
 fn build_edges(path: &str, tris: &[[u32; 3]], tri_tags: &[u64]) -> Result<Edges, MeshError> {

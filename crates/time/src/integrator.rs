@@ -1,30 +1,7 @@
-//! The trait every scheme implements, its cost and counters, and the bookkeeping the
+//! The trait every scheme implements, its counters, and the bookkeeping the
 //! schemes share (cached acceleration, prescribed DOFs, counters).
 
-use crate::{SchemeKind, SecondOrderSystem, State};
-
-/// Force and gradient evaluations a scheme makes per step, in steady state (a force
-/// evaluated at the end of one step and reused at the start of the next, "FSAL", counts once).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StepCost {
-    /// Force (acceleration) evaluations per step.
-    pub forces: u32,
-    /// Force-gradient products `G` per step.
-    pub gradients: u32,
-}
-
-impl StepCost {
-    /// Force evaluations per step counting each finite-difference gradient as two forces
-    /// (`exact_gradient = false`) or as none (an exact product, `true`).
-    pub fn force_equivalents(&self, exact_gradient: bool) -> u32 {
-        self.forces
-            + if exact_gradient {
-                0
-            } else {
-                2 * self.gradients
-            }
-    }
-}
+use crate::{SchemeKind, SecondOrderSystem, State, StepCost};
 
 /// What a scheme has done since construction or [`Integrator::reset_counters`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -2,11 +2,6 @@
 
 use std::fmt;
 use std::str::FromStr;
-use std::sync::OnceLock;
-
-use crate::{
-    CentralDifference, Chin, ForestRuth, Integrator, Omf30, Omf32, Pc3, Pc4, Pc5, StepCost,
-};
 
 /// One of the explicit schemes, with a stable lowercase name (used in scene files and on the
 /// command line): `central-difference`, `pc3`, `pc4`, `pc5`, `chin`, `omf30`, `omf32`,
@@ -29,6 +24,29 @@ pub enum SchemeKind {
     Omf32,
     /// Forest & Ruth fourth-order scheme, 3 forces per step.
     ForestRuth,
+}
+
+/// Force and gradient evaluations a scheme makes per step, in steady state (a force
+/// evaluated at the end of one step and reused at the start of the next, "FSAL", counts once).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StepCost {
+    /// Force (acceleration) evaluations per step.
+    pub forces: u32,
+    /// Force-gradient products `G` per step.
+    pub gradients: u32,
+}
+
+impl StepCost {
+    /// Force evaluations per step counting each finite-difference gradient as two forces
+    /// (`exact_gradient = false`) or as none (an exact product, `true`).
+    pub fn force_equivalents(&self, exact_gradient: bool) -> u32 {
+        self.forces
+            + if exact_gradient {
+                0
+            } else {
+                2 * self.gradients
+            }
+    }
 }
 
 /// An unknown scheme name.
@@ -78,20 +96,6 @@ impl SchemeKind {
             .join(", ")
     }
 
-    /// A new integrator of this kind for `n` DOFs (buffers allocated once, here).
-    pub fn build(self, n: usize) -> Box<dyn Integrator> {
-        match self {
-            SchemeKind::CentralDifference => Box::new(CentralDifference::new(n)),
-            SchemeKind::Pc3 => Box::new(Pc3::new(n)),
-            SchemeKind::Pc4 => Box::new(Pc4::new(n)),
-            SchemeKind::Pc5 => Box::new(Pc5::new(n)),
-            SchemeKind::Chin => Box::new(Chin::new(n)),
-            SchemeKind::Omf30 => Box::new(Omf30::new(n)),
-            SchemeKind::Omf32 => Box::new(Omf32::new(n)),
-            SchemeKind::ForestRuth => Box::new(ForestRuth::new(n)),
-        }
-    }
-
     /// Force and gradient evaluations per step, in steady state.
     pub fn cost(self) -> StepCost {
         let (forces, gradients) = match self {
@@ -123,15 +127,6 @@ impl SchemeKind {
             SchemeKind::Chin | SchemeKind::Omf32 | SchemeKind::ForestRuth => 4,
         }
     }
-
-    /// The largest stable `h omega` on the undamped oscillator, computed from the spectral
-    /// radius of the one-step operator ([`crate::stability::stability_limit`]); computed once
-    /// per process and cached.
-    pub fn stability_limit(self) -> f64 {
-        static LIMITS: OnceLock<[f64; 8]> = OnceLock::new();
-        let limits = LIMITS.get_or_init(|| Self::ALL.map(crate::stability::stability_limit));
-        limits[Self::ALL.iter().position(|k| *k == self).expect("in ALL")]
-    }
 }
 
 impl fmt::Display for SchemeKind {
@@ -161,7 +156,6 @@ mod tests {
     fn names_round_trip_and_unknown_names_list_the_valid_ones() {
         for k in SchemeKind::ALL {
             assert_eq!(k.name().parse::<SchemeKind>().unwrap(), k);
-            assert_eq!(k.build(3).kind(), k);
         }
         let e = "verlet".parse::<SchemeKind>().unwrap_err();
         let msg = e.to_string();

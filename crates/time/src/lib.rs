@@ -89,6 +89,7 @@ macro_rules! core_bookkeeping {
     };
 }
 
+mod by_kind;
 mod central_difference;
 mod chin;
 mod forest_ruth;
@@ -107,8 +108,8 @@ pub mod systems;
 pub use central_difference::CentralDifference;
 pub use chin::Chin;
 pub use forest_ruth::{ForestRuth, forest_ruth_coefficients};
-pub use integrator::{Counters, Integrator, SchemeState, SchemeStateError, StepCost};
-pub use kind::{ParseSchemeError, SchemeKind};
+pub use integrator::{Counters, Integrator, SchemeState, SchemeStateError};
+pub use kind::{ParseSchemeError, SchemeKind, StepCost};
 pub use omf30::{Omf30, omf30_lambda};
 pub use omf32::{OMF32_LAMBDA, OMF32_RHO, OMF32_THETA, OMF32_VTH, OMF32_XI, Omf32};
 pub use pc::{GearPc, Pc3, Pc4, Pc5, gear_alpha};

@@ -22,6 +22,8 @@
 //! and bisection to 1e-12. Some schemes are stable again in windows above it (OMF32 just
 //! above its limit, PC-4 near `h = 1.1`): the limit is the first failure.
 
+use std::sync::OnceLock;
+
 use nalgebra::DMatrix;
 
 use crate::systems::Oscillator;
@@ -95,6 +97,17 @@ pub fn spectral_radius(kind: SchemeKind, h: f64) -> f64 {
             .iter()
             .map(|z| z.norm())
             .fold(0.0, f64::max)
+    }
+}
+
+impl SchemeKind {
+    /// The largest stable `h omega` on the undamped oscillator, computed from the spectral
+    /// radius of the one-step operator ([`stability_limit`]); computed once per process and
+    /// cached.
+    pub fn stability_limit(self) -> f64 {
+        static LIMITS: OnceLock<[f64; 8]> = OnceLock::new();
+        let limits = LIMITS.get_or_init(|| Self::ALL.map(stability_limit));
+        limits[Self::ALL.iter().position(|k| *k == self).expect("in ALL")]
     }
 }
 

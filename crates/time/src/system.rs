@@ -187,34 +187,3 @@ pub fn finite_difference_gradient<S: SecondOrderSystem + ?Sized>(
     system.acceleration(t, &work.x, v, &mut work.a);
     crate::kernels::sub_scale(g, &work.a, 1.0 / e);
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::systems::LinearChain;
-
-    #[test]
-    fn finite_difference_gradient_matches_the_exact_product_on_a_chain() {
-        // Linear forces: the central difference is exact up to round-off, eps |x| / (e |a|)
-        // = sqrt(eps) ~ 1.5e-8 relative to |G| with e = sqrt(eps) |x| / |a|: tolerance 1e-6.
-        let n = 50;
-        let mut chain = LinearChain::new(n, 3.0);
-        let x: Vec<f64> = (0..n)
-            .map(|i| (i as f64 * 0.7).sin() + 0.1 * i as f64)
-            .collect();
-        let v = vec![0.0; n];
-        let mut a = vec![0.0; n];
-        chain.acceleration(0.0, &x, &v, &mut a);
-        let mut work = GradientWork::new(n);
-        let mut exact = vec![0.0; n];
-        chain.force_gradient(0.0, &x, &v, &a, &mut exact, &mut work);
-        let mut fd = vec![0.0; n];
-        finite_difference_gradient(&mut chain, 0.0, &x, &v, &a, &mut fd, &mut work);
-        let scale = exact.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
-        let err = exact
-            .iter()
-            .zip(&fd)
-            .fold(0.0_f64, |m, (e, f)| m.max((e - f).abs()));
-        assert!(err <= 1e-6 * scale, "error {err} of {scale}");
-    }
-}

@@ -17,6 +17,7 @@
 mod active;
 mod charts;
 mod ladder;
+mod measures;
 mod probes;
 mod reference;
 mod report;

@@ -35,7 +35,7 @@ use fdem_solver::driver::{self, RunOptions};
 use fdem_time::SchemeKind;
 use serde::Serialize;
 
-use super::reference::read_history;
+use super::measures::read_history;
 use super::seeds::top_mode_velocity;
 
 /// Length of a stability probe run, in units of `omega_top t` (796 periods of the probed

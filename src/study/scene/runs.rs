@@ -21,7 +21,7 @@ use fdem_solver::driver::{self, RunOptions};
 use fdem_time::SchemeKind;
 use serde::Serialize;
 
-use super::reference::{analytical_error, read_csv_column};
+use super::measures::{analytical_error, read_csv_column};
 use super::side_file::Analytical;
 
 /// A run whose final energy exceeds this many times the energy put in is unstable.
