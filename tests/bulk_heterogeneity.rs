@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value, json};
 
 use crate::common;
+use fdem_solver::input::scene::BulkHeterogeneity;
 use fdem_solver::output::FrameData;
-use fdem_solver::scene::BulkHeterogeneity;
 
 /// Cells per side of the square block (2 N^2 = 10 082 triangles).
 const N: usize = 71;

@@ -168,7 +168,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
         let set = l.fracturing.set.clone().unwrap();
         let tris = set.triangles.clone();
         let (_, bonded, _) =
-            fdem_solver::fracture_stage::FractureStage::new(set, &l.model, None, saved, false);
+            fdem_solver::stages::fracture::FractureStage::new(set, &l.model, None, saved, false);
         let initial = bonded.lock().unwrap().initial.clone();
         (tris, initial)
     };
@@ -205,14 +205,14 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
 /// of `JointState::new` called on their own, bit for bit.
 #[test]
 fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
-    use fdem_solver::system::ForceContribution;
+    use fdem_solver::stages::system::ForceContribution;
     let dir = common::temp_dir("stage-setup");
     std::fs::create_dir_all(&dir).unwrap();
     let l = driver::load(&scene(&dir)).unwrap();
     let set = || l.fracturing.set.clone().unwrap();
     let s = set();
     let mut want_pairs = Vec::new();
-    fdem_solver::star_bonds::StarBonds::with_pairs(
+    fdem_solver::stages::star_bonds::StarBonds::with_pairs(
         &s.nodes,
         &s.triangles,
         l.model.n_nodes(),
@@ -226,7 +226,7 @@ fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
             .build()
             .unwrap();
         let (stage, bonded, _) = pool.install(|| {
-            fdem_solver::fracture_stage::FractureStage::new(set(), &l.model, None, None, false)
+            fdem_solver::stages::fracture::FractureStage::new(set(), &l.model, None, None, false)
         });
         assert_eq!(
             bonded.lock().unwrap().initial,

@@ -1,6 +1,6 @@
 //! A mutation fuzzer for the three readers of user input, on stable Rust, in the test suite:
 //! the Gmsh reader and the JSON mesh reader (`fdem_mesh::read_mesh_bytes`), and the scene
-//! parser with everything `fdem_solver::load` does after it (read the meshes, explode the
+//! parser with everything `fdem_solver::problem::load` does after it (read the meshes, explode the
 //! fracture regions, build the model, the stable step).
 //!
 //! Inputs are seed files of the repository (meshes/*.msh in Gmsh 2.2, 4.1 ASCII and 4.1
@@ -523,7 +523,7 @@ fn fuzz_regressions_are_answered_without_panics_or_hangs() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// `fdem_solver::load` on a scene file where it lies, in a worker thread under
+/// `fdem_solver::problem::load` on a scene file where it lies, in a worker thread under
 /// `catch_unwind`, waiting at most `limit`.
 fn run_scene_in_place(path: PathBuf, limit: Duration) -> Verdict {
     let (tx, rx) = mpsc::channel();

@@ -20,7 +20,7 @@
 
 use std::path::{Path, PathBuf};
 
-use fdem_solver::scene::Scene;
+use fdem_solver::input::scene::Scene;
 use serde_json::json;
 
 use crate::common;

@@ -456,7 +456,7 @@ fn bad_initial_stress_is_refused_with_its_path() {
     v["initial_stress"] =
         json!([{"body": "block", "groups": ["rock"], "uniform": [0.0, 0.0, 0.0]}]);
     let sc = fdem_solver::Scene::from_json(&v.to_string(), Path::new("s.json")).unwrap();
-    let paths: Vec<String> = fdem_solver::resolve::reference_fields(&sc)
+    let paths: Vec<String> = fdem_solver::input::resolve::reference_fields(&sc)
         .into_iter()
         .map(|f| f.path)
         .collect();

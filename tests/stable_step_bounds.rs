@@ -8,7 +8,7 @@ use crate::common;
 
 use std::path::Path;
 
-use fdem_solver::system::SceneSystem;
+use fdem_solver::stages::system::SceneSystem;
 use fdem_time::SecondOrderSystem;
 
 /// Highest `omega` of the composed system at its reference state (power iteration, 1500
@@ -89,7 +89,7 @@ fn state_at(scene: &Path, t: f64) -> fdem_solver::Loaded {
     }
     if let Some(c) = &mut l.scene.contact {
         for w in &mut c.walls {
-            let r = fdem_solver::model::ramp_integral(t, w.ramp);
+            let r = fdem_solver::problem::model::ramp_integral(t, w.ramp);
             w.point = [
                 w.point[0] + w.velocity[0] * r,
                 w.point[1] + w.velocity[1] * r,

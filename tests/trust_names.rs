@@ -1,6 +1,6 @@
 //! Names and derived quantities: every name a scene refers to is resolved in one place
-//! (`fdem_solver::resolve`), every derived quantity of a run is checked in one place
-//! (`fdem_solver::limits`), the step count takes whole quotients, and history columns are
+//! (`fdem_solver::input::resolve`), every derived quantity of a run is checked in one place
+//! (`fdem_solver::problem::limits`), the step count takes whole quotients, and history columns are
 //! unique. Bad input: `fdem check` and `fdem run` exit 2, name the JSON path and the valid
 //! names, and write nothing.
 
@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use fdem_solver::resolve::{RefKind, reference_fields};
+use fdem_solver::input::resolve::{RefKind, reference_fields};
 use serde_json::{Value, json};
 
 /// Runs the fdem binary with `args`, killed after `limit` (then the code is -9); returns (exit

@@ -9,7 +9,7 @@ use crate::common;
 use std::path::Path;
 
 use fdem_solver::load;
-use fdem_solver::system::SceneSystem;
+use fdem_solver::stages::system::SceneSystem;
 use fdem_time::SecondOrderSystem;
 
 /// The scene system of an example with its contact and fracture stages attached.

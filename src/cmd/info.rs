@@ -8,7 +8,7 @@ use anyhow::Result;
 pub fn info(mesh: &Path) -> Result<()> {
     println!(
         "{}",
-        fdem_solver::mesh_adapter::describe_file(mesh).map_err(crate::bad_input)?
+        fdem_solver::problem::mesh_adapter::describe_file(mesh).map_err(crate::bad_input)?
     );
     Ok(())
 }

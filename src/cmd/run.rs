@@ -70,7 +70,7 @@ pub(super) fn open_resumed(
     loaded: &mut fdem_solver::Loaded,
     dir: &Path,
 ) -> Result<Option<String>, fdem_solver::RunError> {
-    if loaded.scene.analysis == fdem_solver::scene::Analysis::Static {
+    if loaded.scene.analysis == fdem_solver::input::scene::Analysis::Static {
         return Ok(None);
     }
     let cp = driver::open_checkpoint(loaded, dir)?;
@@ -152,7 +152,7 @@ pub fn run(args: RunArgs) -> Result<()> {
         raw,
         checkpoint_every,
         // a static solve is one step: a signal stops it at once, as by default
-        stop: if loaded.scene.analysis == fdem_solver::scene::Analysis::Static {
+        stop: if loaded.scene.analysis == fdem_solver::input::scene::Analysis::Static {
             None
         } else {
             Some(stop_on_signals()?)
@@ -212,7 +212,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     println!("results in {}", out.display());
     // A relaxation that did not reach its tolerance: its output is written, and the exit
     // code (3) says the goal was not reached.
-    if let Some(e) = fdem_solver::diagnosis::not_converged(&loaded.scene, summary) {
+    if let Some(e) = fdem_solver::run::diagnosis::not_converged(&loaded.scene, summary) {
         return Err(e.into());
     }
     Ok(())

@@ -20,8 +20,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use fdem_solver::driver::{self, Progress, RunOptions};
+use fdem_solver::input::scene::Analysis;
 use fdem_solver::output::FrameData;
-use fdem_solver::scene::Analysis;
 use fdem_solver::{RunError, SceneError};
 
 use crate::{arrays, errors};
@@ -327,7 +327,7 @@ fn execute(
     })?;
     Ok(Done {
         describe: l.describe(),
-        not_converged: fdem_solver::diagnosis::not_converged(&l.scene, &outcome.summary),
+        not_converged: fdem_solver::run::diagnosis::not_converged(&l.scene, &outcome.summary),
         summary,
         frame: outcome.last_frame,
         joint_state: outcome.joint_state,

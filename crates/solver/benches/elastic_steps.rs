@@ -7,9 +7,10 @@
 use std::path::Path;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use fdem_solver::Scene;
 use fdem_solver::driver::{Loaded, RunOptions, run_outcome, stable_step};
-use fdem_solver::model::MeshInput;
-use fdem_solver::{Scene, mesh_adapter, model};
+use fdem_solver::problem::model::MeshInput;
+use fdem_solver::problem::{mesh_adapter, model};
 
 const N: usize = 708;
 const STEPS: u64 = 20;
@@ -58,8 +59,8 @@ fn loaded() -> Loaded {
     let file = Path::new("bench.json");
     let scene = Scene::from_json(&scene_text(), file).unwrap();
     let mesh = grid();
-    let names = fdem_solver::resolve::MeshNames::of_input(&mesh, "grid");
-    let refs = fdem_solver::resolve::resolve(&scene, file, &[names]).unwrap();
+    let names = fdem_solver::input::resolve::MeshNames::of_input(&mesh, "grid");
+    let refs = fdem_solver::input::resolve::resolve(&scene, file, &[names]).unwrap();
     let model = model::build(&scene, file, &[mesh], &refs).unwrap();
     let elements = mesh_adapter::elements(&model, 0.0).unwrap();
     let scheme = fdem_time::SchemeKind::CentralDifference;

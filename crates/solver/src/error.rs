@@ -210,7 +210,7 @@ pub enum RunError {
         /// Simulated time [s].
         time: f64,
         /// What was found, its likely cause in the input, and (last line) the fix for that
-        /// cause (`crate::diagnosis`).
+        /// cause (`crate::run::diagnosis`).
         message: String,
     },
     /// A relaxation that did not reach its tolerance within the duration (its output and

@@ -29,50 +29,35 @@
 //! - [`output`]: `.pvd` + zlib `.vtu` frames, CSV histories, all written atomically.
 
 pub mod checkpoint;
-pub mod contact_stage;
-pub mod diagnosis;
 pub mod distributed;
 pub mod error;
-pub mod estimate;
-pub mod fracture_stage;
 pub mod input;
-pub mod ledger;
 pub mod output;
 pub mod problem;
 pub mod run;
 pub mod stages;
-pub mod star_bonds;
-pub mod static_solve;
-pub mod summary;
-pub mod system;
-
-pub use input::{mesh_input, resolve, scene, schemes};
-pub use problem::{
-    cracks, input_checks, joint_assign, limits, load, mesh_adapter, model, prestress,
-    static_checks, time_history,
-};
 
 pub use driver::{Loaded, RunOptions, Summary, load, run};
 
 /// The entry points of a run under the paths callers have used: loading a scene, running it,
-/// `fdem check`'s report. Each item lives in [`load`](mod@crate::load),
-/// [`run`](mod@crate::run), [`summary`](crate::summary), [`estimate`](crate::estimate) or
-/// [`limits`](crate::limits).
+/// `fdem check`'s report. Each item lives in [`load`](mod@crate::problem::load),
+/// [`run`](mod@crate::run), [`summary`](crate::run::summary), [`estimate`](crate::run::estimate) or
+/// [`limits`](crate::problem::limits).
 pub mod driver {
-    pub use crate::estimate::{
+    pub use crate::output::{frame_from_parts, make_frame};
+    pub use crate::problem::load::{Loaded, load, load_text, step_count};
+    pub use crate::problem::stable_step::stable_step;
+    pub use crate::run::estimate::{
         RELEASED_FLOOR, RELEASED_FRACTION, ReleasedContact, RunTimeEstimate, StepSample,
         check_report, expected_steps, run_time_estimate,
     };
-    pub use crate::ledger::Energies;
-    pub use crate::load::{Loaded, load, load_text, step_count};
-    pub use crate::output::{frame_from_parts, make_frame};
-    pub use crate::problem::stable_step::stable_step;
+    pub use crate::run::ledger::Energies;
+    pub use crate::run::summary::{Outcome, Summary};
     pub use crate::run::{
         ENERGY_GROWTH_BOUND, Progress, RunOptions, describe_resume, energy_growth, open_checkpoint,
         run, run_distributed, run_outcome,
     };
-    pub use crate::summary::{Outcome, Summary};
 }
 pub use error::{RunError, SceneError};
 pub use fdem_mesh::{excerpt, shorten, shorten_to};
-pub use scene::Scene;
+pub use input::scene::Scene;

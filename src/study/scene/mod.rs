@@ -192,7 +192,7 @@ fn schemes(names: &[String]) -> Result<Vec<SchemeKind>> {
 fn prepare(args: &SceneArgs, side: Option<SideFile>, stem: &str) -> Result<Study> {
     let validate = |scene: &Path| -> Result<()> {
         let l0 = driver::load(scene)?;
-        if l0.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
+        if l0.scene.analysis != fdem_solver::input::scene::Analysis::Dynamic {
             return Err(crate::bad_input(format!(
                 "{}: the study needs a dynamic analysis with a positive duration",
                 args.scene.display()

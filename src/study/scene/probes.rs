@@ -124,8 +124,8 @@ pub(super) fn probe_start(
                     let h = w
                         .history
                         .as_ref()
-                        .map(fdem_solver::time_history::History::new);
-                    let r = fdem_solver::time_history::integral(t, w.ramp, h.as_ref());
+                        .map(fdem_solver::problem::time_function::History::new);
+                    let r = fdem_solver::problem::time_function::integral(t, w.ramp, h.as_ref());
                     [w.velocity[0] * r, w.velocity[1] * r]
                 })
                 .collect()
@@ -197,7 +197,7 @@ pub(super) fn stability_probe(
             .filter(|&(d, a)| !l.model.constrained[d] && *a != 0.0)
             .map(|(d, a)| (d as u32, -l.model.mass[d / 2] * a))
             .collect();
-        l.model.loads = vec![fdem_solver::model::RampedLoad {
+        l.model.loads = vec![fdem_solver::problem::model::RampedLoad {
             ramp: 0.0,
             forces,
             history: None,
@@ -227,7 +227,7 @@ pub(super) fn stability_probe(
     // every step: sampled more sparsely, the fast oscillation of `K + U` near a scheme's
     // limit aliases into slow beats that bias the means of the fifths by ~1 %
     l.scene.histories.every = Some(1);
-    l.scene.histories.probes = vec![fdem_solver::scene::Probe::Energy];
+    l.scene.histories.probes = vec![fdem_solver::input::scene::Probe::Energy];
     let options = RunOptions {
         out_dir: out.to_path_buf(),
         raw: false,

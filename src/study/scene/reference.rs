@@ -11,9 +11,6 @@
 //! The primary `error` is the analytical one when declared, else the measure's when declared,
 //! else the displacements' against the reference.
 
-use std::path::Path;
-
-use anyhow::Result;
 use fdem_time::SchemeKind;
 
 use super::runs::{Raw, Run};

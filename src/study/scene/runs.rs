@@ -77,7 +77,7 @@ pub(super) fn one_run(
     l.scene.integrator.scheme = scheme.name().into();
     l.scene.output.frames = 0;
     let duration = l.scene.duration.unwrap_or(0.0);
-    if duration <= 0.0 || l.scene.analysis != fdem_solver::scene::Analysis::Dynamic {
+    if duration <= 0.0 || l.scene.analysis != fdem_solver::input::scene::Analysis::Dynamic {
         return Err(crate::bad_input(format!(
             "{}: the study needs a dynamic analysis with a positive duration",
             scene.display()

@@ -30,7 +30,8 @@ pub(super) fn top_mode_velocity(
 ) -> Result<ProbeSeeds> {
     use fdem_time::SecondOrderSystem;
     let n = l.model.n_nodes();
-    let mut sys = fdem_solver::system::SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
+    let mut sys =
+        fdem_solver::stages::system::SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     sys.set_timing(false);
     sys.model.loads.clear();
     sys.model.gravity = None;

@@ -6,7 +6,7 @@ use fdem_mesh::Elements;
 
 use super::ghosts::Ghosts;
 use super::partition::rcb;
-use crate::model::Model;
+use crate::problem::model::Model;
 
 /// The decomposition of a model over `size` ranks, as seen from `rank`. Every rank derives
 /// the same decomposition from the same model, so the lengths of all messages are known to

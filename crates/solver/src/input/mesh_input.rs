@@ -1,6 +1,6 @@
 //! One body's mesh as the solver needs it: nodes, triangles and the named physical groups,
 //! filled by the mesh adapter from a Gmsh or JSON mesh; names are resolved against it
-//! ([`crate::resolve`]) and the model is assembled from it ([`crate::model`]).
+//! ([`crate::input::resolve`]) and the model is assembled from it ([`crate::problem::model`]).
 
 use std::collections::BTreeMap;
 

@@ -21,8 +21,8 @@ use std::path::Path;
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::mesh_input::MeshInput;
-use crate::scene::{BoundaryCondition, FractureSection, Probe, Scene};
+use crate::input::mesh_input::MeshInput;
+use crate::input::scene::{BoundaryCondition, FractureSection, Probe, Scene};
 
 /// The names a mesh offers to a scene.
 #[derive(Debug, Clone, Default)]
@@ -398,7 +398,7 @@ fn walk_cracks<'a>(
 
 /// The names of `fracture.interfaces`, for [`walk`].
 fn walk_interfaces<'a>(
-    fr: &'a crate::scene::FractureSection,
+    fr: &'a crate::input::scene::FractureSection,
     f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
 ) -> Result<(), SceneError> {
     for (i, it) in fr.interfaces.iter().enumerate() {

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::input::arrays::ArraySet;
-use crate::model::Model;
+use crate::problem::model::Model;
 
 /// One frame: node and triangle arrays in SI units. Points are the current positions.
 #[derive(Debug, Clone, Default, Serialize)]

@@ -53,7 +53,7 @@ pub fn laws(section: &ContactSection, scene: &Scene, model: &Model) -> ContactLa
             laws.set(i, j, contact_law(&section.default, e, th));
         }
     }
-    // (the pair names were resolved at load, `crate::resolve`: every one names a body)
+    // (the pair names were resolved at load, `crate::input::resolve`: every one names a body)
     let index = |name: &str| {
         scene
             .bodies

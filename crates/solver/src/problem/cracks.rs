@@ -1,4 +1,4 @@
-//! Pre-existing cracks (`fracture.cracks`, [`crate::scene::cracks`]): each crack's edge group
+//! Pre-existing cracks (`fracture.cracks`, [`crate::input::scene::cracks`]): each crack's edge group
 //! resolved to joints of its body's fracture region at load time ([`resolve`]), and the joint
 //! state a run starts from ([`initial_state`]): the fresh state at the reference positions
 //! with the crack's joints broken (damage 1, no force, no time of failure). The fracture
@@ -20,14 +20,14 @@ use fdem_fracture::{Joint, JointHistory, JointState};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::model::Model;
+use crate::input::scene::Scene;
+use crate::problem::model::Model;
 use crate::problem::{CrackJoints, Fracturing};
-use crate::scene::Scene;
 
 /// Resolves every crack of the scene to joints of its body, after the fracturing bodies were
 /// exploded (`meshes[i]` of `bodies[i]`, as exploded; `joints`: the bodies' joints,
 /// [`crate::problem::Fracturing::bodies`]). The names were resolved before
-/// ([`crate::resolve`]): the group is an edge group of the crack's body, or of the only body
+/// ([`crate::input::resolve`]): the group is an edge group of the crack's body, or of the only body
 /// that has it. Errors: a crack without contact between its faces, a crack edge that is not a
 /// joint.
 pub fn resolve(

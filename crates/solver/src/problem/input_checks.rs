@@ -28,8 +28,8 @@ use std::path::Path;
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::resolve::Resolved;
-use crate::scene::{BoundaryCondition, Scene};
+use crate::input::resolve::Resolved;
+use crate::input::scene::{BoundaryCondition, Scene};
 
 /// An overlap deeper than this fraction of the smaller mean edge length of the two bodies is
 /// refused (bodies that touch along a shared boundary, up to round-off, are not overlapping).
@@ -491,9 +491,9 @@ pub fn check_initial_overlap(
 pub fn check_static_range(
     scene: &Scene,
     file: &Path,
-    model: &crate::model::Model,
+    model: &crate::problem::model::Model,
 ) -> Result<(), SceneError> {
-    if scene.analysis != crate::scene::Analysis::Static {
+    if scene.analysis != crate::input::scene::Analysis::Static {
         return Ok(());
     }
     let young = (model.materials.iter())

@@ -21,9 +21,9 @@ use fdem_fracture::{FractureError, Joint, JointMaterialInput};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::resolve::Resolved;
-use crate::scene::FractureSection;
-use crate::scene::joint_materials::NamedMaterial;
+use crate::input::resolve::Resolved;
+use crate::input::scene::FractureSection;
+use crate::input::scene::joint_materials::NamedMaterial;
 
 /// The index of a region's material in the material list.
 fn region_material(section: &FractureSection, ri: usize) -> u32 {

@@ -16,9 +16,9 @@ use crate::input::scene::Scene;
 use crate::problem::model::Model;
 
 /// Explodes body `bi`'s mesh when fracture regions name the body (as
-/// [`crate::resolve::resolve`] found them in `refs`): the union of their groups (the whole
+/// [`crate::input::resolve::resolve`] found them in `refs`): the union of their groups (the whole
 /// body when one names none). Records its joints (local node and triangle ids, the material
-/// of each from [`crate::joint_assign::assign`]) in `bodies`
+/// of each from [`crate::problem::joint_assign::assign`]) in `bodies`
 /// ([`crate::problem::Fracturing::bodies`]); returns the mesh the body uses.
 pub fn explode_body(
     scene: &Scene,
@@ -55,13 +55,13 @@ pub fn explode_body(
         .iter()
         .map(|e| e.tris.map(|t| t.0))
         .collect();
-    let body = crate::joint_assign::BodyMeshes {
+    let body = crate::problem::joint_assign::BodyMeshes {
         index: bi,
         label,
         original: &mesh,
         exploded: &ex.mesh,
     };
-    let materials = crate::joint_assign::assign(section, file, refs, &body, &tris)?;
+    let materials = crate::problem::joint_assign::assign(section, file, refs, &body, &tris)?;
     // in parallel, in edge order
     let joints = (ex.internal_edges.par_iter())
         .zip(materials)
@@ -120,7 +120,7 @@ pub fn joint_set(
         .first()
         .map_or(1.0, |(bi, _)| scene.bodies[*bi].thickness);
     let list = section.material_list();
-    let rows = crate::joint_assign::rows(file, &list, &mut joints)?;
+    let rows = crate::problem::joint_assign::rows(file, &list, &mut joints)?;
     JointSet::new(&joints, &rows, model.n_nodes(), th)
         .map(Some)
         .map_err(|e| {

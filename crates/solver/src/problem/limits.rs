@@ -28,9 +28,9 @@ use fdem_mesh::{Elements, TriId};
 use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
-use crate::model::Model;
+use crate::input::scene::{Analysis, Probe, Scene, TimeStep};
+use crate::problem::model::Model;
 use crate::problem::stable_step::{FrequencyTerms, stable_step, step_count};
-use crate::scene::{Analysis, Probe, Scene, TimeStep};
 
 /// The most steps a run may take: `1e10`. Far above any useful run (fdem steps about 1.5e7
 /// triangles per second, so 1e10 steps of even a 100-triangle mesh take 18 hours), and it
@@ -46,6 +46,10 @@ pub const MIN_TIME_STEP: f64 = 1e-18;
 /// The most bytes of history rows a run may write: 2 GiB (`histories.csv` is held in memory
 /// until it is written; `walls.csv` goes to disk as it runs). A row value takes about 25 bytes.
 pub const MAX_HISTORY_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// The energy terms of a history row with the `energy` probe (the run's energy ledger,
+/// `crate::run::ledger::Energies::columns`).
+pub const ENERGY_COLUMNS: usize = 24;
 
 /// What [`time_steps`] needs.
 pub struct StepInputs<'a> {
@@ -386,7 +390,7 @@ fn check_history_rows(inp: &StepInputs, n_steps: u64) -> Result<(), SceneError> 
         .iter()
         .map(|p| {
             if matches!(p, Probe::Energy) {
-                crate::ledger::N_COLUMNS
+                ENERGY_COLUMNS
             } else {
                 2
             }
@@ -514,7 +518,7 @@ pub fn step_driver(inp: &StepInputs) -> StepDriver {
     let (path, p) = scene
         .fracture
         .as_ref()
-        .and_then(|f| crate::scene::joint_materials::largest_penalty(&f.material_list()))
+        .and_then(|f| crate::input::scene::joint_materials::largest_penalty(&f.material_list()))
         .unwrap_or(("fracture.material.penalty_normal".into(), f64::NAN));
     StepDriver {
         what: format!("the joint penalty {p:.3e} Pa gives a frequency bound of {w_j:.3e} rad/s"),

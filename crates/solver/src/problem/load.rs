@@ -9,7 +9,7 @@
 //! `h_limit` is an error. The step is then shortened so that a whole number of steps spans
 //! the duration ([`step_count`]: `duration / h` within a relative 1e-12 of a whole number is
 //! that number). The frequency bound, the steps, the frames and the history rows are checked
-//! in [`crate::limits`] before anything is written.
+//! in [`crate::problem::limits`] before anything is written.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,15 +18,15 @@ use fdem_mesh::{Elements, Mesh};
 use fdem_time::SchemeKind;
 
 use crate::error::SceneError;
-use crate::input_checks;
-use crate::limits::{self, StepInputs};
-use crate::mesh_adapter;
-use crate::model::{self, Model};
+use crate::input::resolve::MeshNames;
+use crate::input::scene::{Analysis, Scene};
 use crate::problem::Fracturing;
+use crate::problem::input_checks;
+use crate::problem::limits::{self, StepInputs};
+use crate::problem::mesh_adapter;
+use crate::problem::model::{self, Model};
 use crate::problem::stable_step::{self, FrequencyTerms};
-use crate::resolve::MeshNames;
-use crate::scene::{Analysis, Scene};
-use crate::static_checks;
+use crate::problem::static_checks;
 
 /// A scene with its meshes and model, ready to run.
 pub struct Loaded {
@@ -60,11 +60,11 @@ pub struct Loaded {
     pub fracturing: Fracturing,
     /// A saved fracture state to start from instead of the fresh one (not part of the scene
     /// file): the joints' histories (damage, shear secant, mode indicator, energy books),
-    /// which are broken and when, e.g. a run's `Outcome::joint_state` (`crate::summary`).
+    /// which are broken and when, e.g. a run's `Outcome::joint_state` (`crate::run::summary`).
     /// The fracture stage adopts it when attached: the broken joints stay broken and the
     /// pairs their breaks and softenings released are contact couples from the first force
     /// evaluation. `None` (as loaded): the fresh state at the model's reference positions,
-    /// with the pre-existing cracks broken ([`crate::cracks::initial_state`]).
+    /// with the pre-existing cracks broken ([`crate::problem::cracks::initial_state`]).
     pub initial_joint_state: Option<fdem_fracture::JointState>,
     /// The terms of the a-priori frequency bound of the loaded model; `omega_max` is their
     /// combination ([`FrequencyTerms::omega_max`]).
@@ -76,9 +76,9 @@ pub struct Loaded {
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
 ///
-/// Order: the scene, the meshes, then every name the scene refers to ([`crate::resolve`]),
+/// Order: the scene, the meshes, then every name the scene refers to ([`crate::input::resolve`]),
 /// then the fracturing bodies are exploded and the model built, and last the derived
-/// quantities (frequency bound, steps, frames, history rows: [`crate::limits`]) are checked.
+/// quantities (frequency bound, steps, frames, history rows: [`crate::problem::limits`]) are checked.
 /// The file is read and handed to [`load_text`].
 pub fn load(file: &Path) -> Result<Loaded, SceneError> {
     let started = std::time::Instant::now();
@@ -118,7 +118,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
             ..MeshNames::of(m)
         })
         .collect();
-    let refs = crate::resolve::resolve(&scene, file, &names)?;
+    let refs = crate::input::resolve::resolve(&scene, file, &names)?;
     input_checks::check_loaded_edges(&scene, file, &read, &refs)?;
     input_checks::check_initial_overlap(&scene, file, &read, &refs)?;
     let warnings = input_checks::unused_materials(&scene);
@@ -131,7 +131,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         meshes.push(mesh);
     }
     input_checks::check_fracture_acts(&scene, file, &refs, &bodies)?;
-    let cracks = crate::cracks::resolve(&scene, file, &meshes, &bodies)?;
+    let cracks = crate::problem::cracks::resolve(&scene, file, &meshes, &bodies)?;
     let mut model = model::build(&scene, file, &inputs, &refs)?;
     if scene.analysis == Analysis::Static {
         static_checks::check_supports(&scene, file, &model)?;
@@ -175,7 +175,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
     if let Some(target) = ms.as_ref().and_then(|m| m.target_step) {
         // the factor that gives the target step: the bounds fall as 1 / sqrt(factor)
         let h = scene.integrator.safety * timed.steps.dt_limit;
-        let f = crate::scene::mass_scaling::factor_for_target(target, h, file)?;
+        let f = crate::input::scene::mass_scaling::factor_for_target(target, h, file)?;
         limits::check_mass_factor(f, "mass_scaling.target_step", &model, file)?;
         model.scale_masses(f);
         timed = parts.timed(&model, &mut fracturing)?;
@@ -211,7 +211,7 @@ struct Parts<'a> {
     scene: &'a Scene,
     file: &'a Path,
     meshes: &'a [Mesh],
-    refs: &'a crate::resolve::Resolved,
+    refs: &'a crate::input::resolve::Resolved,
     scheme: SchemeKind,
 }
 
@@ -237,7 +237,7 @@ impl Parts<'_> {
                 message,
                 fix: "check the materials and the mesh".into(),
             })?;
-        elements.set_initial_stress(crate::prestress::field(
+        elements.set_initial_stress(crate::problem::prestress::field(
             scene,
             file,
             model,
@@ -250,7 +250,7 @@ impl Parts<'_> {
             // refuse at load a joint that the initial stress would start broken
             let s0 = &elements.initial_stress;
             let bodies = &fracturing.bodies;
-            crate::prestress::prestress_joints(scene, file, model, s0, set, bodies)?;
+            crate::problem::prestress::prestress_joints(scene, file, model, s0, set, bodies)?;
         }
         let frequency = FrequencyTerms::of(scene, model, &elements, fracturing.set.as_ref());
         let omega_max = frequency.omega_max();

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use fdem_mesh::{ElasticLaw, Elements, Material, Mesh, PlaneKind};
 
-use crate::mesh_input::MeshInput;
-use crate::model::Model;
-use crate::scene::{Law, MaterialSpec, Plane};
+use crate::input::mesh_input::MeshInput;
+use crate::input::scene::{Law, MaterialSpec, Plane};
+use crate::problem::model::Model;
 
 /// Reads a mesh file (Gmsh `.msh` or JSON) with the mesh crate.
 pub fn read(path: &Path) -> Result<Mesh, String> {

@@ -3,7 +3,7 @@
 //! as it was read:
 //!
 //! - [`model`]: all bodies in one node numbering, constraints, consistent nodal loads;
-//!   [`mesh_adapter`]: the meshes read and the elements built; [`time_history`]: the factor
+//!   [`mesh_adapter`]: the meshes read and the elements built; [`time_function`]: the factor
 //!   of a condition in time.
 //! - [`Fracturing`]: the joints of the exploded bodies ([`joint_assign`]: their materials),
 //!   the pre-existing cracks resolved to joints ([`cracks`]), the joint set, prestressed by the
@@ -25,7 +25,7 @@ pub mod prestress;
 pub mod stable_step;
 pub mod static_checks;
 pub mod strains;
-pub mod time_history;
+pub mod time_function;
 
 use fdem_fracture::{Joint, JointSet};
 

@@ -10,22 +10,22 @@
 //! - gravity `g`: `m_i g` on node `i` (lumped mass `m_i = sum rho A0 t / 3`).
 //!
 //! Each load is scaled by its ramp `min(1, t / ramp)` (1 when `ramp` = 0), or by its time
-//! history ([`crate::time_history`]).
+//! history ([`crate::problem::time_function`]).
 
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
 use crate::error::SceneError;
-pub use crate::mesh_input::MeshInput;
-use crate::resolve::Resolved;
-use crate::scene::{BoundaryCondition, HistorySpec, MaterialSpec, Scene};
-use crate::time_history::{self, History};
-pub use crate::time_history::{ramp_factor, ramp_integral};
+pub use crate::input::mesh_input::MeshInput;
+use crate::input::resolve::Resolved;
+use crate::input::scene::{BoundaryCondition, HistorySpec, MaterialSpec, Scene};
+use crate::problem::time_function::{self, History};
+pub use crate::problem::time_function::{ramp_factor, ramp_integral};
 
 /// A strain estimate above this (50 %) marks an input as far too large for the material: the
-/// constant-strain triangles represent strains well below 1 (`crate::diagnosis`, the initial
-/// stress's check in `crate::prestress`).
+/// constant-strain triangles represent strains well below 1 (`crate::run::diagnosis`, the initial
+/// stress's check in `crate::problem::prestress`).
 pub const LARGE_STRAIN: f64 = 0.5;
 
 /// A load with a ramp or a time history: nodal forces (DOF, value) at full strength (factor 1).
@@ -42,7 +42,7 @@ pub struct RampedLoad {
 impl RampedLoad {
     /// The factor on the forces at time `t`.
     pub fn factor(&self, t: f64) -> f64 {
-        time_history::factor(t, self.ramp, self.history.as_deref())
+        time_function::factor(t, self.ramp, self.history.as_deref())
     }
 
     /// The factor of the static solve and of the relaxation's load scale: 1 with a ramp (the
@@ -74,13 +74,13 @@ impl PrescribedDof {
         let h = self.history.as_deref();
         if self.displacement {
             (
-                self.velocity * time_history::factor(t, self.ramp, h),
-                self.velocity * time_history::rate(t, self.ramp, h),
+                self.velocity * time_function::factor(t, self.ramp, h),
+                self.velocity * time_function::rate(t, self.ramp, h),
             )
         } else {
             (
-                self.velocity * time_history::integral(t, self.ramp, h),
-                self.velocity * time_history::factor(t, self.ramp, h),
+                self.velocity * time_function::integral(t, self.ramp, h),
+                self.velocity * time_function::factor(t, self.ramp, h),
             )
         }
     }
@@ -91,7 +91,7 @@ impl PrescribedDof {
         match (self.displacement, &self.history) {
             (true, None) => self.velocity,
             (true, Some(h)) => self.velocity * h.value(t),
-            (false, h) => self.velocity * time_history::integral(t, self.ramp, h.as_deref()),
+            (false, h) => self.velocity * time_function::integral(t, self.ramp, h.as_deref()),
         }
     }
 }
@@ -313,7 +313,7 @@ impl Model {
 }
 
 /// The error for a name the resolver did not check against these meshes (a caller that
-/// built the model without [`crate::resolve::resolve`]).
+/// built the model without [`crate::input::resolve::resolve`]).
 fn unresolved(file: &Path, path: String, what: String) -> SceneError {
     SceneError::Invalid {
         file: file.to_path_buf(),
@@ -324,7 +324,7 @@ fn unresolved(file: &Path, path: String, what: String) -> SceneError {
 }
 
 /// Builds the model from a scene, the bodies' meshes (in the order of `scene.bodies`) and
-/// the bodies its names resolve to ([`crate::resolve::resolve`], which checks every name).
+/// the bodies its names resolve to ([`crate::input::resolve::resolve`], which checks every name).
 pub fn build(
     scene: &Scene,
     file: &Path,

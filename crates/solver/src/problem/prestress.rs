@@ -24,9 +24,9 @@ use fdem_fracture::{FractureError, JointSet, kinematics};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
-use crate::model::Model;
-use crate::resolve::Resolved;
-use crate::scene::Scene;
+use crate::input::resolve::Resolved;
+use crate::input::scene::Scene;
+use crate::problem::model::Model;
 
 /// The initial traction `[sigma_n0, tau0]` (Pa) of every joint of `set` from the triangles'
 /// initial stresses `s0` (`[sxx, syy, sxy]` per model triangle, in the reference): the mean
@@ -193,7 +193,7 @@ pub fn field(
 }
 
 /// The initial strain of entry `path` on triangle `mt` of the model (`local` in its body), its stress `add` over the
-/// triangle's Young's modulus, must stay below [`crate::model::LARGE_STRAIN`] (the
+/// triangle's Young's modulus, must stay below [`crate::problem::model::LARGE_STRAIN`] (the
 /// triangles represent strains well below 1): a larger one is an input far outside its
 /// range (a unit slip: MPa for Pa), and the error names the entry, not the stiffness or the
 /// step it would break.
@@ -202,14 +202,14 @@ fn check_strain(
     file: &Path,
     model: &Model,
     path: &str,
-    e: &crate::scene::InitialStress,
+    e: &crate::input::scene::InitialStress,
     (mt, local): (usize, usize),
     add: [f64; 3],
 ) -> Result<(), SceneError> {
     let young = model.materials[model.tri_material[mt] as usize].0.young;
     let s = add.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let strain = s / young;
-    if strain <= crate::model::LARGE_STRAIN {
+    if strain <= crate::problem::model::LARGE_STRAIN {
         return Ok(());
     }
     let b = model.tri_body[mt] as usize;
@@ -233,7 +233,7 @@ fn check_strain(
         at,
         format!(
             "the initial stress {s:.3e} Pa on triangle {local} of body {body} is {strain:.3e} times its Young's modulus {young:.3e} Pa: a strain far above what the triangles represent (at most {})",
-            crate::model::LARGE_STRAIN
+            crate::problem::model::LARGE_STRAIN
         ),
         fix,
     ))

@@ -7,15 +7,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::SceneError;
-use crate::model::Model;
-use crate::scene::Scene;
+use crate::input::scene::Scene;
+use crate::problem::model::Model;
 
 /// Rejects the scene sections a static analysis cannot honour: `contact` (the solve is one
 /// linear system of the bodies' stiffness, without contact) and `fracture` (its bodies are
 /// split into separate triangles joined only by the joints, which have no stiffness in the
 /// solve). The alternative is a relaxation, which runs them.
 pub fn check_sections(scene: &Scene, file: &Path) -> Result<(), SceneError> {
-    if scene.analysis != crate::scene::Analysis::Static {
+    if scene.analysis != crate::input::scene::Analysis::Static {
         return Ok(());
     }
     let what = if scene.contact.is_some() {

@@ -93,10 +93,9 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
             BoundaryCondition::Traction(p) => ("traction", &p.group),
             BoundaryCondition::PointLoad(p) => ("point load", &p.group),
             BoundaryCondition::Velocity(v) => {
-                let peak = v
-                    .history
-                    .as_ref()
-                    .map_or(1.0, |h| crate::time_history::History::new(h).max_abs());
+                let peak = v.history.as_ref().map_or(1.0, |h| {
+                    crate::problem::time_function::History::new(h).max_abs()
+                });
                 let speed = peak * v.x.unwrap_or(0.0).hypot(v.y.unwrap_or(0.0));
                 let b = model
                     .groups

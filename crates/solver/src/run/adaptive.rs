@@ -18,8 +18,8 @@
 use fdem_time::{SecondOrderSystem, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::ledger::Books;
-use crate::system::SceneSystem;
+use crate::run::ledger::Books;
+use crate::stages::system::SceneSystem;
 
 /// The adaptive damping of a relaxation run: the state it carries from step to step.
 pub struct AdaptiveDamping {

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::options::RunOptions;
 use crate::checkpoint::{CheckpointWriter, DEFAULT_EVERY, Every};
-use crate::load::Loaded;
+use crate::problem::load::Loaded;
 
 /// In a distributed run, rank 0's wall-clock checkpoint interval and stop signal are taken up
 /// by all ranks at the steps that are multiples of this (one message per such step).

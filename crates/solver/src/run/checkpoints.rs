@@ -20,13 +20,13 @@ use super::step_control::StepControl;
 use super::stepping::Run;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
 use crate::checkpoint::{Checkpoint, CheckpointError, Header};
-use crate::diagnosis::{Inversion, InversionWatch};
 use crate::error::RunError;
-use crate::ledger::Books;
-use crate::load::Loaded;
-use crate::model::Model;
-use crate::summary::{Interrupted, write_summary};
-use crate::system::SceneSystem;
+use crate::problem::load::Loaded;
+use crate::problem::model::Model;
+use crate::run::diagnosis::{Inversion, InversionWatch};
+use crate::run::ledger::Books;
+use crate::run::summary::{Interrupted, write_summary};
+use crate::stages::system::SceneSystem;
 
 /// The hash of what a run computes from its scene, leaving out what a resumed run may change:
 /// the title, `duration`, `output` and `histories.every`; the meshes' paths (their content is
@@ -102,7 +102,7 @@ pub fn keep_time_step(l: &mut Loaded, header: &Header) {
 pub fn check_end(l: &Loaded, file: &Path, header: &Header) -> Result<(), CheckpointError> {
     let duration = l.scene.duration.unwrap_or(0.0);
     let done = match l.scene.integrator.time_step {
-        crate::scene::TimeStep::Adaptive => header.time >= duration * (1.0 - 1e-12),
+        crate::input::scene::TimeStep::Adaptive => header.time >= duration * (1.0 - 1e-12),
         _ => header.step >= l.n_steps,
     };
     if !done {
@@ -132,14 +132,14 @@ pub fn describe_resume(l: &Loaded, header: &Header) -> String {
         header.step, header.time
     );
     match l.scene.integrator.time_step {
-        crate::scene::TimeStep::Adaptive => format!(
+        crate::input::scene::TimeStep::Adaptive => format!(
             "{from}: adaptive steps (the last {:.4e} s) up to t = {duration:.4e} s",
             header.time_step
         ),
         _ => format!(
             "{from}: {}{} steps left of h = {:.4e} s, to step {} (t = {:.4e} s)",
             // a relaxation ends when it converges
-            if l.scene.analysis == crate::scene::Analysis::Relaxation {
+            if l.scene.analysis == crate::input::scene::Analysis::Relaxation {
                 "at most "
             } else {
                 ""
@@ -493,19 +493,20 @@ impl<'a> Run<'a> {
             .map_err(bad)?;
         d.section("system", |d| sys.restore(d)).map_err(bad)?;
         let method = super::stepping::relaxation_method(l);
-        let mut kinetic = (method == Some(crate::scene::RelaxationMethod::Kinetic))
+        let mut kinetic = (method == Some(crate::input::scene::RelaxationMethod::Kinetic))
             .then(|| super::kinetic::KineticDamping::new(sys, &state));
         if let Some(k) = &mut kinetic {
             d.section("kinetic", |d| k.restore(d, 2 * n)).map_err(bad)?;
         }
-        let mut adaptive = (method == Some(crate::scene::RelaxationMethod::Adaptive))
+        let mut adaptive = (method == Some(crate::input::scene::RelaxationMethod::Adaptive))
             .then(|| super::adaptive::AdaptiveDamping::new(sys, &state));
         if let Some(a) = &mut adaptive {
             d.section("adaptive", |d| a.restore(d, &mut *sys, 2 * n))
                 .map_err(bad)?;
         }
-        let mut conjugate = (method == Some(crate::scene::RelaxationMethod::ConjugateGradient))
-            .then(|| super::conjugate::ConjugateGradient::sized(2 * n, l.dt));
+        let mut conjugate = (method
+            == Some(crate::input::scene::RelaxationMethod::ConjugateGradient))
+        .then(|| super::conjugate::ConjugateGradient::sized(2 * n, l.dt));
         if let Some(c) = &mut conjugate {
             d.section("conjugate-gradient", |d| c.restore(d, 2 * n))
                 .map_err(bad)?;

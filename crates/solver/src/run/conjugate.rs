@@ -30,9 +30,9 @@
 use fdem_time::{SecondOrderSystem, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::ledger::Books;
+use crate::run::ledger::Books;
 use crate::stages::summed_report;
-use crate::system::SceneSystem;
+use crate::stages::system::SceneSystem;
 
 /// The conjugate-gradient relaxation: the state it carries from iteration to iteration.
 pub struct ConjugateGradient {

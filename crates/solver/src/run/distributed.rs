@@ -3,8 +3,11 @@
 
 /// Refuses what a distributed run does not do yet, before anything is written: each error
 /// names the scene's field and the fix. `size` is the number of ranks.
-pub fn check(l: &crate::load::Loaded, size: usize) -> Result<(), crate::error::SceneError> {
-    use crate::scene::{Analysis, TimeStep};
+pub fn check(
+    l: &crate::problem::load::Loaded,
+    size: usize,
+) -> Result<(), crate::error::SceneError> {
+    use crate::input::scene::{Analysis, TimeStep};
     let file = &l.file;
     let one = "run it as one process (`fdem run SCENE`, or `srun -n 1` in a job): its \
                threads use the machine's cores";

@@ -19,15 +19,15 @@ use fdem_time::State;
 use super::observer::{Halt, Observer, RunView};
 use super::options::RunOptions;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::diagnosis::Found;
 use crate::error::RunError;
-use crate::load::Loaded;
+use crate::input::scene::Output;
 use crate::output::{
     ArraySet, Collection, FrameData, JointSeries, joints, make_frame_of, vtu, write_atomic,
 };
-use crate::scene::Output;
-use crate::summary::Summary;
-use crate::system::SceneSystem;
+use crate::problem::load::Loaded;
+use crate::run::diagnosis::Found;
+use crate::run::summary::Summary;
+use crate::stages::system::SceneSystem;
 
 /// The output files of a run.
 pub struct FrameWriter {
@@ -360,7 +360,7 @@ pub struct FrameClock {
 impl FrameClock {
     /// The clock of `l`, the initial frame written.
     pub fn new(l: &Loaded) -> Self {
-        let adaptive = l.scene.integrator.time_step == crate::scene::TimeStep::Adaptive;
+        let adaptive = l.scene.integrator.time_step == crate::input::scene::TimeStep::Adaptive;
         let t_end = adaptive.then(|| l.scene.duration.unwrap_or(0.0));
         Self::with(l.scene.output.frames, t_end, l.n_steps)
     }

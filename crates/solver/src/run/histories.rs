@@ -7,13 +7,13 @@ use std::time::Instant;
 use super::observer::{Flow, Halt, Observer, RunView};
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
-use crate::ledger::Energies;
-use crate::load::Loaded;
-use crate::model::Model;
+use crate::input::scene::Probe;
 use crate::output::HistoryWriter;
-use crate::scene::Probe;
+use crate::problem::load::Loaded;
+use crate::problem::model::Model;
+use crate::run::ledger::Energies;
+use crate::run::summary::Summary;
 use crate::stages::summed_report;
-use crate::summary::Summary;
 
 /// History columns and their evaluation.
 pub struct Histories {

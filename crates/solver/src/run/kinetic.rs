@@ -18,9 +18,9 @@
 use fdem_time::{Integrator, SecondOrderSystem, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::ledger::Books;
+use crate::run::ledger::Books;
 use crate::stages::summed_report;
-use crate::system::SceneSystem;
+use crate::stages::system::SceneSystem;
 
 /// The kinetic damping of a relaxation run: the state it carries from step to step.
 pub struct KineticDamping {

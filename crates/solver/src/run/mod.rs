@@ -22,7 +22,7 @@
 //! zero), and books the energy it takes out after each.
 //!
 //! The run's own parts are the step control ([`StepControl`], with the [`AdaptiveStep`]),
-//! the energy ledger's books (`crate::ledger::Books`, booked after every step, read by the
+//! the energy ledger's books (`crate::run::ledger::Books`, booked after every step, read by the
 //! observers), and the summary (`summary.json`, written by the run after the observers have
 //! added their parts).
 //!
@@ -37,17 +37,22 @@ mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
 mod conjugate;
+pub mod diagnosis;
 pub mod distributed;
+pub mod estimate;
 mod frames;
 mod histories;
 mod kinetic;
+pub mod ledger;
 mod observer;
 mod options;
 mod progress;
 mod relaxation;
 mod stability;
+pub mod static_solve;
 mod step_control;
 mod stepping;
+pub mod summary;
 
 use std::time::Instant;
 
@@ -67,11 +72,11 @@ pub use stepping::{Run, books_residuals, history_interval};
 
 use crate::checkpoint::Checkpoint;
 use crate::error::RunError;
-use crate::ledger::Energies;
-use crate::load::Loaded;
-use crate::scene::Analysis;
-use crate::summary::{Outcome, Summary, write_summary};
-use crate::system::SceneSystem;
+use crate::input::scene::Analysis;
+use crate::problem::load::Loaded;
+use crate::run::ledger::Energies;
+use crate::run::summary::{Outcome, Summary, write_summary};
+use crate::stages::system::SceneSystem;
 
 /// Runs a loaded scene, writing output under `options.out_dir`.
 pub fn run(
@@ -135,7 +140,7 @@ fn static_run(
     wall: Instant,
 ) -> Result<Outcome, RunError> {
     // Solved (and checked: a singular stiffness is bad input) before the folder is touched.
-    let (frame, mut summary) = crate::static_solve::solve(l)?;
+    let (frame, mut summary) = crate::run::static_solve::solve(l)?;
     let finite = |v: &[[f64; 2]]| v.iter().flatten().all(|x| x.is_finite());
     let all_finite = finite(&frame.points)
         && finite(&frame.displacement)

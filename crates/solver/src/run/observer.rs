@@ -5,12 +5,12 @@ use fdem_time::State;
 
 use super::step_control::StepControl;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::diagnosis::{Found, InversionWatch};
 use crate::error::RunError;
-use crate::ledger::Books;
-use crate::load::Loaded;
-use crate::summary::Summary;
-use crate::system::SceneSystem;
+use crate::problem::load::Loaded;
+use crate::run::diagnosis::{Found, InversionWatch};
+use crate::run::ledger::Books;
+use crate::run::summary::Summary;
+use crate::stages::system::SceneSystem;
 
 /// What an observer sees of the run at a hook.
 pub struct RunView<'r> {
@@ -48,7 +48,7 @@ pub enum Flow {
 #[derive(Debug)]
 pub enum Halt {
     /// An instability: the run writes its partial summary and diagnoses the cause
-    /// ([`crate::diagnosis::unstable`]).
+    /// ([`crate::run::diagnosis::unstable`]).
     Unstable(Found),
     /// Any other error, returned as it is.
     Failed(RunError),

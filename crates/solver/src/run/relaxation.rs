@@ -8,7 +8,7 @@
 //! A relative tolerance cannot go below what the force sums resolve: the run also converges
 //! when the residual is at most the round-off floor `c eps |S| / scale` (`c` =
 //! [`ROUND_OFF_FACTOR`])
-//! ([`SceneSystem::force_round_off`](crate::system::SceneSystem::force_round_off)), i.e. at
+//! ([`SceneSystem::force_round_off`](crate::stages::system::SceneSystem::force_round_off)), i.e. at
 //! `max(tolerance, floor)`. The summary gives the floor at the last check and the kinetic
 //! energy over the strain and stored energy at the end.
 
@@ -16,7 +16,7 @@ use super::observer::{Flow, Halt, Observer, RunView};
 use super::stability::CHECK_EVERY;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
-use crate::summary::Summary;
+use crate::run::summary::Summary;
 
 /// The floor of the relative residual is this many times `eps |S| / scale`: the force of a
 /// DOF goes through more roundings than the sum of its terms (the deformation gradient, the

@@ -1,6 +1,6 @@
 //! The run's stability checks ([`StabilityGuard`]): every [`CHECK_EVERY`] steps and at the
 //! last step, a stage's error, non-finite values and energy growth stop the run with an
-//! `Unstable` error that names the cause and the fix ([`crate::diagnosis`]).
+//! `Unstable` error that names the cause and the fix ([`crate::run::diagnosis`]).
 //!
 //! Energy growth: the mechanical energy `E = K + U + stored (contact, joints)` may not exceed
 //! the energy supplied `S = E_0 + |W_loads + W_gravity| + |W_supports| + |W_walls| +
@@ -17,11 +17,11 @@ use fdem_time::SchemeKind;
 
 use super::observer::{Flow, Halt, Observer, RunView};
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::diagnosis::Found;
 use crate::error::RunError;
-use crate::ledger::kinetic_energy;
+use crate::run::diagnosis::Found;
+use crate::run::ledger::kinetic_energy;
+use crate::run::summary::{QuasiStatic, Summary};
 use crate::stages::summed_report;
-use crate::summary::{QuasiStatic, Summary};
 
 /// Steps between two stability checks (and two residual checks of a relaxation).
 pub const CHECK_EVERY: u64 = 100;
@@ -67,7 +67,7 @@ impl Observer for StabilityGuard {
         self.e_prev = run.ledger.initial();
         self.floor = round_off_floor(run.loaded, run.sys, run.ledger.initial());
         let scene = &run.loaded.scene;
-        if scene.analysis == crate::scene::Analysis::Dynamic {
+        if scene.analysis == crate::input::scene::Analysis::Dynamic {
             // one sample per check: allocated once
             let checks = run.loaded.n_steps / CHECK_EVERY + 2;
             self.indicator = Some(Indicator {
@@ -150,7 +150,7 @@ impl Observer for StabilityGuard {
 
     fn restore(&mut self, run: &mut RunView, d: &mut Dec) -> Result<(), DecodeError> {
         [self.e_prev, self.floor] = d.get()?;
-        if run.loaded.scene.analysis == crate::scene::Analysis::Dynamic {
+        if run.loaded.scene.analysis == crate::input::scene::Analysis::Dynamic {
             let mut samples: Vec<[f64; 3]> = d.get()?;
             samples.reserve((run.loaded.n_steps / CHECK_EVERY + 2).min(1 << 20) as usize);
             self.indicator = Some(Indicator { samples });
@@ -195,16 +195,14 @@ pub fn indicator(samples: &[[f64; 3]]) -> QuasiStatic {
 
 /// The limit and the warning of a scene that declares a slow run (a `loading` or
 /// `mass_scaling` section): the warning when the indicator exceeds the limit.
-fn warn(scene: &crate::scene::Scene, q: &mut QuasiStatic) {
+fn warn(scene: &crate::input::scene::Scene, q: &mut QuasiStatic) {
     if scene.loading.is_none() && scene.mass_scaling.is_none() {
         return;
     }
-    let l = scene
-        .loading
-        .as_ref()
-        .map_or(crate::scene::mass_scaling::KINETIC_RATIO_LIMIT, |l| {
-            l.kinetic_ratio_limit
-        });
+    let l = scene.loading.as_ref().map_or(
+        crate::input::scene::mass_scaling::KINETIC_RATIO_LIMIT,
+        |l| l.kinetic_ratio_limit,
+    );
     q.limit = Some(l);
     if q.kinetic_ratio_max > l {
         q.warning = Some(format!(
@@ -246,7 +244,11 @@ pub const ROUND_OFF_MARGIN: f64 = 1e4;
 /// and `wing-crack.json` with their platens 1 mm away, over their durations, at most 3e-8.
 /// The floor is a negligible energy of any scene (`1e4 eps = 2.2e-12` of its energy scale at
 /// the start), so an unstable mode, which grows exponentially, passes it within a few checks.
-pub fn round_off_floor(l: &crate::load::Loaded, sys: &crate::system::SceneSystem, e0: f64) -> f64 {
+pub fn round_off_floor(
+    l: &crate::problem::load::Loaded,
+    sys: &crate::stages::system::SceneSystem,
+    e0: f64,
+) -> f64 {
     let model = &sys.model;
     let mass: f64 = model.mass.iter().sum();
     let (mut lo, mut hi, mut coord) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0.0f64);
@@ -287,10 +289,9 @@ pub fn round_off_floor(l: &crate::load::Loaded, sys: &crate::system::SceneSystem
         .filter(|c| c.enabled)
         .flat_map(|c| &c.walls)
     {
-        let f = w
-            .history
-            .as_ref()
-            .map_or(1.0, |h| crate::time_history::History::new(h).max_abs());
+        let f = w.history.as_ref().map_or(1.0, |h| {
+            crate::problem::time_function::History::new(h).max_abs()
+        });
         v = v.max(w.velocity[0].hypot(w.velocity[1]) * f);
     }
     d = d.max(v * duration);

@@ -4,10 +4,10 @@
 use fdem_time::{SchemeKind, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::load::Loaded;
+use crate::input::scene::TimeStep;
+use crate::problem::load::Loaded;
 use crate::problem::stable_step::stable_step;
-use crate::scene::TimeStep;
-use crate::system::SceneSystem;
+use crate::stages::system::SceneSystem;
 
 /// The step a run takes next, and when it has taken its last.
 pub struct StepControl {

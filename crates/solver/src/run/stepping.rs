@@ -15,14 +15,14 @@ use super::kinetic::KineticDamping;
 use super::observer::{Flow, Halt, Observer, RunView};
 use super::options::RunOptions;
 use super::step_control::StepControl;
-use crate::diagnosis::{self, InversionWatch};
 use crate::error::RunError;
-use crate::ledger::{Books, Energies};
-use crate::load::Loaded;
-use crate::scene::{Probe, RelaxationMethod};
+use crate::input::scene::{Probe, RelaxationMethod};
+use crate::problem::load::Loaded;
+use crate::run::diagnosis::{self, InversionWatch};
+use crate::run::ledger::{Books, Energies};
+use crate::run::summary::{Outcome, Summary, write_summary};
 use crate::stages::summed_report;
-use crate::summary::{Outcome, Summary, write_summary};
-use crate::system::SceneSystem;
+use crate::stages::system::SceneSystem;
 
 /// A dynamic or relaxation run of a loaded scene on its system.
 pub struct Run<'a> {
@@ -31,7 +31,7 @@ pub struct Run<'a> {
     pub(super) state: State,
     pub(super) integrator: Box<dyn Integrator>,
     pub(super) control: StepControl,
-    /// The energy ledger's running books (`crate::ledger`).
+    /// The energy ledger's running books (`crate::run::ledger`).
     pub(super) ledger: Books,
     pub(super) inversions: InversionWatch,
     pub(super) frames: FrameClock,
@@ -406,7 +406,7 @@ impl<'a> Run<'a> {
     }
 
     /// The energy ledger now, with the stages' report `stages`.
-    fn energies(&self, stages: Option<&crate::system::StageReport>) -> Energies {
+    fn energies(&self, stages: Option<&crate::stages::system::StageReport>) -> Energies {
         self.ledger.ledger(self.sys, &self.state, stages)
     }
 
@@ -500,7 +500,7 @@ pub fn history_interval(l: &Loaded) -> u64 {
 
 /// The relaxation method of `l` (`None`: not a relaxation).
 pub fn relaxation_method(l: &Loaded) -> Option<RelaxationMethod> {
-    (l.scene.analysis == crate::scene::Analysis::Relaxation)
+    (l.scene.analysis == crate::input::scene::Analysis::Relaxation)
         .then(|| l.scene.integrator.relaxation_method(&l.scene.damping))
 }
 

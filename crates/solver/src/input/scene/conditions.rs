@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::history::{self, HistorySpec};
+use super::load_history::{self, HistorySpec};
 use crate::error::SceneError;
 
 /// A boundary condition or load on a named group of a body's mesh.
@@ -277,7 +277,7 @@ pub(crate) fn validate(conditions: &[BoundaryCondition], file: &Path) -> Result<
             crate::error::Range::at_least(0.0),
             "set ramp to a time >= 0 in seconds",
         )?;
-        history::check_with_ramp(bc.history(), ramp, &format!("{p}.{}", bc.kind()), file)?;
+        load_history::check_with_ramp(bc.history(), ramp, &format!("{p}.{}", bc.kind()), file)?;
     }
     Ok(())
 }

@@ -1,13 +1,13 @@
 //! The optional `"contact"` section: contact between the bodies (and between pieces of one
 //! body) and with rigid walls, its laws per pair of bodies, the detection buffer and the
-//! limits of a run with contact. The contact stage (`crate::contact_stage`) reads it.
+//! limits of a run with contact. The contact stage (`crate::stages::contact`) reads it.
 
 use std::path::Path;
 
 use fdem_contact::ContactLaw;
 use serde::{Deserialize, Serialize};
 
-use super::history::HistorySpec;
+use super::load_history::HistorySpec;
 use crate::error::{Range, SceneError};
 
 /// The scene's `"contact"` section. Present and `enabled` (default true): contact between all
@@ -105,7 +105,7 @@ pub struct PairSpec {
     #[serde(default = "yes")]
     pub enabled: bool,
     /// The two bodies may overlap at t = 0 (a deliberate press fit; default false: an
-    /// initial overlap is refused at load, `crate::input_checks`).
+    /// initial overlap is refused at load, `crate::problem::input_checks`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub allow_initial_overlap: bool,
 }
@@ -137,7 +137,7 @@ pub struct WallSpec {
     #[serde(default)]
     pub law: LawSpec,
     /// Bodies may start behind the wall (a deliberate initial indentation; default false: a
-    /// node behind the wall at t = 0 is refused at load, `crate::input_checks`).
+    /// node behind the wall at t = 0 is refused at load, `crate::problem::input_checks`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub allow_initial_overlap: bool,
 }
@@ -178,7 +178,7 @@ impl ContactSection {
     }
 
     /// Checks the values, each against its range (the body names are resolved by
-    /// [`crate::resolve`]); `file` names the scene in errors.
+    /// [`crate::input::resolve`]); `file` names the scene in errors.
     pub fn validate(&self, file: &Path) -> Result<(), SceneError> {
         let range = |path: String, what: &str, v: f64, r: Range, fix: &str| {
             SceneError::check_range(file, path, what, v, r, fix)

@@ -1,6 +1,6 @@
 //! Pre-existing cracks of the `"fracture"` section (`fracture.cracks`): edge groups of a
 //! fracturing body whose joints start broken, their faces in contact through the scene's
-//! contact law. `crate::cracks` resolves them to joints at load time (into the prepared
+//! contact law. `crate::problem::cracks` resolves them to joints at load time (into the prepared
 //! problem, `crate::problem::Fracturing::cracks`) and makes the joint state they start from.
 
 use serde::{Deserialize, Serialize};

@@ -30,7 +30,7 @@ pub struct FractureSection {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub interfaces: Vec<Interface>,
     /// Pre-existing cracks: edge groups whose joints start broken, their faces in contact
-    /// (default none; `crate::scene::cracks`).
+    /// (default none; `crate::input::scene::cracks`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cracks: Vec<super::cracks::Crack>,
 }

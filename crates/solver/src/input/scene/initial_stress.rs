@@ -1,7 +1,7 @@
 //! The optional `"initial_stress"` list: the in-situ stress of bodies or of surface groups of
 //! a body's mesh at the start of the run, uniform or growing linearly with depth. Each entry
 //! names its body (optional when the scene has one) and surface groups (default: the whole
-//! body); where entries overlap their stresses add. `crate::prestress` turns the list into
+//! body); where entries overlap their stresses add. `crate::problem::prestress` turns the list into
 //! one stress per triangle.
 //!
 //! Stresses are Cauchy stresses of the reference state, `[sxx, syy, sxy]` [Pa], tension

@@ -305,7 +305,7 @@ impl Integrator {
         }
         if self.time_step == TimeStep::Adaptive {
             if analysis != Analysis::Dynamic
-                || crate::schemes::scheme_by_name(&self.scheme)
+                || crate::input::schemes::scheme_by_name(&self.scheme)
                     .is_some_and(|k| k != fdem_time::SchemeKind::CentralDifference)
             {
                 return Err(bad(
@@ -325,11 +325,11 @@ impl Integrator {
                 ));
             }
         }
-        if crate::schemes::scheme_by_name(&self.scheme).is_none() {
+        if crate::input::schemes::scheme_by_name(&self.scheme).is_none() {
             return Err(bad(
                 "integrator.scheme".into(),
                 format!("unknown scheme '{}'", self.scheme),
-                &format!("use one of {}", crate::schemes::scheme_names()),
+                &format!("use one of {}", crate::input::schemes::scheme_names()),
             ));
         }
         Ok(())

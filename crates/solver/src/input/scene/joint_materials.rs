@@ -5,7 +5,7 @@
 //!
 //! The materials are numbered in one list ([`material_list`]): the unnamed `material` first
 //! (when given), then the named ones in name order; a joint's `material` in
-//! `crate::fracture_stage` is an index into that list until the joint set is built.
+//! `crate::stages::fracture` is an index into that list until the joint set is built.
 
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -18,8 +18,8 @@ use serde::{Deserialize, Serialize};
 
 use super::conditions::BoundaryCondition;
 use super::contact::ContactSection;
-use super::history::{HistorySpec, Shape};
 use super::integrator::{Analysis, TimeStep};
+use super::load_history::{HistorySpec, Shape};
 use crate::error::SceneError;
 
 /// Mass scaling: either a factor on every mass, or the time step it should give.

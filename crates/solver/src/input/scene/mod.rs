@@ -6,7 +6,7 @@
 //! with an example per specimen, is documented in `docs/scene-format.md`.
 //!
 //! One file per part of the format: [`bodies`] (meshes and materials), [`conditions`]
-//! (boundary conditions and loads), [`history`] (their time histories), [`integrator`] (analysis, time integration, damping),
+//! (boundary conditions and loads), [`load_history`] (their time histories), [`integrator`] (analysis, time integration, damping),
 //! [`output`] (frames and history probes), [`contact`] and [`fracture`] (the optional
 //! sections). The scene depends on nothing of the stages that read it.
 
@@ -21,10 +21,10 @@ pub mod conditions;
 pub mod contact;
 pub mod cracks;
 pub mod fracture;
-pub mod history;
 pub mod initial_stress;
 pub mod integrator;
 pub mod joint_materials;
+pub mod load_history;
 pub mod mass_scaling;
 pub mod output;
 
@@ -35,9 +35,9 @@ pub use conditions::{
 };
 pub use contact::ContactSection;
 pub use fracture::FractureSection;
-pub use history::HistorySpec;
 pub use initial_stress::{GravityStress, InitialStress};
 pub use integrator::{Analysis, Damping, Integrator, RelaxationMasses, RelaxationMethod, TimeStep};
+pub use load_history::HistorySpec;
 pub use mass_scaling::{Loading, MassScaling};
 pub use output::{GroupProbe, Histories, Output, Probe};
 
@@ -170,7 +170,7 @@ impl Scene {
         }
         for (i, w) in self.contact.iter().flat_map(|c| c.walls.iter().enumerate()) {
             let path = format!("contact.walls[{i}]");
-            history::check_with_ramp(w.history.as_ref(), w.ramp, &path, file)?;
+            load_history::check_with_ramp(w.history.as_ref(), w.ramp, &path, file)?;
         }
         self.integrator.validate(self.analysis, file)?;
         if self.analysis != Analysis::Static {

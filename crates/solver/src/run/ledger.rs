@@ -40,8 +40,8 @@ use serde::Serialize;
 use fdem_time::State;
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
-use crate::model::Model;
-use crate::system::{SceneSystem, StageReport};
+use crate::problem::model::Model;
+use crate::stages::system::{SceneSystem, StageReport};
 
 /// The energy ledger [J] (see the module docs): the terms at t = 0, supplied since, present
 /// now, dissipated since, their totals and the error that closes the books.
@@ -119,8 +119,8 @@ pub struct Energies {
     pub residuals_booked: bool,
 }
 
-/// Number of ledger terms ([`Energies::columns`]).
-pub const N_COLUMNS: usize = 24;
+/// Number of ledger terms ([`Energies::columns`]), as the history rows are sized at load.
+pub const N_COLUMNS: usize = crate::problem::limits::ENERGY_COLUMNS;
 
 impl Energies {
     /// Sets the totals (`initial`, `supplied`, `present`, `dissipated`, `in_play`) and the

@@ -21,11 +21,11 @@ use std::time::Instant;
 use fdem_mesh::{PlaneKind, reference_gradients};
 
 use crate::error::{RunError, SceneError};
-use crate::ledger::Energies;
-use crate::load::Loaded;
 use crate::output::{FrameData, frame_from_parts};
-use crate::summary::Summary;
-use crate::system::StageTimers;
+use crate::problem::load::Loaded;
+use crate::run::ledger::Energies;
+use crate::run::summary::Summary;
+use crate::stages::system::StageTimers;
 
 /// The static displacement (flat DOFs) of a loaded scene.
 pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
@@ -87,7 +87,7 @@ pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-6;
 /// `eps |K| |u|`: far above the loads only when `u` is huge for them, that is when the
 /// stiffness is nearly singular (a part held only through a very soft region, or supports
 /// very close together), which the rigid-motion check of
-/// [`crate::static_checks::check_supports`] cannot see.
+/// [`crate::problem::static_checks::check_supports`] cannot see.
 fn check_solution(
     l: &Loaded,
     k: &faer::sparse::SparseColMat<usize, f64>,

@@ -7,9 +7,9 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::error::RunError;
-use crate::ledger::Energies;
 use crate::output::{FrameData, write_atomic};
-use crate::system::StageTimers;
+use crate::run::ledger::Energies;
+use crate::stages::system::StageTimers;
 
 /// The run summary (also written as `summary.json`).
 #[derive(Debug, Clone, Serialize)]
@@ -40,7 +40,7 @@ pub struct Summary {
     pub triangle_steps_per_second: f64,
     /// Per-stage wall times [s].
     pub timers: StageTimers,
-    /// The energy ledger at the end (`crate::ledger`).
+    /// The energy ledger at the end (`crate::run::ledger`).
     pub energy: Energies,
     /// Frames written.
     pub frames: usize,

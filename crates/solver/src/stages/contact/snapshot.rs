@@ -203,7 +203,7 @@ struct Books {
 }
 
 impl ContactStage {
-    /// [`crate::system::ForceContribution::save`] of the stage (module docs).
+    /// [`crate::stages::system::ForceContribution::save`] of the stage (module docs).
     pub(super) fn save_state(&mut self, e: &mut Enc) -> std::io::Result<()> {
         let csv_len = match &mut self.csv {
             Some(w) => Some(crate::output::csv_length(w)?),
@@ -330,7 +330,7 @@ impl ContactStage {
         })
     }
 
-    /// [`crate::system::ForceContribution::restore`] of the stage (module docs): everything
+    /// [`crate::stages::system::ForceContribution::restore`] of the stage (module docs): everything
     /// is read and checked first, then set.
     pub(super) fn restore_state(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
         d.section("contact", |d| {

@@ -2,11 +2,16 @@
 //! their term of the frequency bound, and attaching them to a [`SceneSystem`]. A scene without
 //! these sections gets none of them and pays nothing.
 
+pub mod contact;
+pub mod fracture;
+pub mod star_bonds;
+pub mod system;
+
 use std::path::Path;
 
 use crate::error::SceneError;
-use crate::load::Loaded;
-use crate::system::{SceneSystem, StageReport};
+use crate::problem::load::Loaded;
+use crate::stages::system::{SceneSystem, StageReport};
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
 /// whose forces were last evaluated at `x`:
@@ -65,7 +70,7 @@ pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
 
 /// Attaches the stages a loaded scene needs to `sys` (time step `dt`, histories every `every`
 /// steps into `out_dir`): joints first (from [`Loaded::initial_joint_state`] when it is set,
-/// else with the pre-existing cracks broken, [`crate::cracks::initial_state`]), then contact
+/// else with the pre-existing cracks broken, [`crate::problem::cracks::initial_state`]), then contact
 /// (which excludes the bonded pairs: intact joints and stars).
 pub fn attach(
     l: &Loaded,
@@ -80,7 +85,7 @@ pub fn attach(
 /// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
 /// the stages of `fdem check`'s timed sample of the run. `resume`: the stages continue the
 /// files of a run resumed from a checkpoint (their state comes next, from
-/// [`ForceContribution::restore`](crate::system::ForceContribution::restore)).
+/// [`ForceContribution::restore`](crate::stages::system::ForceContribution::restore)).
 pub fn attach_to(
     l: &Loaded,
     sys: &mut SceneSystem,
@@ -94,9 +99,9 @@ pub fn attach_to(
     let initial = l.initial_joint_state.as_ref();
     crate::problem::joints::check_initial_state(initial, fracturing.n_joints(), &l.file)?;
     if let Some(set) = &fracturing.set {
-        let initial =
-            (initial.cloned()).or_else(|| crate::cracks::initial_state(fracturing, &sys.model));
-        let (mut stage, b, _) = crate::fracture_stage::FractureStage::new(
+        let initial = (initial.cloned())
+            .or_else(|| crate::problem::cracks::initial_state(fracturing, &sys.model));
+        let (mut stage, b, _) = crate::stages::fracture::FractureStage::new(
             set.clone(),
             &sys.model,
             out_dir,
@@ -108,14 +113,14 @@ pub fn attach_to(
         sys.contributions.push(Box::new(stage));
     }
     if let Some((mut stage, _)) =
-        crate::contact_stage::ContactStage::new(scene, &sys.model, dt, out_dir, every, resume)
+        crate::stages::contact::ContactStage::new(scene, &sys.model, dt, out_dir, every, resume)
     {
         stage.bonded = bonded;
         stage.book_work = scene
             .histories
             .probes
             .iter()
-            .any(|p| matches!(p, crate::scene::Probe::Energy));
+            .any(|p| matches!(p, crate::input::scene::Probe::Energy));
         sys.contributions.push(Box::new(stage));
     }
     Ok(())

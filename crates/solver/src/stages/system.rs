@@ -18,8 +18,8 @@ use fdem_time::SecondOrderSystem;
 use rayon::prelude::*;
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
-use crate::model::Model;
 use crate::output::FrameData;
+use crate::problem::model::Model;
 
 /// Below this many DOFs the element-wise loops of the system run serially.
 const PAR_MIN_DOFS: usize = 1 << 16;
@@ -211,7 +211,7 @@ pub struct StageTimers {
     pub histories: f64,
     /// Frame output (stresses, encoding, writing).
     pub output: f64,
-    /// The set-up: the scene's load ([`crate::load::load`]: meshes, explode, model, elements,
+    /// The set-up: the scene's load ([`crate::problem::load::load`]: meshes, explode, model, elements,
     /// time step) and the run's start until the first step (stages attached, first contact
     /// detection, first force evaluation, energy books). Not in a checkpoint: a resumed run
     /// reports its own set-up.

@@ -1,5 +1,5 @@
 //! The time functions of loads, prescribed motions and walls: a condition's factor `f(t)`
-//! (its `ramp`, or its `history`: [`crate::scene::history`]), its integral `F(t) = int_0^t f`
+//! (its `ramp`, or its `history`: [`crate::input::scene::load_history`]), its integral `F(t) = int_0^t f`
 //! (the displacement of a prescribed velocity or a wall) and its rate `f'(t)` (the velocity
 //! of a prescribed displacement).
 //!
@@ -19,7 +19,7 @@
 //!
 //! Evaluation allocates nothing; a table is searched by bisection.
 
-use crate::scene::history::{HistorySpec, Shape};
+use crate::input::scene::load_history::{HistorySpec, Shape};
 
 /// Ramp factor `min(1, t/ramp)`, 1 for a step.
 pub fn ramp_factor(t: f64, ramp: f64) -> f64 {
@@ -145,7 +145,7 @@ impl Table {
 }
 
 impl History {
-    /// The evaluator of a checked history ([`crate::scene::history::check`]); an unchecked empty
+    /// The evaluator of a checked history ([`crate::input::scene::load_history::check`]); an unchecked empty
     /// table evaluates to 0, never panics.
     pub fn new(spec: &HistorySpec) -> Self {
         let (kind, end) = match spec {
@@ -326,7 +326,7 @@ pub fn rate(t: f64, ramp: f64, history: Option<&History>) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::history::{Repeat, Sine, Steps};
+    use crate::input::scene::load_history::{Repeat, Sine, Steps};
 
     fn table(p: &[[f64; 2]]) -> History {
         History::new(&HistorySpec::Table(p.to_vec()))

@@ -6,9 +6,9 @@
 //! smeared crack model, docs/fracture.md); the end-of-step hook commits damage
 //! (`commit_joints`: damage never heals, energies booked, joints with both points at `D = 1`
 //! break). The contact stage's bonded list (passed as data through
-//! [`crate::contact_stage::BondedPairs`]) holds the pairs of every intact joint and every pair
+//! [`crate::stages::contact::BondedPairs`]) holds the pairs of every intact joint and every pair
 //! of triangles around an original (pre-explode) node whose star of joints is intact
-//! ([`crate::star_bonds`]): in an intact mesh no triangle is a contact couple of its edge or
+//! ([`crate::stages::star_bonds`]): in an intact mesh no triangle is a contact couple of its edge or
 //! vertex neighbours. A break removes its joint's pair; the first softening (damage > 0) or
 //! break of a joint unbonds the vertex pairs of the stars of its two end nodes; the pairs that
 //! leave the bonded set are appended to `BondedPairs::released` (no rebuild of the list), and
@@ -40,11 +40,11 @@ use serde::Serialize;
 
 use crate::checkpoint::pack::PackSlice;
 use crate::checkpoint::{Dec, DecodeError, Enc, Pack};
-use crate::contact_stage::BondedPairs;
-use crate::model::Model;
-pub use crate::scene::fracture::{FractureSection, Region};
-use crate::star_bonds::StarBonds;
-use crate::system::{ForceContribution, StageReport};
+pub use crate::input::scene::fracture::{FractureSection, Region};
+use crate::problem::model::Model;
+use crate::stages::contact::BondedPairs;
+use crate::stages::star_bonds::StarBonds;
+use crate::stages::system::{ForceContribution, StageReport};
 
 #[cfg(test)]
 mod checkpoint_tests;

@@ -1,8 +1,8 @@
 //! The contact stage: the contact crate as a [`ForceContribution`] of the composition, set
-//! up from the scene's `"contact"` section ([`crate::scene::contact`]).
+//! up from the scene's `"contact"` section ([`crate::input::scene::contact`]).
 //!
 //! Each step (every force evaluation) it moves the rigid walls to `x_w(t) = x_w0 + v_w r(t)`
-//! (`r` the integral of the ramp or history, [`crate::time_history`]), refreshes detection when the buffer may be used up
+//! (`r` the integral of the ramp or history, [`crate::problem::time_function`]), refreshes detection when the buffer may be used up
 //! (`Contact::update_detection`), computes the potential contact forces with friction
 //! (`f = p ∫ (grad phi_c - grad phi_t) dA`, Coulomb with tangential penalty, see
 //! docs/contact.md) and adds them. The friction history is committed in the end-of-step hook
@@ -32,12 +32,12 @@ use fdem_contact::{ActiveBound, Contact, ContactLaw, ContactSettings, RigidPlane
 use crate::problem::contact_laws::{body_props, contact_law, laws};
 use serde::Serialize;
 
-use crate::model::Model;
+use crate::input::scene::Scene;
+pub use crate::input::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
 use crate::output::FrameData;
-use crate::scene::Scene;
-pub use crate::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
-use crate::system::{ForceContribution, StageReport};
-use crate::time_history::{self, History};
+use crate::problem::model::Model;
+use crate::problem::time_function::{self, History};
+use crate::stages::system::{ForceContribution, StageReport};
 
 mod distributed;
 mod snapshot;
@@ -261,8 +261,8 @@ impl ContactStage {
 
     fn place_walls(&mut self, t: f64) {
         for (w, m) in self.contact.walls.iter_mut().zip(&self.motion) {
-            let r = time_history::integral(t, m.ramp, m.history.as_ref());
-            let s = time_history::factor(t, m.ramp, m.history.as_ref());
+            let r = time_function::integral(t, m.ramp, m.history.as_ref());
+            let s = time_function::factor(t, m.ramp, m.history.as_ref());
             w.point = [
                 m.point0[0] + m.velocity[0] * r,
                 m.point0[1] + m.velocity[1] * r,
@@ -362,7 +362,7 @@ impl ContactStage {
             // Force of the wall on the bodies: minus the reaction on the wall; per unit
             // thickness already scaled by the thickness in the laws.
             let f = [-self.reactions[k][0], -self.reactions[k][1]];
-            let s = time_history::integral(t, m.ramp, m.history.as_ref());
+            let s = time_function::integral(t, m.ramp, m.history.as_ref());
             let u = [m.velocity[0] * s, m.velocity[1] * s];
             for c in 0..2 {
                 r.wall_work += 0.5 * (self.prev_force[k][c] + f[c]) * (u[c] - self.prev_disp[k][c]);

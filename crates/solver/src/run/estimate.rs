@@ -9,11 +9,11 @@ use fdem_time::{SchemeKind, State};
 
 use crate::checkpoint::pack::Enc;
 use crate::error::SceneError;
-use crate::load::Loaded;
-use crate::model;
+use crate::input::scene::{Analysis, RelaxationMethod};
+use crate::problem::load::Loaded;
+use crate::problem::model;
 use crate::problem::stable_step::{stable_step, step_count};
-use crate::scene::{Analysis, RelaxationMethod};
-use crate::system::{ForceContribution, SceneSystem};
+use crate::stages::system::{ForceContribution, SceneSystem};
 
 /// `fdem check`'s report: the stable step of every scheme and the estimated run time
 /// ([`run_time_estimate`]); another scheme's row scales the scene scheme's step cost by its
@@ -432,7 +432,7 @@ impl Stepper {
         }
         let alpha = l.scene.damping.mass_proportional;
         let residuals = crate::run::books_residuals(l);
-        crate::ledger::Books::new(&mut self.sys, &self.state, alpha, residuals).save(&mut e);
+        crate::run::ledger::Books::new(&mut self.sys, &self.state, alpha, residuals).save(&mut e);
         let encode = start.elapsed().as_secs_f64();
         let tmp = std::env::temp_dir().join(format!(".fdem-check-{}.fdem", std::process::id()));
         let start = Instant::now();
@@ -514,7 +514,7 @@ impl Stepper {
 /// pass, untimed, detects). Only for scenes with contact and joints (without joints nothing
 /// is ever released).
 struct Released {
-    stage: crate::contact_stage::ContactStage,
+    stage: crate::stages::contact::ContactStage,
     x: Vec<[f64; 2]>,
     v: Vec<[f64; 2]>,
     f: Vec<[f64; 2]>,
@@ -523,7 +523,7 @@ struct Released {
 impl Released {
     fn new(l: &Loaded) -> Option<Self> {
         l.scene.fracture.as_ref()?;
-        let (stage, _) = crate::contact_stage::ContactStage::new(
+        let (stage, _) = crate::stages::contact::ContactStage::new(
             &l.scene,
             &l.model,
             l.dt,

@@ -20,7 +20,7 @@ use fdem_contact::{COUPLE_SHARE, ContactStats, LEAD, LOCAL, TALLY, Tally, WALL_S
 
 use super::ContactStage;
 use crate::distributed::{Comm, Entries, Ghosts, Layout, share_nodes};
-use crate::system::ForceContribution;
+use crate::stages::system::ForceContribution;
 
 /// The key of an entry of the `p`-th pass (or release) of a step: `p 2^32 + index`.
 const PASS: f64 = 4294967296.0;

@@ -11,10 +11,10 @@ use fdem_time::{Integrator, SecondOrderSystem, State};
 
 use super::{FractureReport, FractureStage};
 use crate::checkpoint::{Dec, Enc};
-use crate::contact_stage::{BondedPairs, ContactStage};
-use crate::load::Loaded;
 use crate::output::FrameData;
-use crate::system::{ForceContribution, SceneSystem, StageReport};
+use crate::problem::load::Loaded;
+use crate::stages::contact::{BondedPairs, ContactStage};
+use crate::stages::system::{ForceContribution, SceneSystem, StageReport};
 
 type Shared<T> = Arc<Mutex<T>>;
 
@@ -38,7 +38,7 @@ fn disc(dir: &Path, mesh: &str) -> Loaded {
     v["output"]["frames"] = serde_json::json!(0);
     let p = dir.join(format!("{mesh}.json"));
     std::fs::write(&p, v.to_string()).unwrap();
-    crate::load::load(&p).unwrap()
+    crate::problem::load::load(&p).unwrap()
 }
 
 /// The scene's fracture stage as `crate::stages::attach_to` builds it.
@@ -50,7 +50,7 @@ fn stage(
 ) -> (FractureStage, Shared<BondedPairs>, Shared<FractureReport>) {
     let set = l.fracturing.set.clone().unwrap();
     let initial = (l.initial_joint_state.clone())
-        .or_else(|| crate::cracks::initial_state(&l.fracturing, &sys.model));
+        .or_else(|| crate::problem::cracks::initial_state(&l.fracturing, &sys.model));
     let (mut stage, bonded, report) = FractureStage::new(set, &sys.model, out, initial, resume);
     stage.write_properties = l.scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
     (stage, bonded, report)
@@ -483,7 +483,7 @@ fn a_restored_stage_with_a_pre_existing_crack_continues_bit_for_bit() {
     v["output"]["frames"] = serde_json::json!(0);
     let p = dir.join("wing.json");
     std::fs::write(&p, v.to_string()).unwrap();
-    let l = crate::load::load(&p).unwrap();
+    let l = crate::problem::load::load(&p).unwrap();
     let r = resume_check(&l, "resume-wing", |_, s| s >= 100, 100);
     assert!(r.broken > 0, "the flaw's joints start broken");
     assert_eq!(r.after.first, None);

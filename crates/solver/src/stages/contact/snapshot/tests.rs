@@ -11,7 +11,7 @@ use fdem_time::{CentralDifference, Integrator, State};
 
 use crate::checkpoint::pack::{Dec, Enc};
 use crate::output::FrameData;
-use crate::system::{ForceContribution, SceneSystem, StageReport};
+use crate::stages::system::{ForceContribution, SceneSystem, StageReport};
 
 /// Two discs (R = 25 mm, 384 triangles each) colliding obliquely on a floor that slides and
 /// rises under them: friction 0.4 and contact damping between the discs, friction 0.5 and
@@ -67,7 +67,7 @@ fn temp_dir(tag: &str) -> PathBuf {
 /// The scene's system with its stages attached (the contact stage alone: no fracture), its
 /// initial state and step.
 fn system(file: &Path, out: Option<&Path>, resume: bool) -> (SceneSystem, State, f64) {
-    let l = crate::load(file).expect("scene loads");
+    let l = crate::problem::load::load(file).expect("scene loads");
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     crate::stages::attach_to(&l, &mut sys, l.dt, out, 1, resume).unwrap();
     assert_eq!(sys.contributions.len(), 1, "the contact stage");

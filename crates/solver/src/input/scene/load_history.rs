@@ -11,7 +11,7 @@
 //!
 //! A table holds its first value before its first time and its last value after its last
 //! time; times are >= 0 and strictly increasing. The evaluator is
-//! [`crate::time_history::History`]. This file only parses and checks the values
+//! [`crate::problem::time_function::History`]. This file only parses and checks the values
 //! ([`check`], [`check_with_ramp`]), each error at its JSON path.
 
 use std::fmt;
