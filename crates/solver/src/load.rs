@@ -25,7 +25,7 @@ use crate::model::{self, Model};
 use crate::resolve::MeshNames;
 use crate::scene::{Analysis, Scene};
 use crate::static_checks;
-use crate::system::ForceContribution;
+use crate::system::Stage;
 
 /// A scene with its meshes and model, ready to run.
 pub struct Loaded {
@@ -54,7 +54,7 @@ pub struct Loaded {
     /// Further force terms (contact, joints) for the dynamic loop; empty by default, and then
     /// they cost nothing. Add them with [`Loaded::add_contribution`], which also lowers the
     /// time step for their frequency bound.
-    pub contributions: Vec<Box<dyn ForceContribution>>,
+    pub contributions: Vec<Box<dyn Stage>>,
     /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
     /// run summary's `timers.setup`.
     pub load_s: f64,
@@ -283,7 +283,7 @@ impl Loaded {
     /// `sqrt(omega_elements^2 + omega_c^2)`, and the time step and step count are recomputed
     /// and checked with it ([`crate::limits::time_steps`]; an explicit `time_step` above the
     /// new limit is lowered to it).
-    pub fn add_contribution(&mut self, c: Box<dyn ForceContribution>) -> Result<(), SceneError> {
+    pub fn add_contribution(&mut self, c: Box<dyn Stage>) -> Result<(), SceneError> {
         let wc = c.frequency_bound();
         self.contributions.push(c);
         if wc > 0.0 && self.scene.analysis != Analysis::Static {

@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::error::SceneError;
 use crate::model::Model;
 use crate::scene::Scene;
-use crate::system::{SceneSystem, StageReport};
+use crate::system::{Engaged, SceneSystem, StageReport};
 
 /// Checks the optional sections of a scene.
 pub fn validate(scene: &Scene, file: &Path) -> Result<(), SceneError> {
@@ -53,7 +53,7 @@ pub fn omega_joints(scene: &Scene, model: &Model, file: &Path) -> Result<f64, Sc
 pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_j: f64) -> f64 {
     let mut w2 = omega_el * omega_el + omega_j * omega_j;
     for c in &mut sys.contributions {
-        if let Some(w) = c.active_frequency_bound(x) {
+        if let Some(w) = c.active_frequency_bound(x, Engaged::LastEvaluation) {
             w2 += w * w;
         }
     }
@@ -81,8 +81,8 @@ pub fn omega_active_ahead(
     );
     let mut w2 = omega_el * omega_el + omega_j * omega_j;
     for c in &mut sys.contributions {
-        let now = c.active_frequency_bound(x);
-        let then = c.active_frequency_bound_at(scratch);
+        let now = c.active_frequency_bound(x, Engaged::LastEvaluation);
+        let then = c.active_frequency_bound(scratch, Engaged::Elsewhere);
         if let Some(w) = now.into_iter().chain(then).reduce(f64::max) {
             w2 += w * w;
         }
@@ -119,7 +119,7 @@ pub fn attach(
 /// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
 /// the stages of `fdem check`'s timed sample of the run. `resume`: the stages continue the
 /// files of a run resumed from a checkpoint (their state comes next, from
-/// [`ForceContribution::restore`](crate::system::ForceContribution::restore)).
+/// [`StageCheckpoint::restore`](crate::system::StageCheckpoint::restore)).
 pub fn attach_to(
     scene: &Scene,
     file: &Path,
@@ -139,15 +139,17 @@ pub fn attach_to(
             .as_ref()
             .and_then(|f| f.initial_state.clone())
             .or_else(|| crate::cracks::initial_state(scene, &set, &sys.model));
-        let (mut stage, b, _) =
+        let (mut stage, b) =
             crate::fracture_stage::FractureStage::new(set, &sys.model, out_dir, initial, resume);
         stage.write_properties = scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }
-    if let Some((mut stage, _)) =
+    if let Some(mut stage) =
         crate::contact_stage::ContactStage::new(scene, &sys.model, dt, out_dir, every, resume)
     {
+        // the contact stage excludes the bonded pairs and takes those the joints release
+        sys.events.released_taken = bonded.is_some();
         stage.bonded = bonded;
         stage.book_work = scene
             .histories
