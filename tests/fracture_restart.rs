@@ -167,9 +167,8 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
     let pairs = |saved: Option<fdem_fracture::JointState>| {
         let set = l.fracturing.set.clone().unwrap();
         let tris = set.triangles.clone();
-        let (_, bonded, _) =
+        let (_, initial) =
             fdem_solver::stages::fracture::FractureStage::new(set, &l.model, None, saved, false);
-        let initial = bonded.lock().unwrap().initial.clone();
         (tris, initial)
     };
     let (tris, fresh_pairs) = pairs(None);
@@ -205,7 +204,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
 /// of `JointState::new` called on their own, bit for bit.
 #[test]
 fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
-    use fdem_solver::stages::system::ForceContribution;
+    use fdem_solver::stages::system::StageCheckpoint;
     let dir = common::temp_dir("stage-setup");
     std::fs::create_dir_all(&dir).unwrap();
     let l = driver::load(&scene(&dir)).unwrap();
@@ -225,14 +224,10 @@ fn fracture_stage_set_up_is_the_serial_one_on_1_and_2_threads() {
             .num_threads(threads)
             .build()
             .unwrap();
-        let (stage, bonded, _) = pool.install(|| {
+        let (stage, bonded) = pool.install(|| {
             fdem_solver::stages::fracture::FractureStage::new(set(), &l.model, None, None, false)
         });
-        assert_eq!(
-            bonded.lock().unwrap().initial,
-            want_pairs,
-            "{threads} threads"
-        );
+        assert_eq!(bonded, want_pairs, "{threads} threads");
         let st = stage.joint_state().unwrap();
         assert_eq!(st.history, want_state.history, "{threads} threads");
         assert_eq!(st.intact, want_state.intact);

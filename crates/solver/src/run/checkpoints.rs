@@ -276,10 +276,11 @@ impl<'a> Run<'a> {
         if let Some(c) = &self.conjugate {
             e.section("conjugate-gradient", |e| c.save(e));
         }
-        for c in &mut self.sys.contributions {
+        let sys = &mut *self.sys;
+        for c in &mut sys.contributions {
             let name = c.name().to_string();
             let mut saved = Ok(());
-            e.section(&name, |e| saved = c.save(e));
+            e.section(&name, |e| saved = c.save(e, &sys.events));
             saved.map_err(|err| RunError::Output {
                 file: self.out_dir.to_path_buf(),
                 message: format!("cannot save the {name} stage's files: {err}"),
@@ -513,7 +514,8 @@ impl<'a> Run<'a> {
         }
         for c in &mut sys.contributions {
             let name = c.name().to_string();
-            d.section(&name, |d| c.restore(d)).map_err(bad)?;
+            d.section(&name, |d| c.restore(d, &mut sys.events))
+                .map_err(bad)?;
         }
         // a run that had reached its last step ends at once, unless its end is later now
         let at_end = part.steps > 0 && control.is_last(part.steps, &state);

@@ -13,7 +13,7 @@ use crate::input::scene::{Analysis, RelaxationMethod};
 use crate::problem::load::Loaded;
 use crate::problem::model;
 use crate::problem::stable_step::{stable_step, step_count};
-use crate::stages::system::{ForceContribution, SceneSystem};
+use crate::stages::system::{ForceTerm, SceneSystem, StepEvents};
 
 /// `fdem check`'s report: the stable step of every scheme and the estimated run time
 /// ([`run_time_estimate`]); another scheme's row scales the scene scheme's step cost by its
@@ -428,7 +428,7 @@ impl Stepper {
         self.sys.save(&mut e);
         for c in &mut self.sys.contributions {
             // no files: the stages of the sample write none
-            let _ = c.save(&mut e);
+            let _ = c.save(&mut e, &self.sys.events);
         }
         let alpha = l.scene.damping.mass_proportional;
         let residuals = crate::run::books_residuals(l);
@@ -518,12 +518,13 @@ struct Released {
     x: Vec<[f64; 2]>,
     v: Vec<[f64; 2]>,
     f: Vec<[f64; 2]>,
+    events: StepEvents,
 }
 
 impl Released {
     fn new(l: &Loaded) -> Option<Self> {
         l.scene.fracture.as_ref()?;
-        let (stage, _) = crate::stages::contact::ContactStage::new(
+        let stage = crate::stages::contact::ContactStage::new(
             &l.scene,
             &l.model,
             l.dt,
@@ -538,14 +539,16 @@ impl Released {
             x,
             v: vec![[0.0; 2]; n],
             f: vec![[0.0; 2]; n],
+            events: StepEvents::default(),
         };
         r.pass();
         Some(r)
     }
 
     fn pass(&mut self) {
-        self.stage.add_forces(0.0, &self.x, &self.v, &mut self.f);
-        self.stage.end_of_step(0.0, &self.x, &self.v);
+        let (x, v, e) = (&self.x, &self.v, &mut self.events);
+        self.stage.forces(0.0, x, v, &mut self.f, e);
+        self.stage.end_of_step(0.0, x, v, false, e);
     }
 
     /// The wall time of one force pass and commit, over a batch of about `secs` seconds [s].

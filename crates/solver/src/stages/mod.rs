@@ -11,7 +11,7 @@ use std::path::Path;
 
 use crate::error::SceneError;
 use crate::problem::load::Loaded;
-use crate::stages::system::{SceneSystem, StageReport};
+use crate::stages::system::{Engaged, SceneSystem, StageReport};
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
 /// whose forces were last evaluated at `x`:
@@ -21,7 +21,7 @@ use crate::stages::system::{SceneSystem, StageReport};
 pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_j: f64) -> f64 {
     let mut w2 = omega_el * omega_el + omega_j * omega_j;
     for c in &mut sys.contributions {
-        if let Some(w) = c.active_frequency_bound(x) {
+        if let Some(w) = c.active_frequency_bound(x, Engaged::LastEvaluation) {
             w2 += w * w;
         }
     }
@@ -49,8 +49,8 @@ pub fn omega_active_ahead(
     );
     let mut w2 = omega_el * omega_el + omega_j * omega_j;
     for c in &mut sys.contributions {
-        let now = c.active_frequency_bound(x);
-        let then = c.active_frequency_bound_at(scratch);
+        let now = c.active_frequency_bound(x, Engaged::LastEvaluation);
+        let then = c.active_frequency_bound(scratch, Engaged::Elsewhere);
         if let Some(w) = now.into_iter().chain(then).reduce(f64::max) {
             w2 += w * w;
         }
@@ -85,7 +85,7 @@ pub fn attach(
 /// [`attach`], writing no files (`walls.csv`, `fractures.csv`) when `out_dir` is `None`:
 /// the stages of `fdem check`'s timed sample of the run. `resume`: the stages continue the
 /// files of a run resumed from a checkpoint (their state comes next, from
-/// [`ForceContribution::restore`](crate::stages::system::ForceContribution::restore)).
+/// [`StageCheckpoint::restore`](crate::stages::system::StageCheckpoint::restore)).
 pub fn attach_to(
     l: &Loaded,
     sys: &mut SceneSystem,
@@ -101,7 +101,7 @@ pub fn attach_to(
     if let Some(set) = &fracturing.set {
         let initial = (initial.cloned())
             .or_else(|| crate::problem::cracks::initial_state(fracturing, &sys.model));
-        let (mut stage, b, _) = crate::stages::fracture::FractureStage::new(
+        let (mut stage, b) = crate::stages::fracture::FractureStage::new(
             set.clone(),
             &sys.model,
             out_dir,
@@ -112,9 +112,11 @@ pub fn attach_to(
         bonded = Some(b);
         sys.contributions.push(Box::new(stage));
     }
-    if let Some((mut stage, _)) =
+    if let Some(mut stage) =
         crate::stages::contact::ContactStage::new(scene, &sys.model, dt, out_dir, every, resume)
     {
+        // the contact stage excludes the bonded pairs and takes those the joints release
+        sys.events.released_taken = bonded.is_some();
         stage.bonded = bonded;
         stage.book_work = scene
             .histories

@@ -26,33 +26,49 @@ const PAR_MIN_DOFS: usize = 1 << 16;
 /// DOFs per rayon task in the element-wise loops.
 const DOF_CHUNK: usize = 1 << 14;
 
-/// A force term beyond the elements and the loads (contact, joints, ...), plugged into
-/// [`SceneSystem::contributions`]. An empty list costs nothing.
-pub trait ForceContribution: Send {
-    /// Name in the summary's timers.
-    fn name(&self) -> &str;
-    /// Adds this term's nodal forces at `(t, x, v)` to `f`. Must not commit history.
-    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]);
-    /// Commits history at the end of an accepted step (default: nothing).
-    fn end_of_step(&mut self, _t: f64, _x: &[[f64; 2]], _v: &[[f64; 2]]) {}
-    /// The next [`ForceContribution::add_forces`] call is the last of the step, and
-    /// [`ForceContribution::end_of_step_at_last_evaluation`] follows at its positions with no
-    /// other call in between (the time crate's
-    /// [`SecondOrderSystem::next_evaluation_ends_step`]): a term may advance its history in
-    /// that call. Default: nothing.
+/// A force term beyond the elements and the loads (contact, joints, ...): its forces, its
+/// history at the end of a step and its frequency bounds, from the scene and the state. What
+/// else a stage does lives in its own layer: [`StageOutput`] (energy books, reports, files,
+/// frame fields), [`StageCheckpoint`] (the checkpoint), [`StageDistribution`] (a distributed
+/// run). What one stage hands to another (the pairs a fracture releases to the contact) is
+/// data of the step pipeline, [`StepEvents`], which [`SceneSystem`] owns and passes to every
+/// stage in stage order.
+pub trait ForceTerm: Send {
+    /// Adds this term's nodal forces at `(t, x, v)` to `f`. Must not commit history; may take
+    /// what earlier stages handed over in `events` (the contact stage takes the released
+    /// pairs).
+    fn forces(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        events: &mut StepEvents,
+    );
+    /// The next [`ForceTerm::forces`] call is the last of the step, and
+    /// [`ForceTerm::end_of_step`] follows at its positions with `at_last` and no other call in
+    /// between (the time crate's [`SecondOrderSystem::next_evaluation_ends_step`]): a term may
+    /// advance its history in that call. Default: nothing.
     fn next_evaluation_ends_step(&mut self) {}
-    /// Called instead of [`ForceContribution::end_of_step`] when the step's last
-    /// [`ForceContribution::add_forces`] call was at these positions `x`, bit for bit (the
-    /// time crate's [`SecondOrderSystem::end_of_step_at_last_evaluation`]): a term may reuse
-    /// that evaluation's trial history without checking the positions. Default:
-    /// [`ForceContribution::end_of_step`].
-    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
-        self.end_of_step(t, x, v);
+    /// Commits history at the end of an accepted step at `(t, x, v)`, and puts what it hands
+    /// to the stages after it into `events` (the fracture stage: the released pairs and its
+    /// fracture events). `at_last`: the step's last [`ForceTerm::forces`] call was at these
+    /// positions `x`, bit for bit (the time crate's
+    /// [`SecondOrderSystem::end_of_step_at_last_evaluation`]), so a term may reuse that
+    /// evaluation's trial history without checking the positions. Default: nothing.
+    fn end_of_step(
+        &mut self,
+        _t: f64,
+        _x: &[[f64; 2]],
+        _v: &[[f64; 2]],
+        _at_last: bool,
+        _events: &mut StepEvents,
+    ) {
     }
-    /// Whether [`ForceContribution::add_forces`] reads the velocities `v` (friction, damping).
-    /// With `false` from every contribution (and no element viscosity or mass damping), the
-    /// splitting schemes skip their velocity extrapolation pass and pass their velocity
-    /// variable as it is ([`SecondOrderSystem::velocity_dependent`]). Default `true` (safe).
+    /// Whether [`ForceTerm::forces`] reads the velocities `v` (friction, damping). With
+    /// `false` from every term (and no element viscosity or mass damping), the splitting
+    /// schemes skip their velocity extrapolation pass and pass their velocity variable as it
+    /// is ([`SecondOrderSystem::velocity_dependent`]). Default `true` (safe).
     fn reads_velocities(&self) -> bool {
         true
     }
@@ -60,20 +76,49 @@ pub trait ForceContribution: Send {
     fn frequency_bound(&self) -> f64 {
         0.0
     }
-    /// The term's frequency bound from what is engaged at positions `x` (the state of its
-    /// last force evaluation) [rad/s]: at most [`ForceContribution::frequency_bound`]'s
-    /// reach for what the state engages. `None` (the default): the term has no such bound,
-    /// its a-priori one applies.
-    fn active_frequency_bound(&mut self, _x: &[[f64; 2]]) -> Option<f64> {
-        None
-    }
-    /// [`ForceContribution::active_frequency_bound`] at positions `x` other than those of the
-    /// last force evaluation (e.g. extrapolated ones): what would be engaged there.
-    fn active_frequency_bound_at(&mut self, _x: &[[f64; 2]]) -> Option<f64> {
+    /// The term's frequency bound from what is engaged at positions `x` [rad/s]
+    /// (`at`: what the last force evaluation engaged, its geometry at `x`, or what would be
+    /// engaged at positions other than the last evaluation's, e.g. extrapolated ones): at most
+    /// [`ForceTerm::frequency_bound`]'s reach for what the state engages. `None` (the
+    /// default): the term has no such bound, its a-priori one applies.
+    fn active_frequency_bound(&mut self, _x: &[[f64; 2]], _at: Engaged) -> Option<f64> {
         None
     }
     /// The time step changed to `h` (an adaptive step; default: nothing).
     fn set_time_step(&mut self, _h: f64) {}
+}
+
+/// What [`ForceTerm::active_frequency_bound`] counts as engaged at its positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Engaged {
+    /// What the last force evaluation engaged (the positions are that evaluation's).
+    LastEvaluation,
+    /// What would be engaged at these positions, other than the last evaluation's (every
+    /// candidate the term knows of).
+    Elsewhere,
+}
+
+/// What a stage hands to the stages after it, as data of the step pipeline: filled by one
+/// stage's [`ForceTerm::end_of_step`], read by a later stage's passes. [`SceneSystem`] owns it
+/// and passes it to every stage in stage order.
+#[derive(Debug, Clone, Default)]
+pub struct StepEvents {
+    /// Triangle pairs released from the bonded set (their joint softened or broke), in release
+    /// order: appended by the fracture stage at the end of a step, taken and cleared by the
+    /// contact stage at its next force evaluation (each pair once over the run). A checkpoint
+    /// holds those not taken yet (in the fracture stage's section).
+    pub released: Vec<[u32; 2]>,
+    /// A stage takes [`StepEvents::released`] (the contact stage, given the bonded pairs at
+    /// attach): without one, the releasing stage keeps none.
+    pub released_taken: bool,
+    /// The fracture events (breaks) of the last end of step, in joint order.
+    pub fractures: Vec<fdem_fracture::FractureEvent>,
+}
+
+/// A stage's reports and output: its energy books for the run summary, the error that stops a
+/// run, its arrays in the output frames and the files it writes. Every method has a default
+/// (a stage without any of it).
+pub trait StageOutput {
     /// Energies and state of this term at positions `x`, for the run summary (default: none).
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {
         StageReport::default()
@@ -83,34 +128,51 @@ pub trait ForceContribution: Send {
         None
     }
     /// Adds this term's arrays to an output frame (`frame.extra_point_vectors`,
-    /// `frame.extra_cell_scalars`) from its last force evaluation at positions `x`
-    /// (default: nothing, so a scene without the term writes no such arrays).
+    /// `frame.extra_cell_scalars`, `frame.joints`) from its last force evaluation at
+    /// positions `x` (default: nothing, so a scene without the term writes no such arrays).
     fn frame_fields(&self, _x: &[[f64; 2]], _frame: &mut FrameData) {}
-    /// Called once after the last step, or at a stop on an instability (flush files;
-    /// default: nothing).
-    fn finish(&mut self) {}
     /// Adds to `files` the names of the files in the run's folder that this term appends to,
     /// which a run resumed from a checkpoint goes on from (default: none).
     fn files(&self, _files: &mut Vec<String>) {}
+    /// Called once after the last step, or at a stop on an instability (flush files;
+    /// default: nothing).
+    fn finish(&mut self) {}
+    /// The joints as the nodal stress recovery needs them (node ids, intact flags): a term
+    /// with joints (the fracture stage) hands them out so that no patch crosses a broken
+    /// joint (default: none).
+    fn joint_links(&self) -> Option<crate::output::recovery::Links<'_>> {
+        None
+    }
+}
+
+/// A stage in a checkpoint.
+pub trait StageCheckpoint {
     /// Appends to a checkpoint everything this term carries from one step to the next
     /// (committed histories, couples, detection state, counters, energy sums, the last
     /// evaluation's results that reports and frames read, the length of its CSV file, which
-    /// it flushes), so that [`ForceContribution::restore`] on a term attached afresh for the
-    /// same scene continues bit for bit.
-    fn save(&mut self, e: &mut Enc) -> std::io::Result<()>;
-    /// Restores what [`ForceContribution::save`] wrote, on a term attached afresh (`resume`)
-    /// for the same scene, and cuts its CSV file back to its length at the checkpoint. Sizes
-    /// that do not match the scene are an error, never a panic.
-    fn restore(&mut self, d: &mut Dec) -> Result<(), DecodeError>;
+    /// it flushes; the part of `events` it hands over and a later stage has not taken yet),
+    /// so that [`StageCheckpoint::restore`] on a term attached afresh for the same scene
+    /// continues bit for bit.
+    fn save(&mut self, e: &mut Enc, events: &StepEvents) -> std::io::Result<()>;
+    /// Restores what [`StageCheckpoint::save`] wrote (its part of `events` included), on a
+    /// term attached afresh (`resume`) for the same scene, and cuts its CSV file back to its
+    /// length at the checkpoint. Sizes that do not match the scene are an error, never a
+    /// panic.
+    fn restore(&mut self, d: &mut Dec, events: &mut StepEvents) -> Result<(), DecodeError>;
     /// The joints' committed history, for a term that has one (the fracture stage): the
     /// driver hands it out with the run's outcome so that a later run can start from it
     /// (default: none).
     fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
         None
     }
-    /// A distributed run ([`crate::distributed`]) starts on `layout`: a term that can evaluate
-    /// only the part of this rank takes its part here (default: the term runs whole on every
-    /// rank, on the gathered state).
+}
+
+/// A stage in a distributed run ([`crate::distributed`]), and the modes of its force passes.
+/// Every method has a default: the term runs whole on every rank, on the gathered state.
+pub trait StageDistribution: ForceTerm {
+    /// A distributed run starts on `layout`: a term that can evaluate only the part of this
+    /// rank takes its part here (default: the term runs whole on every rank, on the gathered
+    /// state).
     fn distribute(&mut self, _layout: &crate::distributed::Layout) {}
     /// With `on`, the next passes only look at a state (an output frame's force): the term
     /// changes nothing that carries over to the next step, so that what is written does not
@@ -120,34 +182,33 @@ pub trait ForceContribution: Send {
     /// term on the whole state (`false`: the observers, at the steps where the state is
     /// shared). Default: nothing (the term is whole anyway).
     fn set_partial(&mut self, _on: bool) {}
-    /// The end-of-step hook of a distributed run, with the transport; `at_last` as for
-    /// [`ForceContribution::end_of_step_at_last_evaluation`]. Every rank calls it at every
-    /// step. Default: the single-process hook.
+    /// The end-of-step hook of a distributed run, with the transport; `at_last` and `events`
+    /// as for [`ForceTerm::end_of_step`]. Every rank calls it at every step. Default: the
+    /// single-process hook.
     fn end_of_step_distributed(
         &mut self,
         t: f64,
         x: &[[f64; 2]],
         v: &[[f64; 2]],
         at_last: bool,
+        events: &mut StepEvents,
         _comm: &mut dyn crate::distributed::Comm,
     ) {
-        if at_last {
-            self.end_of_step_at_last_evaluation(t, x, v);
-        } else {
-            self.end_of_step(t, x, v);
-        }
+        self.end_of_step(t, x, v, at_last, events);
     }
     /// In a distributed run, after the elements' ghosts are current and before the forces
     /// (`before_forces`) or the end-of-step hook (otherwise, when the state moved since the
     /// last evaluation or a term reads velocities): the term brings the nodes it reads beyond
     /// the elements' ghosts into `x` (and the velocities into `v` when it reads them) from
-    /// their owners, and takes its collective decisions. Every rank calls it. Default: nothing.
+    /// their owners, takes what earlier stages handed over in `events` (before the forces),
+    /// and takes its collective decisions. Every rank calls it. Default: nothing.
     fn exchange_distributed(
         &mut self,
         _t: f64,
         _x: &mut [[f64; 2]],
         _v: &mut [[f64; 2]],
         _before_forces: bool,
+        _events: &mut StepEvents,
         _comm: &mut dyn crate::distributed::Comm,
     ) {
     }
@@ -158,15 +219,20 @@ pub trait ForceContribution: Send {
     /// In a distributed run, at each step whose state the observers read: makes the term's
     /// whole state current on every rank. Every rank calls it. Default: nothing.
     fn share(&mut self, _comm: &mut dyn crate::distributed::Comm) {}
-    /// The joints as the nodal stress recovery needs them (node ids, intact flags): a term
-    /// with joints (the fracture stage) hands them out so that no patch crosses a broken
-    /// joint (default: none).
-    fn joint_links(&self) -> Option<crate::output::recovery::Links<'_>> {
-        None
-    }
 }
 
-/// What a [`ForceContribution`] reports to the run summary.
+/// A stage of the composition, plugged into [`SceneSystem::contributions`]: its name, and a
+/// force term with its output, checkpoint and distribution layers. Each layer of the run
+/// calls the trait of its layer (and the name, which every layer uses); [`std::any::Any`] lets
+/// a caller that knows the stage's type (a test) get it back.
+pub trait Stage:
+    ForceTerm + StageOutput + StageCheckpoint + StageDistribution + std::any::Any
+{
+    /// Name in the summary's timers and stage details, and the checkpoint's section.
+    fn name(&self) -> &str;
+}
+
+/// What a stage reports to the run summary ([`StageOutput::report`]).
 #[derive(Debug, Clone, Default)]
 pub struct StageReport {
     /// Energy stored by the term (contact potential, joint strain, friction springs) [J].
@@ -229,8 +295,10 @@ pub struct SceneSystem {
     constrained_dofs: Vec<usize>,
     x0: Vec<f64>,
     alpha: f64,
-    /// Optional force terms (contact, joints): none by default.
-    pub contributions: Vec<Box<dyn ForceContribution>>,
+    /// Optional stages (contact, joints), in stage order: none by default.
+    pub contributions: Vec<Box<dyn Stage>>,
+    /// What the stages hand to each other in the step pipeline (the released pairs).
+    pub events: StepEvents,
     /// Nodal force of the last evaluation (internal + external + damping + contributions).
     pub force: Vec<[f64; 2]>,
     /// The internal (element) part of [`SceneSystem::force`], kept only after
@@ -280,6 +348,7 @@ impl SceneSystem {
             x0,
             alpha,
             contributions: Vec::new(),
+            events: StepEvents::default(),
             force: vec![[0.0; 2]; n],
             internal_force: Vec::new(),
             evaluated_at_end: false,
@@ -346,7 +415,7 @@ impl SceneSystem {
 
     /// The acceleration at `(t, x, v)` into `a` (and the force into [`SceneSystem::force`])
     /// for a look at the state (an output frame): no stage changes what carries over to the
-    /// next step ([`ForceContribution::set_looking`]).
+    /// next step ([`StageDistribution::set_looking`]).
     pub fn look(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
         for c in &mut self.contributions {
             c.set_looking(true);
@@ -378,7 +447,7 @@ impl SceneSystem {
                 d.patch(x, v, with_v);
                 let (xm, vm, comm) = d.parts();
                 for c in &mut self.contributions {
-                    c.exchange_distributed(t, xm, vm, true, comm);
+                    c.exchange_distributed(t, xm, vm, true, &mut self.events, comm);
                 }
                 let xn = d.xp.as_chunks::<2>().0;
                 let vn = if with_v { d.vp.as_chunks::<2>().0 } else { vn };
@@ -419,12 +488,12 @@ impl SceneSystem {
                     .zip(&mut self.contribution_times)
                 {
                     let sc = Instant::now();
-                    c.add_forces(t, xn, vn, &mut self.force);
+                    c.forces(t, xn, vn, &mut self.force, &mut self.events);
                     *ct += sc.elapsed().as_secs_f64();
                 }
             } else {
                 for c in &mut self.contributions {
-                    c.add_forces(t, xn, vn, &mut self.force);
+                    c.forces(t, xn, vn, &mut self.force, &mut self.events);
                 }
             }
             self.timers.contributions += secs(s);
@@ -576,7 +645,7 @@ impl SceneSystem {
                 d.patch_owned(x, v, with_v);
                 let (xm, vm, comm) = d.parts();
                 for c in &mut self.contributions {
-                    c.exchange_distributed(t, xm, vm, false, comm);
+                    c.exchange_distributed(t, xm, vm, false, &mut self.events, comm);
                 }
             }
             let (xp, vp, comm) = d.parts();
@@ -586,43 +655,35 @@ impl SceneSystem {
             self.contribution_end_times.resize(n, 0.0);
             for (k, c) in self.contributions.iter_mut().enumerate() {
                 let sc = Instant::now();
-                c.end_of_step_distributed(t, xn, vn, at_last, comm);
+                c.end_of_step_distributed(t, xn, vn, at_last, &mut self.events, comm);
                 let dt = sc.elapsed().as_secs_f64();
                 self.contribution_times[k] += dt;
                 self.contribution_end_times[k] += dt;
             }
             return;
         }
-        let end = |c: &mut Box<dyn ForceContribution>, xn: &[[f64; 2]], vn: &[[f64; 2]]| {
-            if at_last {
-                c.end_of_step_at_last_evaluation(t, xn, vn);
-            } else {
-                c.end_of_step(t, xn, vn);
+        let xn = x.as_chunks::<2>().0;
+        let vn = v.as_chunks::<2>().0;
+        let events = &mut self.events;
+        if self.timing {
+            let n = self.contributions.len();
+            self.contribution_times.resize(n, 0.0);
+            self.contribution_end_times.resize(n, 0.0);
+            for ((c, ct), ce) in self
+                .contributions
+                .iter_mut()
+                .zip(&mut self.contribution_times)
+                .zip(&mut self.contribution_end_times)
+            {
+                let sc = Instant::now();
+                c.end_of_step(t, xn, vn, at_last, events);
+                let dt = sc.elapsed().as_secs_f64();
+                *ct += dt;
+                *ce += dt;
             }
-        };
-        {
-            let xn = x.as_chunks::<2>().0;
-            let vn = v.as_chunks::<2>().0;
-            if self.timing {
-                let n = self.contributions.len();
-                self.contribution_times.resize(n, 0.0);
-                self.contribution_end_times.resize(n, 0.0);
-                for ((c, ct), ce) in self
-                    .contributions
-                    .iter_mut()
-                    .zip(&mut self.contribution_times)
-                    .zip(&mut self.contribution_end_times)
-                {
-                    let sc = Instant::now();
-                    end(c, xn, vn);
-                    let dt = sc.elapsed().as_secs_f64();
-                    *ct += dt;
-                    *ce += dt;
-                }
-            } else {
-                for c in &mut self.contributions {
-                    end(c, xn, vn);
-                }
+        } else {
+            for c in &mut self.contributions {
+                c.end_of_step(t, xn, vn, at_last, events);
             }
         }
     }
@@ -659,7 +720,7 @@ impl crate::checkpoint::pack::Pack for StageTimers {
 impl SceneSystem {
     /// Appends the system's own state to a checkpoint: the forces of the last evaluation (the
     /// reactions, the relaxation's residual and the energy books read them), the counters and
-    /// timers (the stages save themselves: [`ForceContribution::save`]).
+    /// timers (the stages save themselves: [`StageCheckpoint::save`]).
     pub fn save(&self, e: &mut Enc) {
         e.put(&self.force);
         e.put(&self.internal_force);

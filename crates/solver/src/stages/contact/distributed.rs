@@ -20,7 +20,7 @@ use fdem_contact::{COUPLE_SHARE, ContactStats, LEAD, LOCAL, TALLY, Tally, WALL_S
 
 use super::ContactStage;
 use crate::distributed::{Comm, Entries, Ghosts, Layout, share_nodes};
-use crate::stages::system::ForceContribution;
+use crate::stages::system::{ForceTerm, StageDistribution, StepEvents};
 
 /// The key of an entry of the `p`-th pass (or release) of a step: `p 2^32 + index`.
 const PASS: f64 = 4294967296.0;
@@ -86,7 +86,7 @@ impl ContactPart {
 impl ContactStage {
     /// Takes this rank's part of `layout`: the triangles with a node of its own are local,
     /// those whose first node is its own it leads; the active bound counts its own nodes.
-    pub(super) fn distribute_part(&mut self, layout: &Layout) {
+    fn distribute_part(&mut self, layout: &Layout) {
         let mine = |k: u32| layout.node_owner[k as usize] as usize == layout.rank;
         let roles = self
             .tris
@@ -102,14 +102,15 @@ impl ContactStage {
     /// Before a force pass: the releases, the walls' places, the detection when any rank's
     /// nodes moved half the buffer (on the whole positions, gathered into `x`), and the
     /// couples' nodes from their owners.
-    pub(super) fn prepare_part(
+    fn prepare_part(
         &mut self,
         t: f64,
         x: &mut [[f64; 2]],
         v: &mut [[f64; 2]],
+        events: &mut StepEvents,
         comm: &mut dyn Comm,
     ) {
-        let added = self.take_releases();
+        let added = self.take_releases(events);
         self.place_walls(t);
         let with_v = self.reads_velocities();
         let Some(p) = self.part.as_deref_mut() else {
@@ -163,12 +164,7 @@ impl ContactStage {
 
     /// The couples' nodes (and velocities, when the laws read them) from their owners, at
     /// the end of a step.
-    pub(super) fn exchange_part(
-        &mut self,
-        x: &mut [[f64; 2]],
-        v: &mut [[f64; 2]],
-        comm: &mut dyn Comm,
-    ) {
+    fn exchange_part(&mut self, x: &mut [[f64; 2]], v: &mut [[f64; 2]], comm: &mut dyn Comm) {
         let with_v = self.reads_velocities();
         if let Some(p) = self.part.as_deref_mut() {
             p.ghosts.exchange(comm, x, v, with_v);
@@ -208,13 +204,7 @@ impl ContactStage {
 
     /// The end of a step: every rank's terms folded in the serial order, then the single
     /// process's books.
-    pub(super) fn end_of_step_part(
-        &mut self,
-        t: f64,
-        x: &[[f64; 2]],
-        v: &[[f64; 2]],
-        comm: &mut dyn Comm,
-    ) {
+    fn end_of_step_part(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], comm: &mut dyn Comm) {
         let Some(mut p) = self.part.take() else {
             return;
         };
@@ -319,7 +309,7 @@ impl ContactStage {
 
     /// Makes the whole force pass, friction history and work books current on every rank
     /// (for the observers and checkpoints).
-    pub(super) fn share_part(&mut self, comm: &mut dyn Comm) {
+    fn share_part(&mut self, comm: &mut dyn Comm) {
         let Some(mut p) = self.part.take() else {
             return;
         };
@@ -356,6 +346,65 @@ impl ContactStage {
             });
         }
         self.part = Some(p);
+    }
+}
+
+impl StageDistribution for ContactStage {
+    /// Takes this rank's part ([`distributed`]).
+    fn distribute(&mut self, layout: &Layout) {
+        self.distribute_part(layout);
+    }
+
+    fn set_looking(&mut self, on: bool) {
+        self.looking = on;
+    }
+
+    fn set_partial(&mut self, on: bool) {
+        self.partial = on;
+    }
+
+    fn end_of_step_distributed(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        _at_last: bool,
+        _events: &mut StepEvents,
+        comm: &mut dyn Comm,
+    ) {
+        self.end_of_step_part(t, x, v, comm);
+    }
+
+    fn exchange_distributed(
+        &mut self,
+        t: f64,
+        x: &mut [[f64; 2]],
+        v: &mut [[f64; 2]],
+        before_forces: bool,
+        events: &mut StepEvents,
+        comm: &mut dyn Comm,
+    ) {
+        if before_forces {
+            self.prepare_part(t, x, v, events, comm);
+        } else {
+            self.exchange_part(x, v, comm);
+        }
+    }
+
+    /// A couple of the last detection costs [`crate::distributed::balance::COUPLE`], to its
+    /// first triangle, and so does a plane pair, to its triangle.
+    fn add_costs(&self, tri_cost: &mut [f64]) {
+        use crate::distributed::balance::COUPLE;
+        for c in self.contact.couples() {
+            tri_cost[c[0] as usize] += COUPLE;
+        }
+        for w in self.contact.wall_pairs() {
+            tri_cost[w[1] as usize] += COUPLE;
+        }
+    }
+
+    fn share(&mut self, comm: &mut dyn Comm) {
+        self.share_part(comm);
     }
 }
 

@@ -1,5 +1,7 @@
-//! The contact stage: the contact crate as a [`ForceContribution`] of the composition, set
-//! up from the scene's `"contact"` section ([`crate::input::scene::contact`]).
+//! The contact stage: the contact crate as a force term ([`ForceTerm`]) of the composition,
+//! set up from the scene's `"contact"` section ([`crate::input::scene::contact`]). Its other layers,
+//! each in its own file of `stages/contact/`: the reports and `walls.csv` (`output.rs`), the
+//! checkpoint (`snapshot.rs`), a distributed run's part (`distributed.rs`).
 //!
 //! Each step (every force evaluation) it moves the rigid walls to `x_w(t) = x_w0 + v_w r(t)`
 //! (`r` the integral of the ramp or history, [`crate::problem::time_function`]), refreshes detection when the buffer may be used up
@@ -23,9 +25,7 @@
 //! (default 10; `omega_active_max` in
 //! the summary) and gives it on demand for the adaptive step (docs/contact.md section 12.1).
 
-use std::io::Write;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
 
 use fdem_contact::{ActiveBound, Contact, ContactLaw, ContactSettings, RigidPlane};
 
@@ -34,15 +34,15 @@ use serde::Serialize;
 
 use crate::input::scene::Scene;
 pub use crate::input::scene::contact::{ContactSection, LawSpec, PairSpec, WallSpec};
-use crate::output::FrameData;
 use crate::problem::model::Model;
 use crate::problem::time_function::{self, History};
-use crate::stages::system::{ForceContribution, StageReport};
+use crate::stages::system::{Engaged, ForceTerm, StepEvents};
 
 mod distributed;
+mod output;
 mod snapshot;
 
-/// What the contact stage shares with the driver and the tests.
+/// The contact stage's books for its report ([`crate::stages::system::StageOutput::report`]).
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct ContactReport {
     /// Largest `phi = 3 d / H` seen over the run (d/H = phi/3).
@@ -76,7 +76,7 @@ struct WallMotion {
     history: Option<History>,
 }
 
-/// The contact stage (a [`ForceContribution`]).
+/// The contact stage (a [`crate::stages::system::Stage`]).
 pub struct ContactStage {
     contact: Contact,
     tris: Vec<[u32; 3]>,
@@ -86,17 +86,20 @@ pub struct ContactStage {
     reactions: Vec<[f64; 2]>,
     prev_force: Vec<[f64; 2]>,
     prev_disp: Vec<[f64; 2]>,
-    /// Bonded triangle pairs (intact joints and stars), released by the fracture stage.
-    pub bonded: Option<Arc<Mutex<BondedPairs>>>,
+    /// The bonded triangle pairs at set-up (intact joints and intact stars), given by the
+    /// fracture stage at attach (`crate::stages::fracture::FractureStage::new`) and handed to
+    /// the contact model (as its exclusions) at the first force evaluation; the pairs released
+    /// since come as [`StepEvents::released`]. `None`: no stage bonds pairs.
+    pub bonded: Option<Vec<[u32; 2]>>,
     /// The initial bonded list was handed to the contact model.
     bonded_set: bool,
-    /// The released pairs being handed over (swapped with `BondedPairs::released`).
+    /// The released pairs being handed over (swapped with [`StepEvents::released`]).
     released: Vec<[u32; 2]>,
     /// Wall time of the hand-overs of released pairs (release and switch-jump energy) [s].
     release_s: f64,
     /// Sum over the joint -> contact hand-overs of the contact potential they brought in [J].
     switch_jump: f64,
-    report: Arc<Mutex<ContactReport>>,
+    report: ContactReport,
     /// Scratch of the active frequency bound.
     active: ActiveBound,
     /// Steps between the recorded samples of the active bound (0: none).
@@ -135,28 +138,16 @@ pub struct ContactStage {
     part: Option<Box<distributed::ContactPart>>,
     /// The passes evaluate this rank's part (a distributed run's steps).
     partial: bool,
-    /// The passes only look at the state ([`ForceContribution::set_looking`]).
+    /// The passes only look at the state
+    /// ([`crate::stages::system::StageDistribution::set_looking`]).
     looking: bool,
-}
-
-/// Triangle pairs bonded by the fracture stage (intact joints, intact stars), passed to the
-/// contact stage as data: the list at set-up, then the pairs released since.
-#[derive(Debug, Clone, Default)]
-pub struct BondedPairs {
-    /// The bonded pairs at set-up (the contact stage's exclusion list at its first force
-    /// evaluation).
-    pub initial: Vec<[u32; 2]>,
-    /// Pairs released since the contact stage last took them (appended by the fracture
-    /// stage at the end of a step, taken and cleared by the contact stage at its next force
-    /// evaluation; each pair once over the run).
-    pub released: Vec<[u32; 2]>,
 }
 
 impl ContactStage {
     /// Builds the stage for a scene with an enabled contact section; `dt` is the step,
     /// `out_dir` receives `walls.csv` (every `csv_every` steps) when there are walls: a new
     /// file, or (`resume`) the file of the run being resumed, cut back by
-    /// [`ForceContribution::restore`].
+    /// [`crate::stages::system::StageCheckpoint::restore`].
     pub fn new(
         scene: &Scene,
         model: &Model,
@@ -164,7 +155,7 @@ impl ContactStage {
         out_dir: Option<&Path>,
         csv_every: u64,
         resume: bool,
-    ) -> Option<(Self, Arc<Mutex<ContactReport>>)> {
+    ) -> Option<Self> {
         let section = scene.contact.as_ref().filter(|c| c.enabled)?;
         let laws = laws(section, scene, model);
         let settings = ContactSettings {
@@ -191,11 +182,11 @@ impl ContactStage {
             });
         }
         let nw = section.walls.len();
-        let report = Arc::new(Mutex::new(ContactReport {
+        let report = ContactReport {
             wall_force: vec![[0.0; 2]; nw],
             wall_displacement: vec![[0.0; 2]; nw],
             ..Default::default()
-        }));
+        };
         let csv = if nw > 0 {
             out_dir.and_then(|d| {
                 let mut head = String::from("time");
@@ -222,7 +213,7 @@ impl ContactStage {
             released: Vec::new(),
             release_s: 0.0,
             switch_jump: 0.0,
-            report: report.clone(),
+            report,
             active: ActiveBound::new(),
             active_every: section.active_bound_every,
             inv_sqrt_mass: model
@@ -251,7 +242,7 @@ impl ContactStage {
         let n = c.laws.n_materials() as u32;
         stage.damped = (0..n).any(|i| (0..n).any(|j| c.laws.get(i, j).damping > 0.0))
             || c.walls.iter().any(|w| w.law.damping > 0.0);
-        Some((stage, report))
+        Some(stage)
     }
 
     /// Triangle couples of the last detection (pairs within the buffer, bonded pairs excluded).
@@ -278,23 +269,22 @@ impl ContactStage {
     /// would have listed become couples now, without a re-detection (the others are more
     /// than the buffer apart and the next regular detection finds them when they come
     /// close). Returns whether couples were added ([`Contact::added_couples`]).
-    fn take_releases(&mut self) -> bool {
-        let Some(b) = &self.bonded else {
+    fn take_releases(&mut self, events: &mut StepEvents) -> bool {
+        let Some(initial) = &mut self.bonded else {
             return false;
         };
-        let mut b = b.lock().unwrap_or_else(|e| e.into_inner());
         if !self.bonded_set {
             // The list at set-up; releases already queued are applied below (the detection
             // is stale then, so they only leave the exclusions).
-            self.contact.set_bonded(self.tris.len(), &b.initial);
+            self.contact
+                .set_bonded(self.tris.len(), &std::mem::take(initial));
             self.bonded_set = true;
         }
-        if b.released.is_empty() {
+        if events.released.is_empty() {
             return false;
         }
         let t0 = std::time::Instant::now();
-        std::mem::swap(&mut self.released, &mut b.released);
-        drop(b);
+        std::mem::swap(&mut self.released, &mut events.released);
         self.contact.release_pairs(&self.released, &self.tris);
         self.released.clear();
         self.release_s += t0.elapsed().as_secs_f64();
@@ -318,7 +308,7 @@ impl ContactStage {
     /// Books a force pass's statistics at time `t`: the deepest overlap, the first error,
     /// the active couples.
     fn book_pass(&mut self, t: f64, stats: &fdem_contact::ContactStats) {
-        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        let r = &mut self.report;
         if stats.max_phi > r.max_phi {
             r.max_phi = stats.max_phi;
             r.max_depth_over_altitude = stats.max_phi / 3.0;
@@ -344,7 +334,7 @@ impl ContactStage {
     /// The end of a step once the model has committed and the step's books are known: `p`
     /// the damping power at the end-of-step velocities (when damped), `w2` the active bound's
     /// sample (0: none), the walls' reactions in `reactions`. Books the dashpots'
-    /// dissipation, the walls' work and forces, and writes `walls.csv`.
+    /// dissipation, the walls' work and forces, and writes `walls.csv` (`output.rs`).
     fn book_step(&mut self, t: f64, p: Option<f64>, w2: f64) {
         if let Some(p) = p {
             // trapezoidal rule in time on the power of the end-of-step states
@@ -352,7 +342,7 @@ impl ContactStage {
             self.damping_dissipated += 0.5 * (p0 + p) * (t - t0);
             self.damping_power = Some((t, p));
         }
-        let mut r = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        let r = &mut self.report;
         if w2.sqrt() > r.omega_active_max {
             r.omega_active_max = w2.sqrt();
             r.omega_active_max_time = t;
@@ -373,39 +363,17 @@ impl ContactStage {
             r.wall_displacement[k] = u;
         }
         r.detections = self.contact.n_detections();
-        if let Some(w) = &mut self.csv
-            && self.steps.is_multiple_of(self.csv_every)
-        {
-            let mut line = format!("{t:.9e}");
-            for k in 0..self.motion.len() {
-                let (u, f) = (r.wall_displacement[k], r.wall_force[k]);
-                line.push_str(&format!(
-                    ",{:.9e},{:.9e},{:.9e},{:.9e}",
-                    u[0], u[1], f[0], f[1]
-                ));
-            }
-            let _ = writeln!(w, "{line}");
-        }
+        self.write_walls_row(t);
     }
 }
 
-impl ForceContribution for ContactStage {
-    /// The contact model's state and the stage's books ([`snapshot`]).
-    fn save(&mut self, e: &mut crate::checkpoint::pack::Enc) -> std::io::Result<()> {
-        self.save_state(e)
-    }
-
-    fn restore(
-        &mut self,
-        d: &mut crate::checkpoint::pack::Dec,
-    ) -> Result<(), crate::checkpoint::pack::DecodeError> {
-        self.restore_state(d)
-    }
-
+impl crate::stages::system::Stage for ContactStage {
     fn name(&self) -> &str {
         "contact"
     }
+}
 
+impl ForceTerm for ContactStage {
     /// Only friction and contact damping (of a pair of materials or of a wall) read the
     /// velocities (`fdem_contact`'s `compute_forces` and `wall_force`).
     fn reads_velocities(&self) -> bool {
@@ -416,7 +384,14 @@ impl ForceContribution for ContactStage {
             || c.walls.iter().any(|w| moving(&w.law))
     }
 
-    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+    fn forces(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        events: &mut StepEvents,
+    ) {
         if self.part.is_some() && self.partial {
             return self.add_forces_part(t, x, v, f);
         }
@@ -424,7 +399,7 @@ impl ForceContribution for ContactStage {
         // pass; in a distributed run (the whole state, on one rank) it evaluates every couple
         // and does not detect (the last pass was at these positions and detected if needed).
         let whole = self.part.is_some();
-        if !(self.looking || whole) && self.take_releases() {
+        if !(self.looking || whole) && self.take_releases(events) {
             // Book the contact potential the new couples bring in at these positions (the
             // energy jump of the joint -> contact hand-over; 0 when the faces do not overlap).
             let c = &self.contact;
@@ -449,41 +424,15 @@ impl ForceContribution for ContactStage {
         self.book_pass(t, &stats);
     }
 
-    /// `contact_force` on the points: the total contact force (normal + friction + damping,
-    /// couples and walls) of the last force pass [N]; `contact_active` on the cells: 1 where
-    /// the triangle is in at least one couple or wall contact with a positive normal load.
-    fn frame_fields(&self, x: &[[f64; 2]], frame: &mut FrameData) {
-        let mut f = vec![[0.0; 2]; x.len()];
-        self.contact.add_forces(&self.tris, &mut f);
-        let mut active = vec![0.0; self.tris.len()];
-        for (r, c) in self
-            .contact
-            .couple_results()
-            .iter()
-            .zip(self.contact.couples())
-        {
-            if r.active && r.fn_total > 0.0 {
-                active[c[0] as usize] = 1.0;
-                active[c[1] as usize] = 1.0;
-            }
-        }
-        for (r, c) in self
-            .contact
-            .wall_results()
-            .iter()
-            .zip(self.contact.wall_pairs())
-        {
-            if r.fn_total > 0.0 {
-                active[c[1] as usize] = 1.0;
-            }
-        }
-        frame.extra_point_vectors.push(("contact_force".into(), f));
-        frame
-            .extra_cell_scalars
-            .push(("contact_active".into(), active));
-    }
-
-    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
+    /// The commit and the step's books (the same whether or not the last evaluation was at `x`).
+    fn end_of_step(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        _at_last: bool,
+        _events: &mut StepEvents,
+    ) {
         self.contact.commit();
         self.steps += 1;
         // Work of the contact forces on the nodes over this step (trapezoidal rule on the
@@ -525,10 +474,16 @@ impl ForceContribution for ContactStage {
         self.book_step(t, p, w2);
     }
 
-    /// The contact engaged at the last force evaluation, its geometry at `x`
-    /// (`fdem_contact::active_bound`; docs/contact.md section 12).
-    fn active_frequency_bound(&mut self, x: &[[f64; 2]]) -> Option<f64> {
-        let w2 = self.active.omega_sq(
+    /// [`Engaged::LastEvaluation`]: the contact engaged at the last force evaluation, its
+    /// geometry at `x` (`fdem_contact::active_bound`; docs/contact.md section 12);
+    /// [`Engaged::Elsewhere`]: every detected couple and wall candidate, its geometry at `x`.
+    fn active_frequency_bound(&mut self, x: &[[f64; 2]], at: Engaged) -> Option<f64> {
+        let bound = match at {
+            Engaged::LastEvaluation => ActiveBound::omega_sq,
+            Engaged::Elsewhere => ActiveBound::omega_sq_at,
+        };
+        let w2 = bound(
+            &mut self.active,
             &self.contact,
             x,
             &self.tris,
@@ -536,150 +491,10 @@ impl ForceContribution for ContactStage {
             &self.inv_sqrt_mass,
         );
         Some(w2.sqrt())
-    }
-
-    /// Every detected couple and wall candidate, its geometry at `x`.
-    fn active_frequency_bound_at(&mut self, x: &[[f64; 2]]) -> Option<f64> {
-        let w2 = self.active.omega_sq_at(
-            &self.contact,
-            x,
-            &self.tris,
-            &self.labels,
-            &self.inv_sqrt_mass,
-        );
-        Some(w2.sqrt())
-    }
-
-    fn set_looking(&mut self, on: bool) {
-        self.looking = on;
-    }
-
-    fn set_partial(&mut self, on: bool) {
-        self.partial = on;
-    }
-
-    /// A couple of the last detection costs [`crate::distributed::balance::COUPLE`], to its
-    /// first triangle, and so does a plane pair, to its triangle.
-    fn add_costs(&self, tri_cost: &mut [f64]) {
-        use crate::distributed::balance::COUPLE;
-        for c in self.contact.couples() {
-            tri_cost[c[0] as usize] += COUPLE;
-        }
-        for w in self.contact.wall_pairs() {
-            tri_cost[w[1] as usize] += COUPLE;
-        }
-    }
-
-    /// Takes this rank's part ([`distributed`]).
-    fn distribute(&mut self, layout: &crate::distributed::Layout) {
-        self.distribute_part(layout);
-    }
-
-    fn exchange_distributed(
-        &mut self,
-        t: f64,
-        x: &mut [[f64; 2]],
-        v: &mut [[f64; 2]],
-        before_forces: bool,
-        comm: &mut dyn crate::distributed::Comm,
-    ) {
-        if before_forces {
-            self.prepare_part(t, x, v, comm);
-        } else {
-            self.exchange_part(x, v, comm);
-        }
-    }
-
-    fn end_of_step_distributed(
-        &mut self,
-        t: f64,
-        x: &[[f64; 2]],
-        v: &[[f64; 2]],
-        _at_last: bool,
-        comm: &mut dyn crate::distributed::Comm,
-    ) {
-        self.end_of_step_part(t, x, v, comm);
-    }
-
-    fn share(&mut self, comm: &mut dyn crate::distributed::Comm) {
-        self.share_part(comm);
     }
 
     /// The friction increment uses the step.
     fn set_time_step(&mut self, h: f64) {
         self.dt = h;
-    }
-
-    fn error(&self) -> Option<String> {
-        self.report
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .error
-            .clone()
-    }
-
-    fn report(&self, x: &[[f64; 2]]) -> StageReport {
-        let e = self.contact.energy(x, &self.tris, &self.labels);
-        let r = self.report.lock().unwrap_or_else(|e| e.into_inner());
-        let stored = e.potential + e.friction_stored;
-        // What the contact's books do not explain of the work its forces did on the nodes:
-        // the pair potential is exact for rigid relative motion only (docs/contact.md
-        // section 2), and the friction and damping books are their own quadratures.
-        let residual = if self.book_work {
-            r.wall_work
-                - (stored - self.stored0 - self.switch_jump)
-                - e.friction_dissipated
-                - self.damping_dissipated
-                - self.node_work
-        } else {
-            0.0
-        };
-        StageReport {
-            stored,
-            contact_residual: residual,
-            friction: e.friction_dissipated,
-            contact_damping: self.damping_dissipated,
-            switch_loss: -self.switch_jump,
-            wall_work: r.wall_work,
-            fracture: 0.0,
-            error: r.error.clone(),
-            details: serde_json::json!({
-                "contact_potential": e.potential,
-                "friction_stored": e.friction_stored,
-                "friction_dissipated": e.friction_dissipated,
-                "wall_work": r.wall_work,
-                "damping_dissipated": self.damping_dissipated,
-                "node_work": self.node_work,
-                "contact_residual": residual,
-                "switch_jump": self.switch_jump,
-                "max_phi": r.max_phi,
-                "max_depth_over_altitude": r.max_depth_over_altitude,
-                "detections": r.detections,
-                "released_couples": self.contact.n_released_couples(),
-                "release_s": self.release_s,
-                "active_couples": r.active_couples,
-                "omega_active_max": r.omega_active_max,
-                "omega_active_max_time": r.omega_active_max_time,
-                "wall_force": r.wall_force,
-                "couples": self.contact.couples().len(),
-                // in a distributed run: the couples this rank evaluates
-                "rank_couples": self.part.as_ref().map(|_| {
-                    let c = &self.contact;
-                    c.couples().iter().filter(|p| c.couple_local(p)).count()
-                }),
-            }),
-        }
-    }
-
-    fn files(&self, files: &mut Vec<String>) {
-        if self.csv.is_some() {
-            files.push("walls.csv".into());
-        }
-    }
-
-    fn finish(&mut self) {
-        if let Some(w) = &mut self.csv {
-            let _ = w.flush();
-        }
     }
 }

@@ -23,6 +23,7 @@ use fdem_contact::{ContactSnapshot, ContactStats, CoupleForce, WallForce};
 
 use super::{ContactReport, ContactStage};
 use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
+use crate::stages::system::{StageCheckpoint, StepEvents};
 
 impl Pack for CoupleForce {
     fn pack(&self, e: &mut Enc) {
@@ -203,18 +204,14 @@ struct Books {
 }
 
 impl ContactStage {
-    /// [`crate::stages::system::ForceContribution::save`] of the stage (module docs).
-    pub(super) fn save_state(&mut self, e: &mut Enc) -> std::io::Result<()> {
+    /// [`StageCheckpoint::save`] of the stage (module docs).
+    fn save_state(&mut self, e: &mut Enc) -> std::io::Result<()> {
         let csv_len = match &mut self.csv {
             Some(w) => Some(crate::output::csv_length(w)?),
             None => None,
         };
         let snap = self.contact.snapshot();
-        let report = self
-            .report
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone();
+        let report = &self.report;
         e.section("contact", |e| {
             e.put(&snap);
             e.put(&self.dt);
@@ -223,7 +220,7 @@ impl ContactStage {
             e.put(&self.bonded_set);
             e.put(&self.release_s);
             e.put(&self.switch_jump);
-            put_report(e, &report);
+            put_report(e, report);
             e.put(&self.steps);
             e.put(&self.damped);
             e.put(&self.damping_dissipated);
@@ -330,9 +327,9 @@ impl ContactStage {
         })
     }
 
-    /// [`crate::stages::system::ForceContribution::restore`] of the stage (module docs): everything
-    /// is read and checked first, then set.
-    pub(super) fn restore_state(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
+    /// [`StageCheckpoint::restore`] of the stage (module docs): everything is read and
+    /// checked first, then set.
+    fn restore_state(&mut self, d: &mut Dec) -> Result<(), DecodeError> {
         d.section("contact", |d| {
             let snap = self.read_snapshot(d)?;
             let b = self.read_books(d)?;
@@ -357,7 +354,7 @@ impl ContactStage {
             self.bonded_set = b.bonded_set;
             self.release_s = b.release_s;
             self.switch_jump = b.switch_jump;
-            *self.report.lock().unwrap_or_else(|e| e.into_inner()) = b.report;
+            self.report = b.report;
             self.steps = b.steps;
             self.damping_dissipated = b.damping_dissipated;
             self.damping_power = b.damping_power;
@@ -368,6 +365,18 @@ impl ContactStage {
             self.stored0 = b.stored0;
             Ok(())
         })
+    }
+}
+
+/// The contact stage hands nothing over to later stages: `events` is not its part.
+impl StageCheckpoint for ContactStage {
+    /// The contact model's state and the stage's books (module docs).
+    fn save(&mut self, e: &mut Enc, _events: &StepEvents) -> std::io::Result<()> {
+        self.save_state(e)
+    }
+
+    fn restore(&mut self, d: &mut Dec, _events: &mut StepEvents) -> Result<(), DecodeError> {
+        self.restore_state(d)
     }
 }
 

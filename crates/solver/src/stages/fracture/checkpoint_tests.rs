@@ -1,9 +1,10 @@
 //! The fracture stage's checkpoint: a stage attached afresh for a resume and restored from a
 //! checkpoint taken part-way through the fracture of a Brazilian disc continues bit for bit
 //! as the stage that was saved, fed the same positions (forces, reports, joint states, frames,
-//! released bonded pairs and their order, `fractures.csv`); a damaged checkpoint or a CSV
-//! file shorter than recorded is an error.
+//! released bonded pairs and their order, the step's breaks, `fractures.csv`); a damaged
+//! checkpoint or a CSV file shorter than recorded is an error.
 
+use std::any::Any;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -13,8 +14,11 @@ use super::{FractureReport, FractureStage};
 use crate::checkpoint::{Dec, Enc};
 use crate::output::FrameData;
 use crate::problem::load::Loaded;
-use crate::stages::contact::{BondedPairs, ContactStage};
-use crate::stages::system::{ForceContribution, SceneSystem, StageReport};
+use crate::stages::contact::ContactStage;
+use crate::stages::system::{
+    ForceTerm, SceneSystem, Stage, StageCheckpoint, StageDistribution, StageOutput, StageReport,
+    StepEvents,
+};
 
 type Shared<T> = Arc<Mutex<T>>;
 
@@ -41,19 +45,20 @@ fn disc(dir: &Path, mesh: &str) -> Loaded {
     crate::problem::load::load(&p).unwrap()
 }
 
-/// The scene's fracture stage as `crate::stages::attach_to` builds it.
+/// The scene's fracture stage as `crate::stages::attach_to` builds it, and its bonded pairs at
+/// set-up.
 fn stage(
     l: &Loaded,
     sys: &SceneSystem,
     out: Option<&Path>,
     resume: bool,
-) -> (FractureStage, Shared<BondedPairs>, Shared<FractureReport>) {
+) -> (FractureStage, Vec<[u32; 2]>) {
     let set = l.fracturing.set.clone().unwrap();
     let initial = (l.initial_joint_state.clone())
         .or_else(|| crate::problem::cracks::initial_state(&l.fracturing, &sys.model));
-    let (mut stage, bonded, report) = FractureStage::new(set, &sys.model, out, initial, resume);
+    let (mut stage, bonded) = FractureStage::new(set, &sys.model, out, initial, resume);
     stage.write_properties = l.scene.fracture.as_ref().is_some_and(|f| f.varied_joints());
-    (stage, bonded, report)
+    (stage, bonded)
 }
 
 fn system(l: &Loaded) -> SceneSystem {
@@ -95,8 +100,8 @@ fn report_diff(a: &StageReport, b: &StageReport, timer: bool) -> Option<String> 
 
 /// The first difference between the joints' committed states and frames.
 fn state_diff(
-    a: &dyn ForceContribution,
-    b: &dyn ForceContribution,
+    a: &FractureStage,
+    b: &FractureStage,
     x: &[[f64; 2]],
     frames: bool,
 ) -> Option<String> {
@@ -163,30 +168,37 @@ fn state_diff(
     None
 }
 
-/// The bonded pairs released and not yet taken by the contact stage, and the shared reports.
+/// The bonded pairs released and not yet taken by the contact stage and the last step's breaks
+/// (`ea`, `eb`: what `a` and `b` handed over), and the stages' reports.
 fn shared_diff(
-    bonded: &[Shared<BondedPairs>; 2],
-    reports: &[Shared<FractureReport>; 2],
+    ea: &StepEvents,
+    eb: &StepEvents,
+    a: &FractureStage,
+    b: &FractureStage,
 ) -> Option<String> {
-    let (ba, bb) = (bonded[0].lock().unwrap(), bonded[1].lock().unwrap());
-    if ba.released != bb.released {
+    if ea.released != eb.released {
         return Some(format!(
             "released pairs: {:?} vs {:?}",
-            ba.released, bb.released
+            ea.released, eb.released
         ));
     }
-    if ba.initial != bb.initial {
-        return Some("bonded pairs at set-up differ".into());
+    let breaks = |e: &StepEvents| -> Vec<(u32, u64, u64)> {
+        let f = e.fractures.iter();
+        f.map(|e| (e.joint.0, e.time.to_bits(), e.energy_released.to_bits()))
+            .collect()
+    };
+    if breaks(ea) != breaks(eb) {
+        return Some("the step's breaks differ".into());
     }
-    let (ra, rb) = (reports[0].lock().unwrap(), reports[1].lock().unwrap());
+    let (ra, rb) = (a.fracture_report(), b.fracture_report());
     let ev = |r: &FractureReport| -> Vec<(u64, u64, u64, String, u64)> {
         let b = f64::to_bits;
         let e = r.events.iter();
         e.map(|e| (b(e.0), b(e.1), b(e.2), e.3.clone(), b(e.4)))
             .collect()
     };
-    if (ra.joints, ra.broken) != (rb.joints, rb.broken) || ev(&ra) != ev(&rb) {
-        return Some("shared reports differ".into());
+    if (ra.joints, ra.broken) != (rb.joints, rb.broken) || ev(ra) != ev(rb) {
+        return Some("reports differ".into());
     }
     None
 }
@@ -202,13 +214,13 @@ struct Log {
     first: Option<String>,
 }
 
-/// The saved stage `a` (whose forces drive the system) and the restored stage `b`, fed the
-/// same `(t, x, v)`; every force, report, joint state, frame and released pair compared.
+/// The saved stage `a` (whose forces drive the system, with the system's step events) and the
+/// restored stage `b` (with its own, `events_b`), fed the same `(t, x, v)`; every force,
+/// report, joint state, frame, released pair and break compared.
 struct Tee {
-    a: Box<dyn ForceContribution>,
-    b: Box<dyn ForceContribution>,
-    bonded: [Shared<BondedPairs>; 2],
-    reports: [Shared<FractureReport>; 2],
+    a: FractureStage,
+    b: FractureStage,
+    events_b: StepEvents,
     f: Vec<[f64; 2]>,
     log: Shared<Log>,
 }
@@ -220,51 +232,31 @@ impl Tee {
             l.first = what.map(|w| format!("step {} after the restore: {w}", l.steps));
         }
     }
-
-    fn end(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], at_last: bool) {
-        if at_last {
-            self.a.end_of_step_at_last_evaluation(t, x, v);
-            self.b.end_of_step_at_last_evaluation(t, x, v);
-        } else {
-            self.a.end_of_step(t, x, v);
-            self.b.end_of_step(t, x, v);
-        }
-        let step = {
-            let mut l = self.log.lock().unwrap();
-            l.steps += 1;
-            l.steps
-        };
-        let (ra, rb) = (self.a.report(x), self.b.report(x));
-        self.note(report_diff(&ra, &rb, false));
-        let frames =
-            step.is_multiple_of(10) || self.b.joint_state().is_none_or(|s| s.n_broken != 0);
-        self.note(state_diff(&*self.a, &*self.b, x, frames));
-        self.note(shared_diff(&self.bonded, &self.reports));
-    }
 }
 
-impl ForceContribution for Tee {
-    fn save(&mut self, e: &mut Enc) -> std::io::Result<()> {
-        self.a.save(e)
-    }
-
-    fn restore(&mut self, d: &mut Dec) -> Result<(), crate::checkpoint::DecodeError> {
-        self.a.restore(d)
-    }
-
+impl Stage for Tee {
     fn name(&self) -> &str {
         self.a.name()
     }
+}
 
-    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
-        // the pairs the contact stage (next in the list) takes from `a` now: `b`'s must be
-        // the same (a contact stage would take them too)
-        self.note(shared_diff(&self.bonded, &self.reports));
-        let n = std::mem::take(&mut self.bonded[1].lock().unwrap().released).len();
+impl ForceTerm for Tee {
+    fn forces(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        events: &mut StepEvents,
+    ) {
+        // the pairs the contact stage (next in the list) takes from `a`'s events now: `b`'s
+        // must be the same (a contact stage would take them too)
+        self.note(shared_diff(events, &self.events_b, &self.a, &self.b));
+        let n = std::mem::take(&mut self.events_b.released).len();
         self.f.clear();
         self.f.extend_from_slice(f);
-        self.a.add_forces(t, x, v, f);
-        self.b.add_forces(t, x, v, &mut self.f);
+        self.a.forces(t, x, v, f, events);
+        self.b.forces(t, x, v, &mut self.f, &mut self.events_b);
         let same = f
             .iter()
             .zip(&self.f)
@@ -279,14 +271,31 @@ impl ForceContribution for Tee {
         self.a.reads_velocities() || self.b.reads_velocities()
     }
 
-    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
-        self.end(t, x, v, false);
+    fn end_of_step(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        at_last: bool,
+        events: &mut StepEvents,
+    ) {
+        self.a.end_of_step(t, x, v, at_last, events);
+        self.b.end_of_step(t, x, v, at_last, &mut self.events_b);
+        let step = {
+            let mut l = self.log.lock().unwrap();
+            l.steps += 1;
+            l.steps
+        };
+        let (ra, rb) = (self.a.report(x), self.b.report(x));
+        self.note(report_diff(&ra, &rb, false));
+        let frames =
+            step.is_multiple_of(10) || self.b.joint_state().is_none_or(|s| s.n_broken != 0);
+        self.note(state_diff(&self.a, &self.b, x, frames));
+        self.note(shared_diff(events, &self.events_b, &self.a, &self.b));
     }
+}
 
-    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
-        self.end(t, x, v, true);
-    }
-
+impl StageOutput for Tee {
     fn report(&self, x: &[[f64; 2]]) -> StageReport {
         self.a.report(x)
     }
@@ -295,18 +304,41 @@ impl ForceContribution for Tee {
         self.a.frame_fields(x, frame);
     }
 
-    fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
-        self.a.joint_state()
-    }
-
     fn finish(&mut self) {
         self.a.finish();
         self.b.finish();
     }
 }
 
-fn broken(r: &Shared<FractureReport>) -> usize {
-    r.lock().unwrap().broken
+impl StageCheckpoint for Tee {
+    fn save(&mut self, e: &mut Enc, events: &StepEvents) -> std::io::Result<()> {
+        self.a.save(e, events)
+    }
+
+    fn restore(
+        &mut self,
+        d: &mut Dec,
+        events: &mut StepEvents,
+    ) -> Result<(), crate::checkpoint::DecodeError> {
+        self.a.restore(d, events)
+    }
+
+    fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
+        self.a.joint_state()
+    }
+}
+
+impl StageDistribution for Tee {}
+
+/// The broken joints of the fracture stage first in `sys`.
+fn broken(sys: &SceneSystem) -> usize {
+    sys.contributions[0].joint_state().unwrap().n_broken
+}
+
+/// The stage of type `T` that `stage` is.
+fn downcast<T: Stage>(stage: Box<dyn Stage>) -> Box<T> {
+    let any: Box<dyn Any> = stage;
+    any.downcast().ok().expect("a stage of that type")
 }
 
 /// What [`resume_check`] measured.
@@ -334,10 +366,11 @@ fn resume_check(l: &Loaded, tag: &str, stop: impl Fn(usize, u64) -> bool, more: 
     let (dir_a, dir_b) = (dir.join("a"), dir.join("b"));
     std::fs::create_dir_all(&dir_a).unwrap();
     std::fs::create_dir_all(&dir_b).unwrap();
-    let (a, bonded_a, report_a) = stage(l, &sys, Some(&dir_a), false);
-    let (mut contact, _) = ContactStage::new(&l.scene, &sys.model, l.dt, None, u64::MAX, false)
+    let (a, bonded_a) = stage(l, &sys, Some(&dir_a), false);
+    let mut contact = ContactStage::new(&l.scene, &sys.model, l.dt, None, u64::MAX, false)
         .expect("a scene with contact");
     contact.bonded = Some(bonded_a.clone());
+    sys.events.released_taken = true;
     sys.contributions.push(Box::new(a));
     sys.contributions.push(Box::new(contact));
     let n = sys.model.n_nodes();
@@ -350,14 +383,14 @@ fn resume_check(l: &Loaded, tag: &str, stop: impl Fn(usize, u64) -> bool, more: 
     let mut state = State::new(0.0, x0, v0);
     let mut integ = fdem_time::CentralDifference::new(2 * n);
     let mut steps = 0u64;
-    while !stop(broken(&report_a), steps) {
+    while !stop(broken(&sys), steps) {
         integ.step(&mut sys, &mut state, l.dt);
         steps += 1;
     }
-    let pending = bonded_a.lock().unwrap().released.len();
-    let at_ckpt = broken(&report_a);
+    let pending = sys.events.released.len();
+    let at_ckpt = broken(&sys);
     let mut e = Enc::default();
-    sys.contributions[0].save(&mut e).unwrap();
+    sys.contributions[0].save(&mut e, &sys.events).unwrap();
     let csv_len = std::fs::metadata(dir_a.join("fractures.csv"))
         .unwrap()
         .len();
@@ -365,25 +398,30 @@ fn resume_check(l: &Loaded, tag: &str, stop: impl Fn(usize, u64) -> bool, more: 
     let mut rows = std::fs::read(dir_a.join("fractures.csv")).unwrap();
     rows.extend_from_slice(b"1.6e-3,0,0,I,0.0,1e-3,7\n");
     std::fs::write(dir_b.join("fractures.csv"), &rows).unwrap();
-    let (mut b, bonded_b, report_b) = stage(l, &sys, Some(&dir_b), true);
-    b.restore(&mut Dec::new(&e.buf)).unwrap();
+    let (mut b, bonded_b) = stage(l, &sys, Some(&dir_b), true);
+    let mut events_b = StepEvents {
+        released_taken: true,
+        ..StepEvents::default()
+    };
+    b.restore(&mut Dec::new(&e.buf), &mut events_b).unwrap();
     let len_b = std::fs::metadata(dir_b.join("fractures.csv"))
         .unwrap()
         .len();
     assert_eq!(len_b, csv_len, "fractures.csv not cut back");
     let x = state.x_nodes();
-    let a = sys.contributions.remove(0);
-    let (bonded, reports) = ([bonded_a, bonded_b], [report_a, report_b]);
+    let a = *downcast::<FractureStage>(sys.contributions.remove(0));
     // at the restore: everything equal, the release timer included
+    assert_eq!(bonded_a, bonded_b, "bonded pairs at set-up differ");
     assert_eq!(report_diff(&a.report(x), &b.report(x), true), None);
-    assert_eq!(state_diff(&*a, &b, x, true), None);
-    assert_eq!(shared_diff(&bonded, &reports), None);
+    assert_eq!(state_diff(&a, &b, x, true), None);
+    // (the step's breaks are not in a checkpoint: a step's commit rewrites them)
+    events_b.fractures = sys.events.fractures.clone();
+    assert_eq!(shared_diff(&sys.events, &events_b, &a, &b), None);
     let log = Arc::new(Mutex::new(Log::default()));
     let tee = Tee {
         a,
-        b: Box::new(b),
-        bonded: bonded.clone(),
-        reports: reports.clone(),
+        b,
+        events_b,
         f: Vec::with_capacity(n),
         log: log.clone(),
     };
@@ -393,14 +431,18 @@ fn resume_check(l: &Loaded, tag: &str, stop: impl Fn(usize, u64) -> bool, more: 
     }
     sys.contributions[0].finish();
     let after = std::mem::take(&mut *log.lock().unwrap());
-    let joints = reports[1].lock().unwrap().joints;
+    let tee = downcast::<Tee>(sys.contributions.remove(0));
+    let (joints, broken_b) = (
+        tee.b.fracture_report().joints,
+        tee.b.fracture_report().broken,
+    );
     let r = Resumed {
         steps,
         bytes: e.buf.len(),
         joints,
         broken: at_ckpt,
         pending,
-        new_breaks: broken(&reports[1]) - at_ckpt,
+        new_breaks: broken_b - at_ckpt,
         after,
         csv_len,
         files: [
@@ -504,16 +546,19 @@ fn a_cut_or_foreign_fracture_checkpoint_is_an_error() {
     let small = disc(&dir, "disc-small.msh");
     let large = disc(&dir, "disc-fracture.msh");
     let (ss, sl) = (system(&small), system(&large));
-    let (mut a, _, _) = stage(&small, &ss, None, false);
+    let (mut a, _) = stage(&small, &ss, None, false);
     let mut e = Enc::default();
-    a.save(&mut e).unwrap();
-    let (mut b, _, _) = stage(&small, &ss, None, true);
-    b.restore(&mut Dec::new(&e.buf)).unwrap();
+    a.save(&mut e, &StepEvents::default()).unwrap();
+    let (mut b, _) = stage(&small, &ss, None, true);
+    let mut events = StepEvents::default();
+    b.restore(&mut Dec::new(&e.buf), &mut events).unwrap();
     let len = e.buf.len();
     let mut cuts: Vec<usize> = (0..len).step_by(len / 200).collect();
     cuts.extend((len - 40)..len);
     for &cut in &cuts {
-        let err = b.restore(&mut Dec::new(&e.buf[..cut])).unwrap_err();
+        let err = b
+            .restore(&mut Dec::new(&e.buf[..cut]), &mut events)
+            .unwrap_err();
         assert!(
             err.0.contains("early") || err.0.contains("bytes"),
             "cut {cut}: {err}"
@@ -533,14 +578,14 @@ fn a_cut_or_foreign_fracture_checkpoint_is_an_error() {
         let mut bad = e.buf.clone();
         assert_eq!(bad[at], 1 - value, "offset {at}");
         bad[at] = value;
-        let err = b.restore(&mut Dec::new(&bad)).unwrap_err();
+        let err = b.restore(&mut Dec::new(&bad), &mut events).unwrap_err();
         assert!(err.0.contains(what), "{err}");
     }
-    let (mut c, _, _) = stage(&large, &sl, None, true);
-    let err = c.restore(&mut Dec::new(&e.buf)).unwrap_err();
+    let (mut c, _) = stage(&large, &sl, None, true);
+    let err = c.restore(&mut Dec::new(&e.buf), &mut events).unwrap_err();
     assert!(err.0.contains("joints where the scene has 1260"), "{err}");
     let mut el = Enc::default();
-    c.save(&mut el).unwrap();
+    c.save(&mut el, &events).unwrap();
     for (l, e) in [(&small, &e), (&large, &el)] {
         let (t, j) = (l.model.triangles.len(), c_joints(l, e));
         eprintln!(
@@ -569,23 +614,27 @@ fn a_fractures_csv_shorter_than_recorded_or_missing_is_an_error() {
     let dir = temp_dir("csv");
     let l = disc(&dir, "disc-small.msh");
     let sys = system(&l);
-    let (mut a, _, _) = stage(&l, &sys, Some(&dir), false);
+    let (mut a, _) = stage(&l, &sys, Some(&dir), false);
     let mut e = Enc::default();
-    a.save(&mut e).unwrap();
+    a.save(&mut e, &StepEvents::default()).unwrap();
     let head = std::fs::read(dir.join("fractures.csv")).unwrap();
     assert!(head.starts_with(b"time,x,y"), "the header is recorded");
     let short = dir.join("short");
     std::fs::create_dir_all(&short).unwrap();
     std::fs::write(short.join("fractures.csv"), &head[..head.len() - 1]).unwrap();
-    let (mut b, _, _) = stage(&l, &sys, Some(&short), true);
-    let err = b.restore(&mut Dec::new(&e.buf)).unwrap_err();
+    let (mut b, _) = stage(&l, &sys, Some(&short), true);
+    let err = b
+        .restore(&mut Dec::new(&e.buf), &mut StepEvents::default())
+        .unwrap_err();
     assert!(
         err.0.contains("fractures.csv has") && err.0.contains("fewer"),
         "{err}"
     );
     let missing = dir.join("missing");
     std::fs::create_dir_all(&missing).unwrap();
-    let (mut c, _, _) = stage(&l, &sys, Some(&missing), true);
-    let err = c.restore(&mut Dec::new(&e.buf)).unwrap_err();
+    let (mut c, _) = stage(&l, &sys, Some(&missing), true);
+    let err = c
+        .restore(&mut Dec::new(&e.buf), &mut StepEvents::default())
+        .unwrap_err();
     assert!(err.0.contains("cannot be opened"), "{err}");
 }

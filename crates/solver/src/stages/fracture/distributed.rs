@@ -13,6 +13,7 @@ use fdem_fracture::{
 };
 
 use crate::distributed::{Comm, Ghosts, Layout};
+use crate::stages::system::{StageDistribution, StepEvents};
 
 /// Values per joint history in a message.
 const HISTORY: usize = 17;
@@ -224,5 +225,74 @@ fn unpack(v: &[f64]) -> JointHistory {
         work: v[14],
         stored: v[15],
         dissipated: v[16],
+    }
+}
+
+impl StageDistribution for super::FractureStage {
+    /// Takes this rank's joints: those with a node of its own.
+    fn distribute(&mut self, layout: &Layout) {
+        let mut l = LocalJoints::new(&self.set, &self.state, layout);
+        // the time crate says when the commit is at the last pass's positions
+        l.scratch.set_position_check(false);
+        self.local = Some(l);
+    }
+
+    fn set_partial(&mut self, on: bool) {
+        self.partial = on;
+    }
+
+    fn end_of_step_distributed(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        at_last: bool,
+        events: &mut StepEvents,
+        comm: &mut dyn Comm,
+    ) {
+        let Some(l) = &mut self.local else {
+            return self.end_step(t, x, at_last, events);
+        };
+        let _ = v;
+        l.commit_and_share(
+            t,
+            x,
+            at_last,
+            comm,
+            &mut self.state,
+            &mut self.softened,
+            &mut events.fractures,
+        );
+        self.after_commit(events);
+    }
+
+    /// The nodes of this rank's joints from their owners (the joints read no velocities).
+    fn exchange_distributed(
+        &mut self,
+        _t: f64,
+        x: &mut [[f64; 2]],
+        v: &mut [[f64; 2]],
+        _before_forces: bool,
+        _events: &mut StepEvents,
+        comm: &mut dyn Comm,
+    ) {
+        if let Some(l) = &mut self.local {
+            l.ghosts.exchange(comm, x, v, false);
+        }
+    }
+
+    /// An intact joint costs [`crate::distributed::balance::JOINT`], to its first triangle.
+    fn add_costs(&self, tri_cost: &mut [f64]) {
+        for (t, intact) in self.set.triangles.iter().zip(&self.state.intact) {
+            if *intact {
+                tri_cost[t[0] as usize] += crate::distributed::balance::JOINT;
+            }
+        }
+    }
+
+    fn share(&mut self, comm: &mut dyn Comm) {
+        if let Some(l) = &mut self.local {
+            l.share_histories(comm, &mut self.state);
+        }
     }
 }

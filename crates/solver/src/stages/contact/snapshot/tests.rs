@@ -11,7 +11,10 @@ use fdem_time::{CentralDifference, Integrator, State};
 
 use crate::checkpoint::pack::{Dec, Enc};
 use crate::output::FrameData;
-use crate::stages::system::{ForceContribution, SceneSystem, StageReport};
+use crate::stages::system::{
+    Engaged, ForceTerm, SceneSystem, Stage, StageCheckpoint, StageDistribution, StageOutput,
+    StageReport, StepEvents,
+};
 
 /// Two discs (R = 25 mm, 384 triangles each) colliding obliquely on a floor that slides and
 /// rises under them: friction 0.4 and contact damping between the discs, friction 0.5 and
@@ -101,8 +104,8 @@ fn report_text(r: &StageReport) -> String {
 /// The original stage `a` and the restored one `b`, driven with the same calls: each call's
 /// results are compared bit for bit.
 struct Twin {
-    a: Box<dyn ForceContribution>,
-    b: Box<dyn ForceContribution>,
+    a: Box<dyn Stage>,
+    b: Box<dyn Stage>,
     /// End-of-step comparisons made.
     checks: Arc<Mutex<u64>>,
 }
@@ -126,8 +129,8 @@ impl Twin {
             assert_eq!((na, ba), (nb, bb), "t = {t:e}: frame {na}");
         }
         let (wa, wb) = (
-            self.a.active_frequency_bound(x),
-            self.b.active_frequency_bound(x),
+            self.a.active_frequency_bound(x, Engaged::LastEvaluation),
+            self.b.active_frequency_bound(x, Engaged::LastEvaluation),
         );
         assert_eq!(wa.map(f64::to_bits), wb.map(f64::to_bits), "t = {t:e}");
         assert_eq!(self.a.error(), self.b.error());
@@ -135,29 +138,45 @@ impl Twin {
     }
 }
 
-impl ForceContribution for Twin {
+impl Stage for Twin {
     fn name(&self) -> &str {
         "twin"
     }
-    fn add_forces(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]], f: &mut [[f64; 2]]) {
+}
+
+/// (No fracture stage: `events` carries nothing, and each stage gets the system's.)
+impl ForceTerm for Twin {
+    fn forces(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        events: &mut StepEvents,
+    ) {
         let mut fb = f.to_vec();
-        self.a.add_forces(t, x, v, f);
-        self.b.add_forces(t, x, v, &mut fb);
+        self.a.forces(t, x, v, f, events);
+        self.b.forces(t, x, v, &mut fb, events);
         assert_eq!(bits(f), bits(&fb), "t = {t:e}: forces");
     }
-    fn end_of_step(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
-        self.a.end_of_step(t, x, v);
-        self.b.end_of_step(t, x, v);
-        self.compare(t, x);
-    }
-    fn end_of_step_at_last_evaluation(&mut self, t: f64, x: &[[f64; 2]], v: &[[f64; 2]]) {
-        self.a.end_of_step_at_last_evaluation(t, x, v);
-        self.b.end_of_step_at_last_evaluation(t, x, v);
+    fn end_of_step(
+        &mut self,
+        t: f64,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        at_last: bool,
+        events: &mut StepEvents,
+    ) {
+        self.a.end_of_step(t, x, v, at_last, events);
+        self.b.end_of_step(t, x, v, at_last, events);
         self.compare(t, x);
     }
     fn reads_velocities(&self) -> bool {
         self.a.reads_velocities()
     }
+}
+
+impl StageOutput for Twin {
     fn report(&self, x: &[[f64; 2]]) -> StageReport {
         self.a.report(x)
     }
@@ -165,13 +184,22 @@ impl ForceContribution for Twin {
         self.a.finish();
         self.b.finish();
     }
-    fn save(&mut self, _e: &mut Enc) -> std::io::Result<()> {
+}
+
+impl StageCheckpoint for Twin {
+    fn save(&mut self, _e: &mut Enc, _events: &StepEvents) -> std::io::Result<()> {
         Ok(())
     }
-    fn restore(&mut self, _d: &mut Dec) -> Result<(), crate::checkpoint::pack::DecodeError> {
+    fn restore(
+        &mut self,
+        _d: &mut Dec,
+        _events: &mut StepEvents,
+    ) -> Result<(), crate::checkpoint::pack::DecodeError> {
         Ok(())
     }
 }
+
+impl StageDistribution for Twin {}
 
 /// A number of the stage's report details.
 fn detail(sys: &SceneSystem, x: &[f64], key: &str) -> f64 {
@@ -201,7 +229,7 @@ fn a_restored_stage_continues_bit_for_bit() {
     ];
     let before = keys.map(|k| detail(&sa, &state.x, k));
     let mut e = Enc::default();
-    sa.contributions[0].save(&mut e).unwrap();
+    sa.contributions[0].save(&mut e, &sa.events).unwrap();
     // The resumed run's walls.csv: the original's at the save, plus rows written after it
     // (cut back by the restore).
     let mut csv = std::fs::read(da.join("walls.csv")).unwrap();
@@ -209,7 +237,9 @@ fn a_restored_stage_continues_bit_for_bit() {
     std::fs::write(db.join("walls.csv"), csv).unwrap();
     let (mut sb, _, _) = system(&file, Some(&db), true);
     let mut d = Dec::new(&e.buf);
-    sb.contributions[0].restore(&mut d).expect("restores");
+    sb.contributions[0]
+        .restore(&mut d, &mut sb.events)
+        .expect("restores");
     assert_eq!(d.remaining(), 0);
     let checks = Arc::new(Mutex::new(0));
     let twin = Twin {
@@ -261,13 +291,13 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
         cd.step(&mut sa, &mut state, dt);
     }
     let mut e = Enc::default();
-    sa.contributions[0].save(&mut e).unwrap();
+    sa.contributions[0].save(&mut e, &sa.events).unwrap();
     let buf = &e.buf;
     let fresh = |file: &Path| system(file, None, true).0;
     // the whole section restores; every cut of it is an error
     assert!(
         fresh(&file).contributions[0]
-            .restore(&mut Dec::new(buf))
+            .restore(&mut Dec::new(buf), &mut StepEvents::default())
             .is_ok()
     );
     let step = (buf.len() / 400).max(1);
@@ -276,7 +306,7 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
         .chain(buf.len() - 40..buf.len())
     {
         let mut s = fresh(&file);
-        let r = s.contributions[0].restore(&mut Dec::new(&buf[..cut]));
+        let r = s.contributions[0].restore(&mut Dec::new(&buf[..cut]), &mut s.events);
         assert!(r.is_err(), "cut at {cut} of {}", buf.len());
     }
     // a section of another scene: one disc (other node and triangle counts), two walls
@@ -291,9 +321,9 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
             cd.step(&mut so, &mut st, dt);
         }
         let mut eo = Enc::default();
-        so.contributions[0].save(&mut eo).unwrap();
+        so.contributions[0].save(&mut eo, &so.events).unwrap();
         let err = fresh(&file).contributions[0]
-            .restore(&mut Dec::new(&eo.buf))
+            .restore(&mut Dec::new(&eo.buf), &mut StepEvents::default())
             .expect_err(name);
         assert!(err.0.contains(what), "{name}: {err}");
     }
