@@ -15,7 +15,7 @@
 use std::path::Path;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use fdem_solver::driver::{Loaded, RunOptions, load, run_outcome};
+use fdem_solver::driver::{Problem, RunOptions, load, run_outcome};
 
 const STEPS: u64 = 100;
 
@@ -23,7 +23,7 @@ const STEPS: u64 = 100;
 mod disc;
 use disc::scene_dir;
 
-fn loaded(dir: &Path) -> Loaded {
+fn loaded(dir: &Path) -> Problem {
     let mut l = load(&dir.join("disc.scene.json")).unwrap();
     l.n_steps = STEPS;
     l

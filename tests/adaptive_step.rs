@@ -10,7 +10,7 @@ use std::path::Path;
 
 use fdem_solver::driver::{self, Outcome, RunOptions};
 
-fn run(scene: &Path, tag: &str) -> (Outcome, fdem_solver::Loaded) {
+fn run(scene: &Path, tag: &str) -> (Outcome, fdem_solver::Problem) {
     let mut l = driver::load(scene).unwrap_or_else(|e| panic!("{e}"));
     let out = scene.parent().unwrap().join(tag);
     let o = driver::run_outcome(
@@ -26,7 +26,7 @@ fn run(scene: &Path, tag: &str) -> (Outcome, fdem_solver::Loaded) {
     (o, l)
 }
 
-fn momentum(l: &fdem_solver::Loaded, v: &[[f64; 2]]) -> [f64; 2] {
+fn momentum(l: &fdem_solver::Problem, v: &[[f64; 2]]) -> [f64; 2] {
     l.model
         .mass
         .iter()

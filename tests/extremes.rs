@@ -13,7 +13,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use fdem_solver::RunError;
-use fdem_solver::driver::{self, Loaded, Outcome, RunOptions};
+use fdem_solver::driver::{self, Outcome, Problem, RunOptions};
 use fdem_time::SchemeKind;
 use serde_json::json;
 
@@ -75,13 +75,13 @@ fn rect_mesh(
 }
 
 /// Writes a scene into `dir` and loads it.
-fn load(dir: &Path, scene: serde_json::Value) -> Loaded {
+fn load(dir: &Path, scene: serde_json::Value) -> Problem {
     let p = dir.join("scene.json");
     std::fs::write(&p, serde_json::to_string_pretty(&scene).unwrap()).unwrap();
     driver::load(&p).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn run(l: &mut Loaded, dir: &Path) -> Result<Outcome, RunError> {
+fn run(l: &mut Problem, dir: &Path) -> Result<Outcome, RunError> {
     driver::run_outcome(
         l,
         &RunOptions {
@@ -93,7 +93,7 @@ fn run(l: &mut Loaded, dir: &Path) -> Result<Outcome, RunError> {
     )
 }
 
-fn kinetic(l: &Loaded) -> f64 {
+fn kinetic(l: &Problem) -> f64 {
     l.model.kinetic_energy(&l.model.v0)
 }
 
@@ -260,7 +260,7 @@ fn energy_growth_check_stops_a_run_just_past_the_limit_before_overflow() {
         let umax = summary["max_displacement"].as_f64().unwrap();
         eprintln!("stopped at step {step}, largest displacement {umax:.3e} m");
         assert!(umax.is_finite() && umax < 1e-3, "max |u| = {umax}");
-        // and a second run from the same `Loaded` after the failed one works
+        // and a second run from the same `Problem` after the failed one works
         l.dt = 0.99 * l.dt_limit;
         l.n_steps = 10;
         let o = run(&mut l, &dir).expect("a stable run after the failed one");

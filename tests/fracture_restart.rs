@@ -11,7 +11,7 @@
 
 use crate::common;
 
-use fdem_solver::driver::{self, Loaded, Outcome, RunOptions};
+use fdem_solver::driver::{self, Outcome, Problem, RunOptions};
 
 fn scene(dir: &std::path::Path) -> std::path::PathBuf {
     let (nodes, tris) = common::structured_rectangle(8, 2, 0.04, 0.01);
@@ -45,7 +45,7 @@ fn scene(dir: &std::path::Path) -> std::path::PathBuf {
 }
 
 /// The scene loaded with its halves at -20 and +20 m/s, run for `steps` of the full run's step.
-fn load(p: &std::path::Path, dt: f64, steps: u64) -> Loaded {
+fn load(p: &std::path::Path, dt: f64, steps: u64) -> Problem {
     let mut l = driver::load(p).unwrap();
     // per triangle (each has its own nodes in the exploded mesh): by its centroid's side
     for t in &l.model.triangles {
@@ -60,7 +60,7 @@ fn load(p: &std::path::Path, dt: f64, steps: u64) -> Loaded {
     l
 }
 
-fn run(l: &mut Loaded, out: &std::path::Path) -> Outcome {
+fn run(l: &mut Problem, out: &std::path::Path) -> Outcome {
     driver::run_outcome(
         l,
         &RunOptions {

@@ -13,14 +13,14 @@ use fdem_time::SecondOrderSystem;
 
 /// Highest `omega` of the composed system at its reference state (power iteration, 1500
 /// steps from a fixed pseudo-random start; converged to 1e-4 on these meshes).
-fn top_frequency(l: &fdem_solver::Loaded, dir: &Path) -> f64 {
+fn top_frequency(l: &fdem_solver::Problem, dir: &Path) -> f64 {
     top_and_active(l, dir).0
 }
 
 /// [`top_frequency`] and the active bound `fdem_solver::stages::omega_active` at the same
 /// state (`l.model.x0`: the elements keep the reference shape they were built with, so a
 /// displaced `x0` is a deformed state with its stresses and its engaged contact).
-fn top_and_active(l: &fdem_solver::Loaded, dir: &Path) -> (f64, f64) {
+fn top_and_active(l: &fdem_solver::Problem, dir: &Path) -> (f64, f64) {
     let mut sys = SceneSystem::new(l.model.clone(), l.elements.clone(), 0.0);
     sys.set_timing(false);
     fdem_solver::stages::attach(l, &mut sys, l.dt, dir, u64::MAX).unwrap();
@@ -65,7 +65,7 @@ fn top_and_active(l: &fdem_solver::Loaded, dir: &Path) -> (f64, f64) {
 
 /// Runs `scene` to `t` with its own settings and returns it loaded with `x0` moved to the
 /// state at `t` (and the walls moved to where they are then, held there).
-fn state_at(scene: &Path, t: f64) -> fdem_solver::Loaded {
+fn state_at(scene: &Path, t: f64) -> fdem_solver::Problem {
     let mut l = fdem_solver::load(scene).unwrap();
     l.scene.duration = Some(t);
     l.scene.output.frames = 0;

@@ -67,7 +67,7 @@ pub(super) fn resumed_scene(dir: &Path, scene: Option<PathBuf>) -> Result<PathBu
 /// step kept, so that the scene's description gives the step the run takes; returns the line
 /// that says where the run goes on from. A static analysis is refused by the run itself.
 pub(super) fn open_resumed(
-    loaded: &mut fdem_solver::Loaded,
+    loaded: &mut fdem_solver::Problem,
     dir: &Path,
 ) -> Result<Option<String>, fdem_solver::RunError> {
     if loaded.scene.analysis == fdem_solver::input::scene::Analysis::Static {

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fdem_solver::Scene;
-use fdem_solver::driver::{Loaded, RunOptions, run_outcome, stable_step};
+use fdem_solver::driver::{Problem, RunOptions, run_outcome, stable_step};
 use fdem_solver::problem::model::MeshInput;
 use fdem_solver::problem::{mesh_adapter, model};
 
@@ -55,7 +55,7 @@ fn grid() -> MeshInput {
     m
 }
 
-fn loaded() -> Loaded {
+fn loaded() -> Problem {
     let file = Path::new("bench.json");
     let scene = Scene::from_json(&scene_text(), file).unwrap();
     let mesh = grid();
@@ -66,7 +66,7 @@ fn loaded() -> Loaded {
     let scheme = fdem_time::SchemeKind::CentralDifference;
     let omega_max = elements.max_frequency_bound(&model.x0);
     let dt_limit = stable_step(scheme, omega_max, 0.0);
-    Loaded {
+    Problem {
         file: file.into(),
         scene,
         meshes: Vec::new(),

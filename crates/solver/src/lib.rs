@@ -37,7 +37,7 @@ pub mod problem;
 pub mod run;
 pub mod stages;
 
-pub use driver::{Loaded, RunOptions, Summary, load, run};
+pub use driver::{Problem, RunOptions, Summary, load, run};
 
 /// The entry points of a run under the paths callers have used: loading a scene, running it,
 /// `fdem check`'s report. Each item lives in [`load`](mod@crate::problem::load),
@@ -45,7 +45,7 @@ pub use driver::{Loaded, RunOptions, Summary, load, run};
 /// [`limits`](crate::problem::limits).
 pub mod driver {
     pub use crate::output::{frame_from_parts, make_frame};
-    pub use crate::problem::load::{Loaded, load, load_text, step_count};
+    pub use crate::problem::load::{Problem, load, load_text, step_count};
     pub use crate::problem::stable_step::stable_step;
     pub use crate::run::estimate::{
         RELEASED_FLOOR, RELEASED_FRACTION, ReleasedContact, RunTimeEstimate, StepSample,

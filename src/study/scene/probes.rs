@@ -258,7 +258,7 @@ pub(super) fn stability_probe(
 /// a [`ProbeStart`] its joints' history and positions. Returns the start's velocities (zero
 /// from rest or from a frozen state).
 fn probe_scene(
-    l: &mut driver::Loaded,
+    l: &mut driver::Problem,
     scheme: SchemeKind,
     start: Option<&ProbeStart>,
 ) -> Vec<[f64; 2]> {

@@ -164,7 +164,7 @@ pub(super) fn one_run(
 fn measure(
     run: &mut Run,
     analytical: Option<&Analytical>,
-    l: &driver::Loaded,
+    l: &driver::Problem,
     velocity: &[[f64; 2]],
     (k_end, e_kin0): (f64, f64),
     out: &Path,

@@ -24,7 +24,7 @@ const PROBE_BROAD_ITERATIONS: usize = 2;
 /// quotient `omega^2 = (v . K v)/(v . M v)` (at most the true highest frequency of the
 /// state, for any `v`).
 pub(super) fn top_mode_velocity(
-    l: &driver::Loaded,
+    l: &driver::Problem,
     amplitude: f64,
     dir: &Path,
 ) -> Result<ProbeSeeds> {

@@ -2,7 +2,7 @@
 //! resolved to joints of its body's fracture region at load time ([`resolve`]), and the joint
 //! state a run starts from ([`initial_state`]): the fresh state at the reference positions
 //! with the crack's joints broken (damage 1, no force, no time of failure). The fracture
-//! stage adopts it as it adopts a saved state (`Loaded::initial_joint_state`): the broken
+//! stage adopts it as it adopts a saved state (`Problem::initial_joint_state`): the broken
 //! joints' own pairs and the vertex pairs of their end nodes' stars leave the bonded set
 //! before the first force evaluation, so the contact stage's first detection makes the crack
 //! faces contact couples, with the contact law of the body with itself.

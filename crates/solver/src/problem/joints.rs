@@ -140,7 +140,7 @@ pub fn joint_set(
         })
 }
 
-/// Checks that a saved fracture state to start from (`Loaded::initial_joint_state`) has as
+/// Checks that a saved fracture state to start from (`Problem::initial_joint_state`) has as
 /// many joints as the scene (`n_joints`): `Ok` without a saved state.
 pub fn check_initial_state(
     state: Option<&JointState>,

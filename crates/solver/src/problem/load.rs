@@ -28,8 +28,9 @@ use crate::problem::model::{self, Model};
 use crate::problem::stable_step::{self, FrequencyTerms};
 use crate::problem::static_checks;
 
-/// A scene with its meshes and model, ready to run.
-pub struct Loaded {
+/// A scene prepared to run: the parsed scene as it was read, and every data set derived from
+/// it, each computed once by [`load`] (meshes, model, elements, joints, frequency terms, steps).
+pub struct Problem {
     /// The scene file.
     pub file: PathBuf,
     /// The parsed scene.
@@ -52,7 +53,7 @@ pub struct Loaded {
     pub dt: f64,
     /// Number of steps (0 for static).
     pub n_steps: u64,
-    /// Wall time of [`load`] [s] (0 for a `Loaded` built otherwise): the first part of the
+    /// Wall time of [`load`] [s] (0 for a `Problem` built otherwise): the first part of the
     /// run summary's `timers.setup`.
     pub load_s: f64,
     /// The joints of the fracturing bodies, the cracks resolved to joints and the joint set,
@@ -70,7 +71,7 @@ pub struct Loaded {
     /// combination ([`FrequencyTerms::omega_max`]).
     pub frequency: FrequencyTerms,
     /// What the scene asks for that does nothing but is not wrong (a joint material that
-    /// nothing uses): each a line with the JSON path and the fix, shown by [`Loaded::describe`].
+    /// nothing uses): each a line with the JSON path and the fix, shown by [`Problem::describe`].
     pub warnings: Vec<String>,
 }
 
@@ -80,7 +81,7 @@ pub struct Loaded {
 /// then the fracturing bodies are exploded and the model built, and last the derived
 /// quantities (frequency bound, steps, frames, history rows: [`crate::problem::limits`]) are checked.
 /// The file is read and handed to [`load_text`].
-pub fn load(file: &Path) -> Result<Loaded, SceneError> {
+pub fn load(file: &Path) -> Result<Problem, SceneError> {
     let started = std::time::Instant::now();
     let text = std::fs::read_to_string(file).map_err(|e| SceneError::Io {
         file: file.to_path_buf(),
@@ -95,7 +96,7 @@ pub fn load(file: &Path) -> Result<Loaded, SceneError> {
 /// every error message, and its folder is the one that relative mesh paths are resolved
 /// against (the file itself need not exist). For callers that hold a scene in memory (an
 /// edited scene, a scene built by a program).
-pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
+pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
     let started = std::time::Instant::now();
     let scene = Scene::from_json(text, file)?;
     static_checks::check_sections(&scene, file)?;
@@ -186,7 +187,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Loaded, SceneError> {
         z_high,
         steps,
     } = timed;
-    Ok(Loaded {
+    Ok(Problem {
         file: file.to_path_buf(),
         scene,
         meshes,
@@ -300,7 +301,7 @@ pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
     (n as u64, duration / n)
 }
 
-impl Loaded {
+impl Problem {
     /// A short description: meshes, model size, analysis, time step.
     pub fn describe(&self) -> String {
         let mut s = String::new();

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::options::RunOptions;
 use crate::checkpoint::{CheckpointWriter, DEFAULT_EVERY, Every};
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 
 /// In a distributed run, rank 0's wall-clock checkpoint interval and stop signal are taken up
 /// by all ranks at the steps that are multiples of this (one message per such step).
@@ -35,7 +35,7 @@ pub struct Checkpointing {
 
 impl Checkpointing {
     /// The checkpoints of a run of `l` with `options`.
-    pub fn new(l: &Loaded, options: &RunOptions) -> Self {
+    pub fn new(l: &Problem, options: &RunOptions) -> Self {
         let every = options
             .checkpoint_every
             .or(l.scene.output.checkpoint_every)

@@ -21,7 +21,7 @@ use super::stepping::Run;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc, Pack};
 use crate::checkpoint::{Checkpoint, CheckpointError, Header};
 use crate::error::RunError;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::problem::model::Model;
 use crate::run::diagnosis::{Inversion, InversionWatch};
 use crate::run::ledger::Books;
@@ -31,7 +31,7 @@ use crate::stages::system::SceneSystem;
 /// The hash of what a run computes from its scene, leaving out what a resumed run may change:
 /// the title, `duration`, `output` and `histories.every`; the meshes' paths (their content is
 /// in [`mesh_hash`]).
-pub fn scene_hash(l: &Loaded) -> u64 {
+pub fn scene_hash(l: &Problem) -> u64 {
     let mut v = serde_json::to_value(&l.scene).unwrap_or(serde_json::Value::Null);
     if let Some(o) = v.as_object_mut() {
         for key in ["title", "duration", "output"] {
@@ -67,12 +67,18 @@ pub fn mesh_hash(m: &Model) -> u64 {
 
 /// The header of a checkpoint of `l` (its model `model`: during a run the system holds it)
 /// at `step`, time `time`, of run `run_id` (no files listed).
-pub fn header(l: &Loaded, model: &Model, step: u64, time: f64, run_id: u64) -> Header {
+pub fn header(l: &Problem, model: &Model, step: u64, time: f64, run_id: u64) -> Header {
     header_with(l, (scene_hash(l), mesh_hash(model)), step, time, run_id)
 }
 
 /// [`header`] with the scene's and the mesh's hashes already computed.
-fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64, run_id: u64) -> Header {
+fn header_with(
+    l: &Problem,
+    (scene, mesh): (u64, u64),
+    step: u64,
+    time: f64,
+    run_id: u64,
+) -> Header {
     Header {
         version: env!("CARGO_PKG_VERSION").to_string(),
         scene,
@@ -89,7 +95,7 @@ fn header_with(l: &Loaded, (scene, mesh): (u64, u64), step: u64, time: f64, run_
 /// A resumed run keeps the time step of the run that wrote its checkpoint: with another
 /// `duration` the loaded step (fitted to the duration) differs, so the step count is that of
 /// the checkpoint's step up to the new end (the first step at or after it).
-pub fn keep_time_step(l: &mut Loaded, header: &Header) {
+pub fn keep_time_step(l: &mut Problem, header: &Header) {
     if l.dt != header.time_step {
         l.dt = header.time_step;
         let duration = l.scene.duration.unwrap_or(0.0);
@@ -99,7 +105,7 @@ pub fn keep_time_step(l: &mut Loaded, header: &Header) {
 
 /// Checks that the run of `l`, its time step kept ([`keep_time_step`]), has steps left after
 /// the checkpoint `file` with `header`: its end (`duration`) is after the checkpoint's time.
-pub fn check_end(l: &Loaded, file: &Path, header: &Header) -> Result<(), CheckpointError> {
+pub fn check_end(l: &Problem, file: &Path, header: &Header) -> Result<(), CheckpointError> {
     let duration = l.scene.duration.unwrap_or(0.0);
     let done = match l.scene.integrator.time_step {
         crate::input::scene::TimeStep::Adaptive => header.time >= duration * (1.0 - 1e-12),
@@ -125,7 +131,7 @@ pub fn check_end(l: &Loaded, file: &Path, header: &Header) -> Result<(), Checkpo
 
 /// What a resumed run of `l` (its time step kept: [`keep_time_step`]) does from the checkpoint
 /// with `header`, in one line: the step it goes on from, the step and the steps left.
-pub fn describe_resume(l: &Loaded, header: &Header) -> String {
+pub fn describe_resume(l: &Problem, header: &Header) -> String {
     let duration = l.scene.duration.unwrap_or(0.0);
     let from = format!(
         "resuming from step {} (t = {:.4e} s)",
@@ -153,7 +159,7 @@ pub fn describe_resume(l: &Loaded, header: &Header) -> String {
 }
 
 /// Checks that the checkpoint `file` with `header` belongs to the run of `l`.
-pub fn check_belongs(l: &Loaded, file: &Path, header: &Header) -> Result<(), CheckpointError> {
+pub fn check_belongs(l: &Problem, file: &Path, header: &Header) -> Result<(), CheckpointError> {
     if header.mesh != mesh_hash(&l.model) {
         return Err(CheckpointError::new(
             file,
@@ -435,7 +441,7 @@ impl<'a> Run<'a> {
     /// belong to `l`): stages attached to continue their files, every part restored, then the
     /// observers; no force is evaluated.
     pub fn resume(
-        l: &'a Loaded,
+        l: &'a Problem,
         sys: &'a mut SceneSystem,
         options: &RunOptions,
         out_dir: &'a Path,

@@ -4,7 +4,7 @@
 /// Refuses what a distributed run does not do yet, before anything is written: each error
 /// names the scene's field and the fix. `size` is the number of ranks.
 pub fn check(
-    l: &crate::problem::load::Loaded,
+    l: &crate::problem::load::Problem,
     size: usize,
 ) -> Result<(), crate::error::SceneError> {
     use crate::input::scene::{Analysis, TimeStep};

@@ -10,7 +10,7 @@ use fdem_time::{SchemeKind, State};
 use crate::checkpoint::pack::Enc;
 use crate::error::SceneError;
 use crate::input::scene::{Analysis, RelaxationMethod};
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::problem::model;
 use crate::problem::stable_step::{stable_step, step_count};
 use crate::stages::system::{ForceTerm, SceneSystem, StepEvents};
@@ -18,7 +18,7 @@ use crate::stages::system::{ForceTerm, SceneSystem, StepEvents};
 /// `fdem check`'s report: the stable step of every scheme and the estimated run time
 /// ([`run_time_estimate`]); another scheme's row scales the scene scheme's step cost by its
 /// force evaluations per step.
-pub fn check_report(l: &Loaded) -> String {
+pub fn check_report(l: &Problem) -> String {
     let mut s = String::new();
     let n_tri = l.elements.len().max(1);
     let x = &l.model.x0;
@@ -112,7 +112,7 @@ pub fn check_report(l: &Loaded) -> String {
 
 /// `fdem check`'s table of every scheme: its `h omega` limit, stable step, step used, steps
 /// and estimated time, the scene's scheme from the timed sample `e`.
-fn scheme_table(s: &mut String, l: &Loaded, e: &RunTimeEstimate) {
+fn scheme_table(s: &mut String, l: &Problem, e: &RunTimeEstimate) {
     let duration = l.scene.duration.unwrap_or(0.0);
     let safety = l.scene.integrator.safety;
     let _ = writeln!(
@@ -211,7 +211,7 @@ pub const RELEASED_FLOOR: f64 = 0.1;
 /// shear traction over the Coulomb strength) grows about in proportion to time under a
 /// steady loading, so softening starts near `t_s / u`. The step cost times
 /// [`expected_steps`] is the estimate. Frames and histories are not counted.
-pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
+pub fn run_time_estimate(l: &Problem) -> Result<RunTimeEstimate, SceneError> {
     let (steps, why) = expected_steps(l);
     let mut stepper = Stepper::new(l)?;
     let mut released = Released::new(l);
@@ -312,7 +312,7 @@ pub fn run_time_estimate(l: &Loaded) -> Result<RunTimeEstimate, SceneError> {
 /// (capped at `t_end`): the utilisation grows in proportion to the loading, the displacement
 /// of the moving walls (`ramp_integral` of the slowest ramp) when the scene has any and none
 /// has a time history, else time.
-fn softening_time(l: &Loaded, t_s: f64, u: f64, t_end: f64) -> f64 {
+fn softening_time(l: &Problem, t_s: f64, u: f64, t_end: f64) -> f64 {
     if u >= 1.0 {
         return t_s.min(t_end);
     }
@@ -386,7 +386,7 @@ struct Stepper {
 
 impl Stepper {
     /// The system at the start of the run, after two untimed steps.
-    fn new(l: &Loaded) -> Result<Self, SceneError> {
+    fn new(l: &Problem) -> Result<Self, SceneError> {
         let mut sys = SceneSystem::new(
             l.model.clone(),
             l.elements.clone(),
@@ -419,7 +419,7 @@ impl Stepper {
     /// The size and cost of a checkpoint of the system now: the state, the scheme's state,
     /// the system, the stages and the energy books, encoded as a run encodes them, and
     /// written (with fsync) to a temporary file that is then removed.
-    fn checkpoint_cost(&mut self, l: &Loaded) -> CheckpointCost {
+    fn checkpoint_cost(&mut self, l: &Problem) -> CheckpointCost {
         let start = Instant::now();
         let mut e = Enc::with_capacity(64 * self.state.x.len());
         e.put(&self.state.x);
@@ -451,7 +451,7 @@ impl Stepper {
     /// The largest utilisation of the joints at the current state (`sigma / f_t` in tension,
     /// `|tau| / (c + max(-sigma, 0) tan phi)` in shear; 1 once a joint softens or breaks);
     /// `None` without joints.
-    fn utilisation(&self, l: &Loaded) -> Option<f64> {
+    fn utilisation(&self, l: &Problem) -> Option<f64> {
         let state = self
             .sys
             .contributions
@@ -522,7 +522,7 @@ struct Released {
 }
 
 impl Released {
-    fn new(l: &Loaded) -> Option<Self> {
+    fn new(l: &Problem) -> Option<Self> {
         l.scene.fracture.as_ref()?;
         let stage = crate::stages::contact::ContactStage::new(
             &l.scene,
@@ -571,7 +571,7 @@ impl Released {
 /// lower bound, the answer when the lowest mode is underdamped); the duration caps it.
 /// Kinetic and adaptive damping depend on the lowest natural frequency, which the scene does
 /// not give: the duration's steps, with a line saying so.
-pub fn expected_steps(l: &Loaded) -> (u64, String) {
+pub fn expected_steps(l: &Problem) -> (u64, String) {
     let alpha = l.scene.damping.mass_proportional;
     let tol = l.scene.integrator.relaxation_tolerance;
     if l.scene.analysis == Analysis::Relaxation && alpha == 0.0 {

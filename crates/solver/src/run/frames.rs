@@ -24,7 +24,7 @@ use crate::input::scene::Output;
 use crate::output::{
     ArraySet, Collection, FrameData, JointSeries, joints, make_frame_of, vtu, write_atomic,
 };
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::run::diagnosis::Found;
 use crate::run::summary::Summary;
 use crate::stages::system::SceneSystem;
@@ -359,7 +359,7 @@ pub struct FrameClock {
 
 impl FrameClock {
     /// The clock of `l`, the initial frame written.
-    pub fn new(l: &Loaded) -> Self {
+    pub fn new(l: &Problem) -> Self {
         let adaptive = l.scene.integrator.time_step == crate::input::scene::TimeStep::Adaptive;
         let t_end = adaptive.then(|| l.scene.duration.unwrap_or(0.0));
         Self::with(l.scene.output.frames, t_end, l.n_steps)

@@ -9,7 +9,7 @@ use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
 use crate::input::scene::Probe;
 use crate::output::HistoryWriter;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::problem::model::Model;
 use crate::run::ledger::Energies;
 use crate::run::summary::Summary;
@@ -31,7 +31,7 @@ pub struct Histories {
 
 impl Histories {
     /// The histories of `l` on `model` (`None`: the scene has no probes).
-    pub fn new(l: &Loaded, model: &Model, dir: &Path) -> Option<Self> {
+    pub fn new(l: &Problem, model: &Model, dir: &Path) -> Option<Self> {
         let probes = &l.scene.histories.probes;
         if probes.is_empty() {
             return None;
@@ -88,7 +88,7 @@ impl Histories {
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
-        l: &Loaded,
+        l: &Problem,
         x0: &[[f64; 2]],
         t: f64,
         x: &[[f64; 2]],
@@ -140,7 +140,7 @@ impl Histories {
 
 /// Whether a scene declares a slow run (a `loading` or `mass_scaling` section): its energy
 /// probe then adds the quasi-static indicator.
-pub fn declares_slow_run(l: &Loaded) -> bool {
+pub fn declares_slow_run(l: &Problem) -> bool {
     l.scene.loading.is_some() || l.scene.mass_scaling.is_some()
 }
 

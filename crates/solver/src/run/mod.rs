@@ -73,14 +73,14 @@ pub use stepping::{Run, books_residuals, history_interval};
 use crate::checkpoint::Checkpoint;
 use crate::error::RunError;
 use crate::input::scene::Analysis;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::run::ledger::Energies;
 use crate::run::summary::{Outcome, Summary, write_summary};
 use crate::stages::system::SceneSystem;
 
 /// Runs a loaded scene, writing output under `options.out_dir`.
 pub fn run(
-    l: &mut Loaded,
+    l: &mut Problem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Summary, RunError> {
@@ -89,7 +89,7 @@ pub fn run(
 
 /// Runs a loaded scene and returns the summary with the last frame.
 pub fn run_outcome(
-    l: &mut Loaded,
+    l: &mut Problem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<Outcome, RunError> {
@@ -122,7 +122,7 @@ pub fn run_outcome(
 /// the folder changes: of `l`'s scene and mesh ([`check_belongs`]), with `l`'s end after it
 /// once the checkpoint's time step is kept ([`keep_time_step`], [`check_end`]), in the folder
 /// its run wrote (`crate::checkpoint::check_folder`: the run's id, the frames before it).
-pub fn open_checkpoint(l: &mut Loaded, dir: &std::path::Path) -> Result<Checkpoint, RunError> {
+pub fn open_checkpoint(l: &mut Problem, dir: &std::path::Path) -> Result<Checkpoint, RunError> {
     let file = dir.join(crate::checkpoint::FILE_NAME);
     let cp = crate::checkpoint::read(&file)?;
     check_belongs(l, &file, &cp.header)?;
@@ -134,7 +134,7 @@ pub fn open_checkpoint(l: &mut Loaded, dir: &std::path::Path) -> Result<Checkpoi
 
 /// The static solve, written as a run of one frame.
 fn static_run(
-    l: &mut Loaded,
+    l: &mut Problem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
     wall: Instant,
@@ -214,7 +214,7 @@ fn static_run(
 /// stages). Only a panic inside the run leaves `l`
 /// without its model.
 fn dynamic(
-    l: &mut Loaded,
+    l: &mut Problem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
     writer: FrameWriter,
@@ -234,7 +234,7 @@ fn dynamic(
 /// The body of [`dynamic`], on the system `sys` that holds the model and elements of `l`:
 /// the run and its observers.
 fn dynamic_run(
-    l: &Loaded,
+    l: &Problem,
     sys: &mut SceneSystem,
     options: &RunOptions,
     progress: &mut dyn FnMut(&Progress),
@@ -278,7 +278,7 @@ fn dynamic_run(
 /// multiple of [`AGREE_EVERY`]. Returns the outcome on every rank (the last frame is the
 /// whole state on each).
 pub fn run_distributed(
-    l: &mut Loaded,
+    l: &mut Problem,
     options: &RunOptions,
     comm: Box<dyn crate::distributed::Comm>,
     progress: &mut dyn FnMut(&Progress),

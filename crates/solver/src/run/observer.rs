@@ -6,7 +6,7 @@ use fdem_time::State;
 use super::step_control::StepControl;
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::error::RunError;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::run::diagnosis::{Found, InversionWatch};
 use crate::run::ledger::Books;
 use crate::run::summary::Summary;
@@ -15,7 +15,7 @@ use crate::stages::system::SceneSystem;
 /// What an observer sees of the run at a hook.
 pub struct RunView<'r> {
     /// The loaded scene. During a dynamic run its model and elements are in `sys`.
-    pub loaded: &'r Loaded,
+    pub loaded: &'r Problem,
     /// The system: model, elements, stages, the forces of its last evaluation, timers.
     pub sys: &'r mut SceneSystem,
     /// The state (at the end of the step, after a step).

@@ -245,7 +245,7 @@ pub const ROUND_OFF_MARGIN: f64 = 1e4;
 /// The floor is a negligible energy of any scene (`1e4 eps = 2.2e-12` of its energy scale at
 /// the start), so an unstable mode, which grows exponentially, passes it within a few checks.
 pub fn round_off_floor(
-    l: &crate::problem::load::Loaded,
+    l: &crate::problem::load::Problem,
     sys: &crate::stages::system::SceneSystem,
     e0: f64,
 ) -> f64 {

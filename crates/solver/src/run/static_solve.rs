@@ -22,13 +22,13 @@ use fdem_mesh::{PlaneKind, reference_gradients};
 
 use crate::error::{RunError, SceneError};
 use crate::output::{FrameData, frame_from_parts};
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::run::ledger::Energies;
 use crate::run::summary::Summary;
 use crate::stages::system::StageTimers;
 
 /// The static displacement (flat DOFs) of a loaded scene.
-pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
+pub fn displacement(l: &Problem) -> Result<Vec<f64>, RunError> {
     let n = 2 * l.model.n_nodes();
     let k = l.elements.stiffness();
     let mut f = vec![0.0; n];
@@ -70,7 +70,7 @@ pub fn displacement(l: &Loaded) -> Result<Vec<f64>, RunError> {
 /// `-int B^T sigma_0`, to the flat load vector `f` (nothing without initial stress): the
 /// static solve is then `K u = f_ext - int B^T sigma_0`, the total stress
 /// `sigma_0 + D eps(u)`.
-fn add_initial_stress(l: &Loaded, f: &mut [f64]) {
+fn add_initial_stress(l: &Problem, f: &mut [f64]) {
     if l.elements.prestressed() {
         l.elements
             .add_initial_stress_forces(&l.model.x0, f.as_chunks_mut::<2>().0);
@@ -89,7 +89,7 @@ pub const MAX_RELATIVE_RESIDUAL: f64 = 1e-6;
 /// very close together), which the rigid-motion check of
 /// [`crate::problem::static_checks::check_supports`] cannot see.
 fn check_solution(
-    l: &Loaded,
+    l: &Problem,
     k: &faer::sparse::SparseColMat<usize, f64>,
     f: &[f64],
     u: &[f64],
@@ -136,7 +136,7 @@ fn check_solution(
 }
 
 /// Solves the static scene and returns its frame and summary.
-pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
+pub fn solve(l: &Problem) -> Result<(FrameData, Summary), RunError> {
     let start = Instant::now();
     let u = displacement(l)?;
     let solve_time = start.elapsed().as_secs_f64();
@@ -258,7 +258,7 @@ pub fn solve(l: &Loaded) -> Result<(FrameData, Summary), RunError> {
 
 /// Linear stresses `(sxx, syy, sxy, szz)` and strain energy densities of every triangle for
 /// the displacement `u` (flat DOFs).
-pub fn linear_stresses(l: &Loaded, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
+pub fn linear_stresses(l: &Problem, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
     let e = &l.elements;
     let mut stress = Vec::with_capacity(e.len());
     let mut density = Vec::with_capacity(e.len());

@@ -5,7 +5,7 @@ use fdem_time::{SchemeKind, State};
 
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::input::scene::TimeStep;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::problem::stable_step::stable_step;
 use crate::stages::system::SceneSystem;
 
@@ -46,7 +46,7 @@ pub struct AdaptiveStep {
 
 impl StepControl {
     /// The step of `l` on the system `sys` of its run.
-    pub fn new(l: &Loaded, sys: &SceneSystem) -> Self {
+    pub fn new(l: &Problem, sys: &SceneSystem) -> Self {
         let adaptive = (l.scene.integrator.time_step == TimeStep::Adaptive).then(|| AdaptiveStep {
             every: l.scene.integrator.adapt_every.max(1),
             safety: l.scene.integrator.safety,

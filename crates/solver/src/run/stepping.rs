@@ -17,7 +17,7 @@ use super::options::RunOptions;
 use super::step_control::StepControl;
 use crate::error::RunError;
 use crate::input::scene::{Probe, RelaxationMethod};
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::run::diagnosis::{self, InversionWatch};
 use crate::run::ledger::{Books, Energies};
 use crate::run::summary::{Outcome, Summary, write_summary};
@@ -26,7 +26,7 @@ use crate::stages::system::SceneSystem;
 
 /// A dynamic or relaxation run of a loaded scene on its system.
 pub struct Run<'a> {
-    pub(super) loaded: &'a Loaded,
+    pub(super) loaded: &'a Problem,
     pub(super) sys: &'a mut SceneSystem,
     pub(super) state: State,
     pub(super) integrator: Box<dyn Integrator>,
@@ -62,7 +62,7 @@ impl<'a> Run<'a> {
     /// attached, the initial state with the prescribed DOFs set, the force at t = 0 evaluated
     /// and the energy books opened on it.
     pub fn start(
-        l: &'a Loaded,
+        l: &'a Problem,
         sys: &'a mut SceneSystem,
         options: &RunOptions,
         out_dir: &'a Path,
@@ -491,7 +491,7 @@ pub(super) fn distribute_stages(sys: &mut SceneSystem, alpha: f64) {
 
 /// The interval of the histories' rows (and of `walls.csv`): `histories.every`, else a
 /// thousandth of the steps.
-pub fn history_interval(l: &Loaded) -> u64 {
+pub fn history_interval(l: &Problem) -> u64 {
     l.scene
         .histories
         .every
@@ -499,14 +499,14 @@ pub fn history_interval(l: &Loaded) -> u64 {
 }
 
 /// The relaxation method of `l` (`None`: not a relaxation).
-pub fn relaxation_method(l: &Loaded) -> Option<RelaxationMethod> {
+pub fn relaxation_method(l: &Problem) -> Option<RelaxationMethod> {
     (l.scene.analysis == crate::input::scene::Analysis::Relaxation)
         .then(|| l.scene.integrator.relaxation_method(&l.scene.damping))
 }
 
 /// The residuals of the element law and the contact potential are booked when the run records
 /// the ledger in histories.csv (they cost about a tenth of the step).
-pub fn books_residuals(l: &Loaded) -> bool {
+pub fn books_residuals(l: &Problem) -> bool {
     l.scene
         .histories
         .probes

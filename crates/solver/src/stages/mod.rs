@@ -1,6 +1,6 @@
-//! Optional stages of the composition (contact, joints): validation of their scene sections,
-//! their term of the frequency bound, and attaching them to a [`SceneSystem`]. A scene without
-//! these sections gets none of them and pays nothing.
+//! The stages of the composition beyond the elements (contact, joints): attaching the ones a
+//! problem needs to a [`SceneSystem`], their active frequency terms and their summed reports.
+//! A scene without their sections gets none of them and pays nothing.
 
 pub mod contact;
 pub mod fracture;
@@ -10,7 +10,8 @@ pub mod system;
 use std::path::Path;
 
 use crate::error::SceneError;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
+use crate::problem::stable_step::FrequencyTerms;
 use crate::stages::system::{Engaged, SceneSystem, StageReport};
 
 /// The **active** frequency bound at positions `x` of a system whose stages are attached and
@@ -19,13 +20,13 @@ use crate::stages::system::{Engaged, SceneSystem, StageReport};
 /// (the contact engaged in that state, `fdem_contact::active_bound`, in place of the a-priori
 /// contact term that assumes every edge pressed flat; docs/contact.md section 12).
 pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_j: f64) -> f64 {
-    let mut w2 = omega_el * omega_el + omega_j * omega_j;
-    for c in &mut sys.contributions {
-        if let Some(w) = c.active_frequency_bound(x, Engaged::LastEvaluation) {
-            w2 += w * w;
-        }
-    }
-    w2.sqrt()
+    let terms = FrequencyTerms {
+        elements: omega_el,
+        contact: 0.0,
+        joints: omega_j,
+    };
+    let stages = sys.contributions.iter_mut();
+    terms.active(stages.filter_map(|c| c.active_frequency_bound(x, Engaged::LastEvaluation)))
 }
 
 /// [`omega_active`] with a look-ahead: the larger of the bound at `x` (the contact engaged at
@@ -47,15 +48,16 @@ pub fn omega_active_ahead(
             .zip(v)
             .map(|(p, u)| [p[0] + ahead * u[0], p[1] + ahead * u[1]]),
     );
-    let mut w2 = omega_el * omega_el + omega_j * omega_j;
-    for c in &mut sys.contributions {
+    let terms = FrequencyTerms {
+        elements: omega_el,
+        contact: 0.0,
+        joints: omega_j,
+    };
+    terms.active(sys.contributions.iter_mut().filter_map(|c| {
         let now = c.active_frequency_bound(x, Engaged::LastEvaluation);
         let then = c.active_frequency_bound(scratch, Engaged::Elsewhere);
-        if let Some(w) = now.into_iter().chain(then).reduce(f64::max) {
-            w2 += w * w;
-        }
-    }
-    w2.sqrt()
+        now.into_iter().chain(then).reduce(f64::max)
+    }))
 }
 
 /// The largest active contact bound over a run's end-of-step states [rad/s], from the run
@@ -69,11 +71,11 @@ pub fn omega_contact_active_max(stages: &serde_json::Value) -> f64 {
 }
 
 /// Attaches the stages a loaded scene needs to `sys` (time step `dt`, histories every `every`
-/// steps into `out_dir`): joints first (from [`Loaded::initial_joint_state`] when it is set,
+/// steps into `out_dir`): joints first (from [`Problem::initial_joint_state`] when it is set,
 /// else with the pre-existing cracks broken, [`crate::problem::cracks::initial_state`]), then contact
 /// (which excludes the bonded pairs: intact joints and stars).
 pub fn attach(
-    l: &Loaded,
+    l: &Problem,
     sys: &mut SceneSystem,
     dt: f64,
     out_dir: &Path,
@@ -87,7 +89,7 @@ pub fn attach(
 /// files of a run resumed from a checkpoint (their state comes next, from
 /// [`StageCheckpoint::restore`](crate::stages::system::StageCheckpoint::restore)).
 pub fn attach_to(
-    l: &Loaded,
+    l: &Problem,
     sys: &mut SceneSystem,
     dt: f64,
     out_dir: Option<&Path>,

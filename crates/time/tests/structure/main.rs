@@ -9,7 +9,7 @@
 //!   bodies, is an edge from the module it is written in to the module it leads into.
 //!   Comments and strings are not read; `mod x;` declarations and visibilities are not
 //!   edges. The crate root is the crate's index: its top-level `pub use` items (re-exports)
-//!   are not edges, and a path through one (`crate::Loaded`, re-exported from `load`) leads
+//!   are not edges, and a path through one (`crate::Problem`, re-exported from `load`) leads
 //!   to the module the re-export names. The root's own code (its functions, its private
 //!   imports) is the node `(crate root)`, and a module depends on it only when it names an
 //!   item the root defines itself (`crate::write_atomically`).

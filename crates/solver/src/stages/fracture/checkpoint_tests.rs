@@ -13,7 +13,7 @@ use fdem_time::{Integrator, SecondOrderSystem, State};
 use super::{FractureReport, FractureStage};
 use crate::checkpoint::{Dec, Enc};
 use crate::output::FrameData;
-use crate::problem::load::Loaded;
+use crate::problem::load::Problem;
 use crate::stages::contact::ContactStage;
 use crate::stages::system::{
     ForceTerm, SceneSystem, Stage, StageCheckpoint, StageDistribution, StageOutput, StageReport,
@@ -34,7 +34,7 @@ fn temp_dir(tag: &str) -> PathBuf {
 }
 
 /// `examples/brazilian-disc-fracture.json` on the ring mesh `mesh` of `meshes/`.
-fn disc(dir: &Path, mesh: &str) -> Loaded {
+fn disc(dir: &Path, mesh: &str) -> Problem {
     let text = std::fs::read_to_string(root().join("examples/brazilian-disc-fracture.json"));
     let mut v: serde_json::Value = serde_json::from_str(&text.unwrap()).unwrap();
     let m = root().join("meshes").join(mesh);
@@ -48,7 +48,7 @@ fn disc(dir: &Path, mesh: &str) -> Loaded {
 /// The scene's fracture stage as `crate::stages::attach_to` builds it, and its bonded pairs at
 /// set-up.
 fn stage(
-    l: &Loaded,
+    l: &Problem,
     sys: &SceneSystem,
     out: Option<&Path>,
     resume: bool,
@@ -61,7 +61,7 @@ fn stage(
     (stage, bonded)
 }
 
-fn system(l: &Loaded) -> SceneSystem {
+fn system(l: &Problem) -> SceneSystem {
     let alpha = l.scene.damping.mass_proportional;
     SceneSystem::new(l.model.clone(), l.elements.clone(), alpha)
 }
@@ -338,7 +338,10 @@ fn broken(sys: &SceneSystem) -> usize {
 /// The stage of type `T` that `stage` is.
 fn downcast<T: Stage>(stage: Box<dyn Stage>) -> Box<T> {
     let any: Box<dyn Any> = stage;
-    any.downcast().ok().expect("a stage of that type")
+    match any.downcast() {
+        Ok(t) => t,
+        Err(_) => panic!("a stage of that type"),
+    }
 }
 
 /// What [`resume_check`] measured.
@@ -360,7 +363,7 @@ struct Resumed {
 /// checkpoint), restores it and checks it equals the saved one (the release timer
 /// included); then drives the system `more` steps with both stages fed the same positions
 /// through a [`Tee`]. Returns the counts and both `fractures.csv` files.
-fn resume_check(l: &Loaded, tag: &str, stop: impl Fn(usize, u64) -> bool, more: u64) -> Resumed {
+fn resume_check(l: &Problem, tag: &str, stop: impl Fn(usize, u64) -> bool, more: u64) -> Resumed {
     let dir = temp_dir(tag);
     let mut sys = system(l);
     let (dir_a, dir_b) = (dir.join("a"), dir.join("b"));
@@ -600,7 +603,7 @@ fn a_cut_or_foreign_fracture_checkpoint_is_an_error() {
 
 /// The joint count a checkpoint of the scene of `l` records (its first number after the
 /// section's name and length).
-fn c_joints(_l: &Loaded, e: &Enc) -> usize {
+fn c_joints(_l: &Problem, e: &Enc) -> usize {
     let mut d = Dec::new(&e.buf);
     let _: String = d.get().unwrap();
     let _: u64 = d.get().unwrap();
