@@ -544,7 +544,7 @@ fn deformable_block_sticks_on_incline_when_mu_exceeds_tan_theta() {
     eprintln!("incline stick: creep = {creep:.3e} m; same damping, mu = 0.3: {slide:.3e} m");
     assert!(creep.abs() < 1e-6, "creep {creep}");
     assert!(slide > 1e-4, "slide {slide}");
-    fdem_figures::record(32, format!("{:.1e} m", creep.abs()));
+    fdem_figures::record(32, format!("{} m", fdem_figures::sci(creep.abs(), 1)));
 }
 
 #[test]

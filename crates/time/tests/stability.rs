@@ -100,7 +100,7 @@ fn every_scheme_is_stable_at_0_999_and_unstable_at_1_001_of_its_computed_limit()
         18,
         1,
         format!(
-            "all {} schemes: growth rate at most {below_max:.1e} at 0.999 L, at least {above_min:.1e} at 1.001 L",
+            "all {} schemes: growth rate at most {below_max:.4e} at 0.999 L, at least {above_min:.4e} at 1.001 L",
             SchemeKind::ALL.len()
         ),
     );
