@@ -6,7 +6,11 @@
 # job only the test binaries are left to compile. docs/testing.md says what runs where.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The tests record the measured figures of docs/validation.md (its "today" column); the
+# check after them fails when the committed table differs (docs/testing.md).
+python3 scripts/validation_figures.py clear
 cargo test --workspace --locked --release
+python3 scripts/validation_figures.py --check
 if compgen -G "tests/python/*.sh" >/dev/null || compgen -G "tests/mpi/*.sh" >/dev/null; then
   for t in tests/python/*.sh tests/mpi/*.sh; do
     echo "== $t"

@@ -126,6 +126,7 @@ fn static_cst_tip_deflection_equals_independent_dense_solve() {
         ((solver - dense) / dense).abs() < 1e-8,
         "solver {solver:e} dense {dense:e}"
     );
+    fdem_figures::record(7, format!("{:.1e}", ((solver - dense) / dense).abs()));
 }
 
 #[test]
@@ -136,6 +137,7 @@ fn fine_mesh_tip_deflection_within_3_percent_of_timoshenko() {
     eprintln!("fine mesh tip {tip:e}, Timoshenko {TIMOSHENKO:e}, error {err:.4}");
     // CST is stiff in bending; 20 cells through the depth bring it within 3 %.
     assert!(err < 0.03, "error {err}");
+    fdem_figures::record(8, format!("{tip:.5e} m ({:.2} %)", 100.0 * err));
 }
 
 #[test]
@@ -160,4 +162,5 @@ fn dynamic_relaxation_reaches_the_static_answer_within_half_a_percent() {
     let err = ((tip_dr - tip_static) / tip_static).abs();
     eprintln!("relaxation {tip_dr:e}, static {tip_static:e}, error {err:e}");
     assert!(err < 5e-3, "error {err}");
+    fdem_figures::record(9, format!("{err:.1e}"));
 }

@@ -179,8 +179,8 @@ fn kin(u: f64) -> f64 {
 /// is slip (`delta / sin(beta)` when all of it is), the crack stays closed, and the block
 /// carries less than `load_max` of the elastic load. Near the threshold the sliding piece
 /// accelerates slowly (its net force is proportional to `tan(beta) - mu`), so the run ends
-/// with part of the displacement still elastic.
-fn assert_slides(mu: f64, s: &Slide, slip_min: f64, load_max: f64) {
+/// with part of the displacement still elastic. Returns the measured figure.
+fn assert_slides(mu: f64, s: &Slide, slip_min: f64, load_max: f64) -> String {
     eprintln!(
         "sliding (mu {mu}): slip {:.4e} m = {:.4} delta/sin(beta), largest opening {:.2e} m, \
          load {:.4} of elastic",
@@ -207,11 +207,17 @@ fn assert_slides(mu: f64, s: &Slide, slip_min: f64, load_max: f64) {
         s.load,
         elastic(s.delta)
     );
+    format!(
+        "{mu}: {:.4} `delta/sin(beta)`, load {:.2} %",
+        s.slip / kin(s.delta),
+        100.0 * s.load / elastic(s.delta)
+    )
 }
 
 /// With `mu > tan(beta)` the block sticks: mean slip below 5 % of `delta / sin(beta)`
-/// (2 % over the middle half of the crack), load within 5 % of the elastic load.
-fn assert_sticks(mu: f64, k: &Slide) {
+/// (2 % over the middle half of the crack), load within 5 % of the elastic load. Returns the
+/// measured figure.
+fn assert_sticks(mu: f64, k: &Slide) -> String {
     eprintln!(
         "sticking (mu {mu}): slip {:.4e} m = {:.4} delta/sin(beta) (middle half {:.4}), load \
          {:.4} of elastic",
@@ -235,6 +241,12 @@ fn assert_sticks(mu: f64, k: &Slide) {
         k.load,
         elastic(k.delta)
     );
+    format!(
+        "{mu}: load {:+.1} %, slip {:.2} % (middle half {:.2} %)",
+        100.0 * (k.load / elastic(k.delta) - 1.0),
+        100.0 * k.slip / kin(k.delta),
+        100.0 * k.slip_mid / kin(k.delta)
+    )
 }
 
 /// Two runs on each side of the threshold `tan(beta) = 0.577` (every crack edge a broken
@@ -244,11 +256,13 @@ fn assert_sticks(mu: f64, k: &Slide) {
 /// mu = 0.65 and 0.75 stick.
 #[test]
 fn a_closed_crack_slides_when_tan_beta_exceeds_mu_and_sticks_below() {
-    assert_slides(0.45, &slide(0.45), 0.95, 0.05);
-    assert_slides(0.52, &slide(0.52), 0.75, 0.25);
-    for mu in [0.65, 0.75] {
-        assert_sticks(mu, &slide(mu));
-    }
+    let slides = [
+        assert_slides(0.45, &slide(0.45), 0.95, 0.05),
+        assert_slides(0.52, &slide(0.52), 0.75, 0.25),
+    ];
+    fdem_figures::record(71, slides.join("; "));
+    let sticks = [0.65, 0.75].map(|mu| assert_sticks(mu, &slide(mu)));
+    fdem_figures::record(72, sticks.join("; "));
 }
 
 /// The sliding-block scene with `edit` applied to its JSON, and the load error it gives.
@@ -416,6 +430,16 @@ fn griffith_failure_stress_of_a_plate_with_a_pre_existing_crack() {
         (s / finite - 1.0).abs() < 0.10,
         "failure stress {s:.4e} Pa against Griffith's {finite:.4e} Pa"
     );
+    fdem_figures::record_part(
+        70,
+        1,
+        format!(
+            "{:.4} MPa, {:+.1} % ({:+.1} %) at tip size 2.6 mm",
+            s / 1e6,
+            100.0 * (s / finite - 1.0),
+            100.0 * (s / inf - 1.0)
+        ),
+    );
 }
 
 /// The mesh-size sensitivity of the Griffith test: the fine mesh (tip size 1.07 mm,
@@ -433,6 +457,16 @@ fn griffith_fine_mesh() {
         100.0 * (s / finite - 1.0)
     );
     assert!((s / finite - 1.0).abs() < 0.10);
+    fdem_figures::record_part(
+        70,
+        2,
+        format!(
+            "fine mesh (1.07 mm) {:.4} MPa, {:+.1} % ({:+.1} %)",
+            s / 1e6,
+            100.0 * (s / finite - 1.0),
+            100.0 * (s / inf - 1.0)
+        ),
+    );
 }
 
 /// A discrete fracture network (`meshes/dfn-block.msh`, docs/howto-discrete-fracture-network.md):
@@ -469,6 +503,7 @@ fn a_discrete_fracture_network_starts_broken_along_its_edges() {
     let f = &o.summary.stages["fracture"];
     assert_eq!(f["broken"].as_u64(), Some(108), "broken joints: {f}");
     assert!(f["joints"].as_u64().unwrap() > 5000, "joints: {f}");
+    fdem_figures::record(73, format!("{}", f["broken"]));
 }
 
 /// The wing-crack example (`examples/wing-crack.json`) over its first 5 us: its flaw (the 14

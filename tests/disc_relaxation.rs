@@ -33,4 +33,5 @@ fn disc_relaxation_converges_to_the_static_solve() {
         o_dr.summary.steps
     );
     assert!(ec < 5e-3 && eu < 5e-3);
+    fdem_figures::record(10, format!("{ec:.1e}, {eu:.1e}"));
 }

@@ -115,6 +115,7 @@ fn the_bar_pulse_on_2_3_and_4_ranks_writes_the_single_process_files_byte_for_byt
         shares.iter().all(|&s| s > 1000),
         "shared after every step: {shares:?}"
     );
+    fdem_figures::record_part(122, 1, "bar pulse identical");
 }
 
 #[test]
@@ -135,6 +136,7 @@ fn the_cantilever_with_sparse_histories_on_2_3_and_4_ranks_is_the_single_process
         shares.iter().all(|&s| s < 1000),
         "shared when observed only: {shares:?}"
     );
+    fdem_figures::record_part(122, 2, "cantilever identical");
 }
 
 #[test]
@@ -146,6 +148,7 @@ fn the_disc_collision_on_2_and_4_ranks_writes_the_single_process_files_byte_for_
         "dist-collision",
         &[2, 4],
     );
+    fdem_figures::record_part(123, 1, "disc collision identical");
 }
 
 #[test]
@@ -163,6 +166,7 @@ fn the_disc_collision_with_friction_damping_and_a_floor_on_2_and_3_ranks_is_the_
         v["gravity"] = serde_json::json!([0.0, -9.81]);
     });
     compare_on(&scene, "dist-collision-damped-runs", &[2, 3]);
+    fdem_figures::record(129, "identical");
 }
 
 #[test]
@@ -192,6 +196,7 @@ fn the_fracturing_disc_on_2_and_4_ranks_writes_the_single_process_files_byte_for
         mine < all * 3 / 5,
         "rank 0 of 2 evaluates {mine} of {all} joints"
     );
+    let joints = format!("{mine} of {all} joints");
     let contact = o[0].as_ref().unwrap().summary.stages["contact"].clone();
     let (all, mine) = (
         contact["couples"].as_u64().unwrap(),
@@ -200,6 +205,11 @@ fn the_fracturing_disc_on_2_and_4_ranks_writes_the_single_process_files_byte_for
     assert!(
         all > 100 && mine < all * 3 / 5,
         "rank 0 of 2 evaluates {mine} of {all} couples"
+    );
+    fdem_figures::record_part(
+        123,
+        2,
+        format!("fracturing disc identical, rank 0 of 2: {joints}, {mine} of {all} couples"),
     );
 }
 
@@ -211,6 +221,7 @@ fn the_block_compressed_to_failure_on_2_and_4_ranks_is_the_single_process_run() 
         "dist-block",
         &[2, 4],
     );
+    fdem_figures::record_part(123, 3, "block identical");
 }
 
 #[test]
@@ -241,6 +252,7 @@ fn the_block_repartitioned_as_it_breaks_is_the_single_process_run() {
     };
     let d = on_3("np3", 1.0);
     let n = d["repartitions"].as_u64().unwrap();
+    let imbalance = d["imbalance_after_repartition"].as_f64().unwrap();
     assert!(n >= 2, "{n} repartitions");
     let (now, after) = (
         d["imbalance_last_check"].as_f64().unwrap(),
@@ -254,6 +266,12 @@ fn the_block_repartitioned_as_it_breaks_is_the_single_process_run() {
     let d = on_3("np3-off", f64::INFINITY);
     assert_eq!(d["repartitions"].as_u64(), Some(0));
     assert!(d["imbalance_last_check"].as_f64().unwrap() > 1.0);
+    fdem_figures::record(
+        130,
+        format!(
+            "identical; {n} repartitions (3 ranks as threads) and none, imbalance {imbalance:.3} after the last"
+        ),
+    );
 }
 
 #[test]
@@ -306,6 +324,7 @@ fn what_a_distributed_run_does_not_do_is_refused_with_its_field_before_anything_
         );
     }
     assert!(!out.exists());
+    fdem_figures::record(125, "refused");
 }
 
 /// Runs `scene` on `size` ranks (threads, or one process for 1) into `out` with `options`.
@@ -379,6 +398,7 @@ fn a_distributed_checkpoint_is_the_single_process_one_and_resumes_on_any_number_
         let n = resume_and_compare(&scene, then, &out, &straight);
         assert!(n > 60, "{n} files");
     }
+    fdem_figures::record(126, "identical");
 }
 
 /// [`assert_same_files`], leaving out the files named in `except` too.
@@ -427,4 +447,5 @@ fn a_stop_signal_is_taken_up_by_every_rank_at_the_next_agreed_step() {
         assert!(e.contains("SIGINT") && e.contains("at step 16 "), "{e}");
     }
     resume_and_compare(&scene, 3, &out, &straight);
+    fdem_figures::record(127, "step 16; identical");
 }

@@ -107,6 +107,14 @@ fn brazilian_disc_splits_along_loaded_diameter_at_tensile_strength_with_closed_e
         (residual / work).abs() < 0.02,
         "residual {residual} of {work}"
     );
+    fdem_figures::record(
+        42,
+        format!(
+            "{peak:.0} N, {:.3} ft; split along the loaded diameter",
+            sigma / ft
+        ),
+    );
+    fdem_figures::record_part(43, 1, format!("{:.1e} (to 1.65 ms)", residual / work));
 }
 
 /// The same disc on the coarse ring mesh (h = R/8, 384 triangles, `meshes/disc-small.msh`) run
@@ -167,6 +175,11 @@ fn brazilian_disc_run_well_past_the_split_closes_the_energy_balance_within_2_per
         (e.error / work).abs() < 0.02,
         "residual {} of {work}",
         e.error
+    );
+    fdem_figures::record_part(
+        43,
+        2,
+        format!("{:.1e} (coarse disc to 3 ms)", e.error / work),
     );
 }
 
@@ -237,5 +250,13 @@ fn diagonal_pair_fails_in_shear_under_compression_and_hands_over_to_contact_with
         (e.error / work).abs() < 1e-3,
         "residual {} jump {jump} of work {work}",
         e.error
+    );
+    fdem_figures::record(
+        44,
+        format!(
+            "mode II break, energy jump {:.1e} of the work, ledger {:.1e}",
+            jump / work,
+            e.error / work
+        ),
     );
 }

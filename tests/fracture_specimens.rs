@@ -239,6 +239,7 @@ fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_a
     let (nj, nb) = check_joint_series(&out, &o);
     assert_eq!(nb, ev.len());
     assert!(nj > 900, "{nj} joints");
+    fdem_figures::record(45, format!("{:+.1} %", 100.0 * (k_dyn / k_static - 1.0)));
 }
 
 /// Runs the block example with friction `mu` at both platens: (peak load [N], elastic slope
@@ -329,4 +330,13 @@ fn block_between_platens_has_the_elastic_slope_and_friction_raises_its_peak() {
     }
     // Energy balance within 2 % of the platens' work.
     assert!(r0.abs() < 0.02 && r5.abs() < 0.02, "residuals {r0} {r5}");
+    fdem_figures::record(
+        46,
+        format!(
+            "{:+.1} % (mu = 0), {:+.1} % (mu = 0.5); peak {:+.1} %",
+            100.0 * (k0 / k - 1.0),
+            100.0 * (k5 / k - 1.0),
+            100.0 * (p5 / p0 - 1.0)
+        ),
+    );
 }

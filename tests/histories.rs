@@ -145,6 +145,7 @@ fn table_history_equal_to_a_ramp_gives_the_bits_of_the_ramp() {
         e.wall_work, e.external_work, e.support_work
     );
     assert!(e.wall_work.abs() > 0.0 && e.external_work.abs() > 0.0 && e.support_work.abs() > 0.0);
+    fdem_figures::record(63, "identical `histories.csv`, `walls.csv`, frames");
 }
 
 /// `F(t) = int_0^t (m + a sin(w s + phi)) ds` of a sine with `cycles` periods, held after.
@@ -211,11 +212,21 @@ fn sine_velocity_history_moves_the_group_by_its_exact_integral() {
     );
     // the positions are set from the closed-form integral: only the round-off of x0 + u - x0
     // (x0 <= 0.8 m: 1.1e-16 m) is left
+    let mut worst_end: f64 = 0.0;
     for u in end {
         assert!((u - want).abs() <= 1e-15, "{u} vs {want}");
+        worst_end = worst_end.max((u - want).abs());
     }
     assert!(worst <= 1e-15, "{worst}");
     assert!(want > 1e-5, "the group moved ({want})");
+    fdem_figures::record(
+        64,
+        format!(
+            "{} m (every row), {} m (end)",
+            fdem_figures::sci(worst, 1),
+            fdem_figures::sci(worst_end, 1)
+        ),
+    );
 }
 
 /// A quadrilateral `(0,0) (1,0) (1.5,1) (0,1)` fanned around `(0.6, 0.5)`: edge groups
@@ -270,6 +281,7 @@ fn local_traction_on_an_inclined_edge_equals_the_global_traction() {
     // s = (-n_y, n_x) = (0.5, 1)/sqrt(1.25), counter-clockwise around the body
     let r = 1.25f64.sqrt();
     let (n, s) = ([1.0 / r, -0.5 / r], [0.5 / r, 1.0 / r]);
+    let mut worst_local: f64 = 0.0;
     for (tn, ts) in [(0.0, 3e6), (2e6, 0.0), (-1e6, 4e6)] {
         let global = [tn * n[0] + ts * s[0], tn * n[1] + ts * s[1]];
         let a = static_displacement(
@@ -287,6 +299,7 @@ fn local_traction_on_an_inclined_edge_equals_the_global_traction() {
             "local [{tn:e}, {ts:e}] vs global {global:?}: largest difference {d:.2e} m of {scale:.3e} m"
         );
         assert!(d <= 1e-12 * scale && scale > 1e-5, "{d} of {scale}");
+        worst_local = worst_local.max(d / scale);
         // sign convention: a positive normal traction pulls the edge outward, a positive
         // shear drags it along s; nodes 1 and 2 are the slope's
         let along = |v: [f64; 2], dir: [f64; 2]| v[0] * dir[0] + v[1] * dir[1];
@@ -316,6 +329,7 @@ fn local_traction_on_an_inclined_edge_equals_the_global_traction() {
     let (d, scale) = max_diff(&a, &b);
     eprintln!("pressure {p:e} vs local [-p, 0]: {d:.2e} m of {scale:.3e} m");
     assert!(d <= 1e-12 * scale, "{d} of {scale}");
+    let pressure = d / scale;
     // the static solve takes a history at t = duration: f(1) = 0.5 here, half the load
     let h = static_displacement(
         "local-h",
@@ -326,6 +340,15 @@ fn local_traction_on_an_inclined_edge_equals_the_global_traction() {
     let (d, scale) = max_diff(&h, &half);
     eprintln!("history at t = duration: {d:.2e} m of {scale:.3e} m");
     assert!(d <= 1e-12 * scale, "{d} of {scale}");
+    fdem_figures::record(
+        65,
+        format!(
+            "{} (local against global), {} (pressure), {} (history) of the displacement",
+            fdem_figures::sci(worst_local, 1),
+            fdem_figures::sci(pressure, 1),
+            fdem_figures::sci(d / scale, 1)
+        ),
+    );
 }
 
 /// The error of a scene text with `bc` as its one load (and `extra` merged at the top).
@@ -595,6 +618,14 @@ fn cyclic_displacement_on_a_joint_pair_follows_the_envelope_and_the_damaged_seca
         e.error,
         e.in_play
     );
+    fdem_figures::record(
+        66,
+        format!(
+            "{:.2} % of `ft`; ledger error {:.1e} of the energy in play (tolerance 1e-3)",
+            100.0 * worst / ft,
+            e.error / e.in_play
+        ),
+    );
 }
 
 #[test]
@@ -628,6 +659,10 @@ fn energy_ledger_closes_under_a_cyclic_pressure_at_second_order() {
     let ratio = errors[0] / errors[1];
     assert!(errors[0].abs() < 3e-3, "{errors:?}");
     assert!((3.5..4.6).contains(&ratio), "ratio {ratio} ({errors:?})");
+    fdem_figures::record(
+        67,
+        format!("{:.2e}, {:.2e}: ratio {ratio:.2}", errors[0], errors[1]),
+    );
 }
 
 #[test]
@@ -682,4 +717,5 @@ fn relaxation_follows_a_load_history_to_the_static_answer_at_its_final_value() {
         "{tip_static} vs {tip_full}"
     );
     assert!(err < 5e-3, "error {err}");
+    fdem_figures::record(69, format!("{err:.1e}; stops at {t_end:.2} s"));
 }

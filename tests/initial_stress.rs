@@ -92,6 +92,14 @@ fn uniform_in_situ_stress_with_matching_tractions_stays_at_rest() {
             assert!((st[k] - s[k]).abs() <= 1e-12 * 20e6, "{st:?}");
         }
     }
+    fdem_figures::record(
+        55,
+        if vmax == 0.0 {
+            "0 (the forces cancel exactly on this dyadic mesh)".to_string()
+        } else {
+            fdem_figures::sci(vmax / scale, 1)
+        },
+    );
 }
 
 /// The biaxial Kirsch field of a hole of radius `a` in the far stress (sx, sy, 0), Cartesian.
@@ -159,6 +167,7 @@ fn excavated_hole_gives_the_biaxial_kirsch_field() {
         diff / sx.abs()
     );
     assert!(diff <= 1e-9 * sx.abs(), "{diff} Pa");
+    fdem_figures::record(57, fdem_figures::sci(diff / sx.abs(), 1));
     let cen = common::centroids(f);
     let hoop = common::recovered_stress(f, &cen, [0.0, a], 30)[0];
     let exact = 3.0 * sx - sy;
@@ -188,6 +197,14 @@ fn excavated_hole_gives_the_biaxial_kirsch_field() {
     assert!(
         e.error.abs() <= 1e-9 * e.in_play.max(e.strain.abs()),
         "{e:?}"
+    );
+    fdem_figures::record(
+        56,
+        format!(
+            "{:+.2} %; {:.2} %",
+            100.0 * (hoop / exact - 1.0),
+            100.0 * worst
+        ),
     );
 }
 
@@ -225,10 +242,14 @@ fn geostatic_column_under_gravity_stays_at_rest() {
     );
     assert!(umax <= 1e-12 * sv * h / E, "{umax} m");
     let cen = common::centroids(&o.last_frame);
+    let mut worst_stress: f64 = 0.0;
     for (c, st) in cen.iter().zip(&o.last_frame.stress) {
         let syy = -RHO * g * (h - c[1]);
         assert!((st[1] - syy).abs() <= 1e-12 * sv && (st[0] - k0 * syy).abs() <= 1e-12 * sv);
         assert!(st[2].abs() <= 1e-12 * sv);
+        worst_stress = [st[1] - syy, st[0] - k0 * syy, st[2]]
+            .into_iter()
+            .fold(worst_stress, |w, d| w.max(d.abs() / sv));
     }
     scene["analysis"] = json!("dynamic");
     scene["integrator"] = json!({"scheme": "central-difference", "time_step": "auto"});
@@ -250,6 +271,15 @@ fn geostatic_column_under_gravity_stays_at_rest() {
         vmax / scale
     );
     assert!(vmax <= 1e-10 * scale, "{vmax} m/s");
+    fdem_figures::record(
+        58,
+        format!(
+            "{}; {}; {}",
+            fdem_figures::sci(umax / (sv * h / E), 1),
+            fdem_figures::sci(worst_stress, 1),
+            fdem_figures::sci(vmax / scale, 1)
+        ),
+    );
 }
 
 /// The static excavation of the square of `rect.json` in the in-situ stress `s`: rollers on
@@ -294,6 +324,7 @@ fn relaxation_reaches_the_static_excavation() {
     let dir = common::temp_dir("insitu-relax");
     common::rectangle_with_sides(&dir, 8, 8, 1.0, 1.0);
     let mut rel = Vec::new();
+    let (mut closure, mut half_ratio): (f64, f64) = (0.0, 0.0);
     for k in [1.0f64, 0.1] {
         let s: [f64; 3] = [-10e6 * k, -6e6 * k, 2e6 * k];
         let mut scene = excavation(s);
@@ -327,6 +358,7 @@ fn relaxation_reaches_the_static_excavation() {
         assert!(moved > 0.1 * s[1].abs(), "{moved}");
         let e = &st.summary.energy;
         assert!(e.error.abs() <= 1e-9 * e.in_play, "{e:?}");
+        closure = closure.max(e.error.abs() / e.in_play);
         if k == 1.0 {
             scene["integrator"]["safety"] = json!(0.25);
             let (half, _) = common::run(&write(&dir, "relax-half.json", &scene));
@@ -336,10 +368,22 @@ fn relaxation_reaches_the_static_excavation() {
                 rl.summary.energy.relative_error()
             );
             assert!((3.0..=5.0).contains(&ratio), "{ratio}");
+            half_ratio = ratio;
         }
         rel.push(diff);
     }
     assert!(rel[1] <= 0.2 * rel[0], "{rel:?}");
+    fdem_figures::record(
+        59,
+        format!(
+            "{:.2e} at `abs(sxx)/E` = 1e-3, {:.2e} at 1e-4",
+            rel[0], rel[1]
+        ),
+    );
+    fdem_figures::record(
+        60,
+        format!("{}; {half_ratio:.2}", fdem_figures::sci(closure, 1)),
+    );
 }
 
 fn load_err(dir: &Path, name: &str, scene: &Value) -> String {
@@ -500,6 +544,16 @@ fn tunnel_example_matches_kirsch() {
         f.displacement[i]
     };
     assert!(at([0.0, a])[1] < 0.0 && at([a, 0.0])[0] < 0.0);
+    fdem_figures::record(
+        61,
+        format!(
+            "{:.2} MPa ({:+.1} %), {:.2} MPa ({:+.1} %)",
+            crown / 1e6,
+            100.0 * (crown / -28e6 - 1.0),
+            side / 1e6,
+            100.0 * (side / -12e6 - 1.0)
+        ),
+    );
 }
 
 /// The excavation above (k = 1) relaxed by the default method (kinetic damping, equal-step
@@ -540,4 +594,12 @@ fn kinetic_relaxation_reaches_the_static_excavation() {
     let ratio = e.error / half.summary.energy.error;
     eprintln!("kinetic relaxation ledger error: {ratio:.2} times that at half the step");
     assert!((3.0..=5.0).contains(&ratio), "{ratio}");
+    fdem_figures::record(
+        116,
+        format!(
+            "{diff:.3e} `abs(sxx)` ({} steps, {} resets); ratio {ratio:.2}",
+            sm.steps,
+            sm.kinetic_resets.unwrap_or(0)
+        ),
+    );
 }

@@ -158,6 +158,10 @@ fn an_interface_weaker_than_both_materials_breaks_at_its_strength_times_its_area
         .tensile_strength;
     assert_eq!(ft.iter().filter(|&&f| f == 3e6).count(), 2, "{ft:?}");
     assert!(ft.iter().all(|&f| f == 3e6 || f == 30e6));
+    fdem_figures::record(
+        51,
+        format!("{peak:.2} N (ratio {ratio:.4}); every break at the interface"),
+    );
 }
 
 /// A 1-cell-thick strip of `n + 1` cells of 5 mm (groups alternating `even`, `odd`): its `n`
@@ -246,6 +250,15 @@ fn a_chain_of_weibull_joints_fails_at_the_weakest_link_mean() {
         (mean / known - 1.0).abs() < 0.03,
         "mean {mean} against {known}"
     );
+    fdem_figures::record(
+        52,
+        format!(
+            "{:.4} MPa (ratio {:.4}); each run within {:.2} % of its weakest drawn joint",
+            mean / 1e6,
+            mean / known,
+            100.0 * worst_gap
+        ),
+    );
 }
 
 /// The drawn strengths of a scene, as the solver's joint frame gives them, run in a pool of
@@ -308,6 +321,7 @@ fn drawn_strengths_are_the_same_bits_on_one_and_two_threads_and_change_with_the_
         links += 1;
     }
     assert_eq!(links, 8);
+    fdem_figures::record(53, format!("equal; all {links} drawn joints differ"));
 }
 
 /// A scene of one body with groups `soft`/`stiff` and an edit; returns the load error.

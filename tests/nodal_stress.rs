@@ -80,6 +80,13 @@ fn kirsch_hoop_stress_at_the_hole_from_the_recovered_field() {
         f.nodal_von_mises[top],
         fdem_solver::output::frame::von_mises(st)
     );
+    fdem_figures::record(
+        96,
+        format!(
+            "{hoop:.3} S ({:+.2} %; the area-weighted mean {average:.2} S)",
+            100.0 * (hoop / kt - 1.0)
+        ),
+    );
 }
 
 /// examples/lame-cylinder.json (a = 1 m, b = 2 m, p = 10 MPa, plane strain, Gmsh mesh):
@@ -131,6 +138,15 @@ fn lame_radial_and_hoop_stress_at_the_bore_within_one_percent() {
         .fold(0.0, f64::max);
     eprintln!("Lame: largest radial/hoop error at any node {all:.4} p");
     assert!(all < 0.01, "{all} p");
+    fdem_figures::record(
+        97,
+        format!(
+            "{:.2} %, {:.2} % of p (every node: {:.2} %)",
+            100.0 * er,
+            100.0 * et,
+            100.0 * all
+        ),
+    );
 }
 
 /// A quarter of the Lame cylinder (a = 1 m, b = 2 m) as a structured mesh of `nr` rings and
@@ -264,6 +280,14 @@ fn recovered_stress_converges_faster_than_the_cell_stress() {
     assert!((0.85..=1.15).contains(&rr), "raw rate {rr}");
     assert!(re >= 1.7, "recovered rate {re}");
     assert!(rec.iter().zip(&raw).all(|(a, b)| a < b));
+    fdem_figures::record(
+        98,
+        format!(
+            "raw {rr:.2}, recovered {re:.2} (area-weighted mean {ra:.2}); L2 error at 32 rings {:.1e} and {:.1e} of p",
+            raw[raw.len() - 1],
+            rec[rec.len() - 1]
+        ),
+    );
 }
 
 /// A 2 m x 1 m block, fully exploded, 16 x 8 cells, as `split.json` in `dir`: surface groups
@@ -378,4 +402,12 @@ fn the_recovery_does_not_average_across_a_crack() {
     assert!(n >= 16, "{n} nodes on the line");
     assert!(cut < 1e-6 * 15e6, "crack: {cut} Pa");
     assert!(joined > 0.2 * 15e6, "intact joints: {joined} Pa");
+    fdem_figures::record(
+        99,
+        format!(
+            "{} ({n} nodes); {:.2}",
+            fdem_figures::sci(cut / 15e6, 1),
+            joined / 15e6
+        ),
+    );
 }

@@ -630,6 +630,8 @@ fn oracle_fuzzer_finds_no_exit_0_that_breaks_an_invariant() {
         failures.len(),
         failures.join("\n")
     );
+    // the number of variants depends on the machine's speed (a time budget): not a figure
+    fdem_figures::record(141, "none");
 }
 
 #[test]

@@ -95,6 +95,7 @@ fn a_reduced_list_writes_exactly_its_arrays_bit_for_bit_as_a_full_frame() {
     let full = arrays(&full_out.join("frame_0003.vtu"));
     assert!(a["displacement"] == full["displacement"]);
     assert!(a["nodal_von_mises"] == full["nodal_von_mises"]);
+    fdem_figures::record_part(92, 1, format!("equal ({compared} arrays compared)"));
 }
 
 /// The error of loading the cantilever example with `output.arrays` set to `arrays`.
@@ -140,6 +141,7 @@ fn unknown_arrays_and_arrays_the_scene_cannot_give_are_refused_with_their_path()
     );
     let e = load_error("arrays-word", serde_json::json!("everything"));
     assert!(e.contains("output.arrays") && e.contains("\"all\""), "{e}");
+    fdem_figures::record_part(92, 2, "errors as stated");
 }
 
 /// `v` without the timings (`timers`, `wall_time`, throughput, the stages' `*_s` seconds)
@@ -187,6 +189,7 @@ fn frames_written_in_the_background_are_the_files_written_in_the_loop() {
         assert!(fb[name] == *bytes, "{name} differs");
     }
     assert!(fa.contains_key("joints_0003.vtu") && fa.contains_key("results.pvd"));
+    fdem_figures::record_part(93, 1, format!("identical ({} files)", fa.len()));
 }
 
 /// The run of `scene` with a folder named `frame_0002.vtu` in the way of its third frame (a
@@ -227,4 +230,5 @@ fn a_failed_background_write_ends_the_run_with_the_error_of_a_write_in_the_loop(
     let (a, b) = (blocked_run(&on), blocked_run(&off));
     assert!(a.contains("frame_0002.vtu"), "{a}");
     assert_eq!(a, b);
+    fdem_figures::record_part(93, 2, "as stated");
 }

@@ -93,11 +93,13 @@ fn traction_on(s: [f64; 3], m0: [f64; 2], m1: [f64; 2]) -> [f64; 2] {
 /// A free 2 m x 1 m block (16 x 8 cells), every triangle exploded and bonded by strong joints
 /// (penalty 10 E), in the uniform in-situ stress `s` with every edge loaded by `s n`, 10^4
 /// central-difference steps. Returns the largest nodal speed over `c_p |s|/E`.
-fn block_at_rest(tag: &str, s: [f64; 3]) -> f64 {
+/// The block at rest: the largest nodal speed over `c_p abs(sigma_0)/E` and the measured
+/// figure (speed, joint tractions, frame stress).
+fn block_at_rest(tag: &str, s: [f64; 3]) -> (f64, String) {
     block_at_rest_with(tag, s, joints(10e6, 20e6, 10.0 * E, 2000.0))
 }
 
-fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
+fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> (f64, String) {
     let dir = common::temp_dir(tag);
     common::rectangle_with_sides(&dir, 16, 8, 2.0, 1.0);
     let mut bcs = vec![
@@ -171,7 +173,13 @@ fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
         // the diagonal joints carry shear: their offsets are exercised
         assert!(tau_max > 0.1 * smax, "{tau_max}");
     }
-    vmax / scale
+    let figure = format!(
+        "speed {}, joint tractions {}, frame stress {}, no joint damaged",
+        fdem_figures::sci(vmax / scale, 1),
+        fdem_figures::sci(terr / smax, 1),
+        fdem_figures::sci(serr / smax, 1)
+    );
+    (vmax / scale, figure)
 }
 
 /// Uniform compression sigma_0 = (-20, -10, 0) MPa on a fully exploded block (joint penalty
@@ -187,8 +195,9 @@ fn block_at_rest_with(tag: &str, s: [f64; 3], fr: Value) -> f64 {
 /// exactly (the sheared case below) measures 0.
 #[test]
 fn exploded_block_in_compressive_in_situ_stress_stays_at_rest() {
-    let v = block_at_rest("prejoint-rest", [-20e6, -10e6, 0.0]);
+    let (v, figure) = block_at_rest("prejoint-rest", [-20e6, -10e6, 0.0]);
     assert!(v <= 1e-8, "{v}");
+    fdem_figures::record_part(77, 1, format!("compressive: {figure}"));
 }
 
 /// The same with a shear component, sigma_0 = (-20, -10, 5) MPa: the joints' shear offsets
@@ -196,8 +205,9 @@ fn exploded_block_in_compressive_in_situ_stress_stays_at_rest() {
 /// (measured: speed 0, frame stress and joint tractions exact; the round-off cancels here).
 #[test]
 fn exploded_block_in_sheared_in_situ_stress_stays_at_rest() {
-    let v = block_at_rest("prejoint-rest-shear", [-20e6, -10e6, 5e6]);
+    let (v, figure) = block_at_rest("prejoint-rest-shear", [-20e6, -10e6, 5e6]);
     assert!(v <= 1e-8, "{v}");
+    fdem_figures::record_part(77, 2, format!("sheared: {figure}"));
 }
 
 /// An annulus a = 0.1 m < r < b = 0.8 m (32 sectors, 8 rings) in the in-situ stress
@@ -274,6 +284,15 @@ fn excavation_in_fracturing_body_with_strong_joints_matches_the_continuum() {
         d.push(diff);
     }
     assert!(d[1] <= 0.3 * d[0], "{d:?}");
+    fdem_figures::record(
+        79,
+        format!(
+            "{:.2} E/p (p = 10 E), {:.2} E/p (p = 100 E): ratio {:.2}; no joint damaged",
+            d[0] * 10.0,
+            d[1] * 100.0,
+            d[1] / d[0]
+        ),
+    );
 }
 
 /// The same opening with weak joints (ft = 1.5 MPa, c = 3 MPa, phi = 30 deg: a uniaxial
@@ -323,6 +342,15 @@ fn excavation_breaks_weak_joints_near_the_opening() {
     assert!(n > 0);
     assert!(rmin <= 0.12, "{rmin}");
     assert!(rmax <= 0.5, "{rmax}");
+    fdem_figures::record(
+        80,
+        format!(
+            "{n} of {}, between {:.2} a and {:.2} a",
+            jf.broken.len(),
+            rmin / 0.1,
+            rmax / 0.1
+        ),
+    );
 }
 
 /// An initial tension across joints at or above their tensile strength, or a shear at or above
@@ -371,4 +399,5 @@ fn initial_tension_above_joint_strength_is_refused() {
     if let Err(e) = fdem_solver::driver::load(&write(&dir, "good.json", &scene)) {
         panic!("{e}");
     }
+    fdem_figures::record(81, "refused as stated; loads just below");
 }

@@ -91,6 +91,33 @@ fn mass_scaling_keeps_the_disc_peak_and_equals_a_faster_rate() {
     assert!((t - 2.0).abs() < 1e-12, "duration ratio {t}");
     assert!((ua / uc - 1.0).abs() < 1e-12, "wall end {ua} vs {uc}");
     assert!(uc < -2e-5, "the walls moved: {uc}");
+    fdem_figures::record(
+        101,
+        if ratio == 2.0 {
+            "2 exactly".to_string()
+        } else {
+            format!("{ratio:.15}")
+        },
+    );
+    fdem_figures::record(102, format!("{pb:.1} N, {:+.2} %", 100.0 * d));
+    fdem_figures::record(
+        103,
+        if e == 0.0 {
+            "identical peaks".to_string()
+        } else {
+            format!("peaks within {e:.1e}")
+        },
+    );
+    let dev = (t - 2.0).abs().max((ua / uc - 1.0).abs());
+    fdem_figures::record_part(
+        104,
+        1,
+        if dev == 0.0 {
+            "exact".to_string()
+        } else {
+            format!("within {dev:.1e}")
+        },
+    );
 }
 
 /// A bar `[0, 1] x [0, 0.1]` (20 x 2 cells, E = 200 MPa, nu = 0, rho = 2000: c = 316 m/s,
@@ -176,6 +203,10 @@ fn indicator_matches_a_slowly_stretched_bar() {
     eprintln!("bar f = 4: indicator {ind4:.5e}, exact {exact4:.5e} ({e4:+.4}); growth {g:.4}");
     assert!((g / 4.0 - 1.0).abs() < 0.05, "growth with the factor: {g}");
     assert!(o1.summary.quasi_static.as_ref().unwrap().warning.is_none());
+    fdem_figures::record(
+        105,
+        format!("{:+.2} %, {:+.2} %; {g:.3}", 100.0 * e, 100.0 * e4),
+    );
 }
 
 /// The warning: in summary.json and on stderr above the limit, absent below it.
@@ -208,6 +239,7 @@ fn indicator_warns_above_its_limit() {
         );
         assert_eq!(s["quasi_static"]["limit"].as_f64(), Some(limit));
     }
+    fdem_figures::record(106, "as expected");
 }
 
 /// Rate 0.5 is the scene with halved velocities and doubled ramp and duration, bit for bit.
@@ -236,6 +268,7 @@ fn loading_rate_is_the_scene_edited_by_hand() {
             "{name}"
         );
     }
+    fdem_figures::record_part(104, 2, "identical columns");
 }
 
 /// The weight `m g` keeps the true mass under mass scaling.
@@ -268,6 +301,7 @@ fn weight_keeps_the_true_mass() {
         "the weight changed with the mass factor"
     );
     assert!(forces[0].iter().any(|f| *f < 0.0));
+    fdem_figures::record(107, "identical");
 }
 
 /// Bad values of the sections, each named by its path.

@@ -69,6 +69,15 @@ fn cg_relaxation_of_the_25k_triangle_cantilever() {
     // the books close: the iterations' energy is booked as damping
     assert!(e.relative_error().abs() < 1e-9, "{e:?}");
     assert_eq!(e.kinetic, 0.0);
+    fdem_figures::record(
+        117,
+        format!(
+            "{} iterations ({} force evaluations, stops at its round-off floor {:.1e}); {err:.1e}; {clapeyron:.1e}; {rise:.1e}",
+            s.steps,
+            s.force_evaluations,
+            s.residual_floor.unwrap()
+        ),
+    );
 }
 
 /// 120 x 12 cells: converges, bit-identical on 1 and 2 threads, and the +-P extrapolation
@@ -120,6 +129,13 @@ fn cg_relaxation_is_thread_independent_and_equals_the_static_solve() {
     );
     // measured: see the message; kinetic damping's bound
     assert!(e0 < 2e-6, "{e0:e}");
+    fdem_figures::record(
+        118,
+        format!(
+            "identical, {} iterations; {e0:.1e} ({e1:.1e} at 1 N)",
+            s.steps
+        ),
+    );
 }
 
 /// A run stopped after iterations 177 and 350 of its 500 resumes byte for byte.
@@ -135,6 +151,7 @@ fn cg_relaxation_resumes_bit_for_bit() {
     assert_eq!(v["converged"], serde_json::json!(true));
     assert_eq!(v["relaxation"], serde_json::json!("conjugate-gradient"));
     assert!(v["steps"].as_u64().unwrap() > 350, "{v}");
+    fdem_figures::record(119, format!("identical, converged at {}", v["steps"]));
 }
 
 /// Hertz's disc on a frictionless wall (relaxation_masses.rs) by conjugate gradient.
@@ -157,6 +174,16 @@ fn cg_relaxation_of_the_hertz_disc() {
     assert!((m.p0_ratio - 1.0).abs() < 0.01, "peak pressure: {m:?}");
     assert!(m.equilibrium.abs() < 1e-5, "{m:?}");
     assert_eq!(m.masses.as_deref(), Some("equal-step"));
+    fdem_figures::record(
+        120,
+        format!(
+            "a {:+.3} %, p0 {:+.3} %; {:.1e}; {} iterations",
+            100.0 * (m.a_ratio - 1.0),
+            100.0 * (m.p0_ratio - 1.0),
+            m.equilibrium,
+            m.steps
+        ),
+    );
 }
 
 #[test]
@@ -187,4 +214,5 @@ fn cg_relaxation_is_refused_with_mass_damping_friction_or_outside_a_relaxation()
     // frictionless contact is accepted
     let frictionless = hertz_scene("cg-frictionless", cg);
     assert!(fdem_solver::driver::load(&frictionless).is_ok());
+    fdem_figures::record_part(121, 2, "refused");
 }

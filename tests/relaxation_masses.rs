@@ -137,6 +137,16 @@ fn hertz_disc_relaxed_through_the_solver_with_equal_step_masses() {
     assert!((m.p0_ratio - 1.0).abs() < 0.01, "peak pressure: {m:?}");
     assert!(m.equilibrium.abs() < 1e-5, "{m:?}");
     assert_eq!(m.masses.as_deref(), Some("equal-step"));
+    fdem_figures::record(
+        113,
+        format!(
+            "a {:+.3} %, p0 {:+.3} %; {} steps; {:+.1e}",
+            100.0 * (m.a_ratio - 1.0),
+            100.0 * (m.p0_ratio - 1.0),
+            m.steps,
+            m.equilibrium
+        ),
+    );
 }
 
 #[test]
@@ -194,6 +204,21 @@ fn equal_step_masses_keep_the_total_and_the_weight_and_lengthen_the_step() {
         eq.dt_limit, tr.dt_limit
     );
     assert!(ratio > 5.0, "{ratio}");
+    let round_off = (eq_total / total - 1.0)
+        .abs()
+        .max(diff(m.weight_mass(), &true_mass) / big)
+        .max(diff(&tr.model.mass, &true_mass) / big)
+        .max(diff(&m.mass, &lumped) / big);
+    fdem_figures::record_part(
+        114,
+        1,
+        format!(
+            "round-off ({}), {ratio:.2} times ({:.2e} s against {:.2e} s)",
+            fdem_figures::sci(round_off, 1),
+            eq.dt_limit,
+            tr.dt_limit
+        ),
+    );
 }
 
 #[test]
@@ -231,4 +256,5 @@ fn relaxation_masses_are_checked_against_the_analysis_and_the_method() {
     });
     let l = driver::load(&scene).unwrap();
     assert!(l.model.relaxation_masses.is_none());
+    fdem_figures::record_part(114, 2, "refused");
 }

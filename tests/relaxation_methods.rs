@@ -117,6 +117,16 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
         common::state_bits(&o1) == common::state_bits(&o2),
         "1 and 2 threads differ"
     );
+    fdem_figures::record(
+        108,
+        format!(
+            "{} steps, {} resets, kinetic/strain {:.1e}; identical; closes ({:.1e} of in_play)",
+            s.steps,
+            s.kinetic_resets.unwrap(),
+            s.kinetic_to_strain.unwrap(),
+            s.energy.relative_error()
+        ),
+    );
 }
 
 /// The 360 x 36-cell cantilever (25 920 triangles) by kinetic damping to 1e-7 of a 1 N tip
@@ -146,6 +156,7 @@ fn kinetic_relaxation_of_the_25k_triangle_cantilever() {
     assert!(s.steps <= 56_000, "{} steps", s.steps);
     // at 1 N the finite-strain deflection differs from the small-strain one by ~4e-6 (120 x 12)
     assert!(err < 1e-5, "{err:e}");
+    fdem_figures::record(112, format!("{} steps, {err:.1e}", s.steps));
 }
 
 #[test]
@@ -208,6 +219,10 @@ fn relaxation_equals_the_static_solve_to_the_geometric_nonlinearity() {
         );
         // measured: see the message
         assert!(e0 < 2e-6, "{method}: {e0:e}");
+        fdem_figures::record(
+            109,
+            format!("{e_small:.1e}; {e0:.1e} ({e_full:.1e} at 1 N)"),
+        );
     }
 }
 
@@ -249,6 +264,7 @@ fn relaxation_method_is_checked_against_the_damping() {
         .expect("rejected")
         .to_string();
     assert!(e.contains("integrator.relaxation"), "{e}");
+    fdem_figures::record_part(111, 2, "as stated");
 }
 
 /// Loads `scene` with the positions moved by `u`, the velocities `v` and the joints' history
@@ -377,7 +393,13 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         );
         assert_eq!(s.converged, Some(true));
         assert_eq!(changed, 0);
-        (s.steps, d_fracture, history_changed, d_history)
+        (
+            s.steps,
+            d_fracture,
+            history_changed,
+            d_history,
+            s.force_evaluations,
+        )
     };
     // No joint's history changed, bit for bit: the dissipation is exactly the same. The ledger's
     // `fracture` is the joints' trapezoidal work less their stored energy, and the
@@ -386,12 +408,12 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
     // safety 0.9, 5.2e-9 at 0.45 and 2.1e-9 at 0.225 (a quadrature error, shrinking with the
     // step; the joints' work is kept on the trapezoidal rule so that it matches the nodal
     // trapezoid of the ledger).
-    let (steps_true, d_true, h_true, _) = relaxed("true", "kinetic");
+    let (steps_true, d_true, h_true, _, _) = relaxed("true", "kinetic");
     assert_eq!(h_true, 0);
     assert!(d_true <= 1e-7, "{d_true:e}");
     // The equal-step masses (the default): 3 900 steps, the quadrature's error 1.4e-7 (the
     // steps are longer against the joints' motion).
-    let (steps_eq, d_eq, h_eq, _) = relaxed("equal-step", "kinetic");
+    let (steps_eq, d_eq, h_eq, _, _) = relaxed("equal-step", "kinetic");
     assert_eq!(h_eq, 0);
     assert!(steps_eq < steps_true, "{steps_eq} vs {steps_true}");
     assert!(d_eq <= 3e-7, "{d_eq:e}");
@@ -399,8 +421,28 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
     // force evaluations), no damage changed, the quadrature's error 1.3e-7. Its longer moves
     // soften one undamaged joint's pre-peak shear secant (by 2.7e-5 of it): that joint
     // dissipated 1.3e-15 J meanwhile, 1.5e-12 of the fracture energy.
-    let (steps_cg, d_cg, _, dh_cg) = relaxed("equal-step", "conjugate-gradient");
+    let (steps_cg, d_cg, h_cg, dh_cg, evals_cg) = relaxed("equal-step", "conjugate-gradient");
     assert!(dh_cg <= 1e-9, "{dh_cg:e}");
     assert!(steps_cg < steps_eq, "{steps_cg} vs {steps_eq}");
     assert!(d_cg <= 3e-7, "{d_cg:e}");
+    fdem_figures::record(
+        110,
+        format!(
+            "{steps_true} steps, no history changed (dissipation change 0); the ledger's `fracture` {d_true:.1e}"
+        ),
+    );
+    fdem_figures::record(
+        115,
+        format!(
+            "{h_eq}; {steps_eq} steps against {steps_true}; {d_eq:.1e} (true masses {d_true:.1e})"
+        ),
+    );
+    fdem_figures::record_part(
+        121,
+        1,
+        format!(
+            "0 joints, {h_cg} joint's history changed by conjugate gradient, dissipating {} of the fracture energy (kinetic damping changes none), {d_cg:.1e}, {steps_cg} iterations ({evals_cg} force evaluations) against {steps_eq} steps",
+            fdem_figures::sci(dh_cg, 1)
+        ),
+    );
 }

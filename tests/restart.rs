@@ -112,6 +112,11 @@ pub(crate) fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, Pat
     (a, b)
 }
 
+/// The number of files [`assert_same_results`] compares in a run folder.
+fn files_of(dir: &Path) -> usize {
+    result_files(dir).len() + 1
+}
+
 fn steps_of(dir: &Path) -> u64 {
     let v: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap();
@@ -180,6 +185,8 @@ fn the_fracturing_disc_resumes_bit_for_bit_after_a_stop_and_after_sigkill() {
     let (code, err) = fdem_run(&["run", "--resume", s(&c)]);
     assert_eq!(code, 0, "{err}");
     assert_same_results(&a, &c);
+    fdem_figures::record(85, format!("{} files identical", files_of(&a)));
+    fdem_figures::record(86, "identical");
 }
 
 /// The two discs of the collision example, off-centre (10 mm) and at 4 m/s, with Coulomb
@@ -194,6 +201,7 @@ fn oblique_collision(v: &mut serde_json::Value) {
 
 #[test]
 fn a_frictional_collision_resumes_bit_for_bit() {
+    let mut files = Vec::new();
     for scheme in ["central-difference", "omf32"] {
         let scene = common::edited_example("disc-collision.json", "restart-collision", |v| {
             oblique_collision(v);
@@ -220,7 +228,13 @@ fn a_frictional_collision_resumes_bit_for_bit() {
             .parse()
             .unwrap();
         assert!(last > 1e-6, "{scheme}: friction dissipated {last} J");
+        files.push(files_of(&a).to_string());
     }
+    fdem_figures::record_part(
+        87,
+        1,
+        format!("identical: collision {} files", files.join(", ")),
+    );
 }
 
 /// The frictional collision of the signal test stopped at step 6 692, a frame step during
@@ -235,7 +249,8 @@ fn a_stop_where_the_last_contact_pass_is_not_the_booked_one_resumes_bit_for_bit(
         v["duration"] = serde_json::json!(4.8e-3);
         v["output"]["frames"] = serde_json::json!(40);
     });
-    straight_and_resumed(&scene, &[6692]);
+    let (a, _) = straight_and_resumed(&scene, &[6692]);
+    fdem_figures::record_part(87, 4, format!("stop at 6 692: {} files", files_of(&a)));
 }
 
 /// Gear PC-5 (its scaled derivatives are history) on the vibrating cantilever, stopped
@@ -246,7 +261,8 @@ fn a_pc5_run_resumes_bit_for_bit() {
         v["integrator"]["scheme"] = serde_json::json!("pc5");
         v["duration"] = serde_json::json!(1.0);
     });
-    straight_and_resumed(&scene, &[1000, 1001, 3000]);
+    let (a, _) = straight_and_resumed(&scene, &[1000, 1001, 3000]);
+    fdem_figures::record_part(87, 2, format!("PC-5 {} files", files_of(&a)));
 }
 
 /// Relaxations: the cantilever (converges before its end: the resumed run converges at the
@@ -258,8 +274,14 @@ fn relaxations_resume_bit_for_bit() {
     let v: serde_json::Value =
         serde_json::from_slice(&std::fs::read(a.join("summary.json")).unwrap()).unwrap();
     assert_eq!(v["converged"], serde_json::json!(true));
+    let first = files_of(&a);
     let scene = common::edited_example("brazilian-disc-relaxation.json", "restart-relax", |_| {});
-    straight_and_resumed(&scene, &[1800]);
+    let (a, _) = straight_and_resumed(&scene, &[1800]);
+    fdem_figures::record_part(
+        87,
+        3,
+        format!("relaxations {first}, {} files", files_of(&a)),
+    );
 }
 
 /// Kinetic and adaptive relaxations of the cantilever (no `damping.mass_proportional`):
@@ -279,6 +301,7 @@ fn kinetic_and_adaptive_relaxations_resume_bit_for_bit() {
         assert_eq!(v["converged"], serde_json::json!(true), "{method}");
         assert_eq!(v["relaxation"], serde_json::json!(method));
     }
+    fdem_figures::record_part(111, 1, "identical, converged");
 }
 
 /// SIGINT in the middle of a run (as Ctrl-C sends it), and SIGTERM (as a batch system sends
@@ -335,6 +358,7 @@ fn sigint_stops_with_a_checkpoint_and_the_run_resumes_bit_for_bit() {
         assert_eq!(code, 0, "{err}");
         assert_same_results(&a, &b);
     }
+    fdem_figures::record(88, "as stated");
 }
 
 use crate::common::snapshot;
@@ -473,6 +497,8 @@ fn bad_checkpoints_are_refused_and_a_longer_duration_is_accepted() {
         t >= 1.2e-3 * (1.0 - 1e-12) && t < 1.2e-3 + h,
         "ends at {t} s, step {h} s"
     );
+    fdem_figures::record(89, format!("identical, {} steps; as stated", steps_of(&e)));
+    fdem_figures::record(90, "as stated");
 }
 
 /// `output.checkpoint_every` in a scene: steps or a wall-clock time; anything else refused at

@@ -126,4 +126,5 @@ fn setup_is_the_same_bits_on_any_number_of_threads() {
         .collect();
     assert!(keys[1] == keys[0], "2 threads differ from 1");
     assert!(keys[2] == keys[0], "3 threads differ from 1");
+    fdem_figures::record(95, "equal; as stated");
 }

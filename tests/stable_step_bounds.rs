@@ -123,6 +123,7 @@ fn active_bound_covers_the_flat_contact_frequency() {
     );
     // a bound (>= 1), and tight for flat contact: within 10 %
     assert!((1.0..1.1).contains(&ratio), "active / top = {ratio}");
+    fdem_figures::record_part(47, 3, format!("active, flat {ratio:.3}"));
 }
 
 /// The study's disc collision (R/8 discs, 2 m/s, gap 0.1 mm) at peak compression (t = 100 us):
@@ -145,6 +146,7 @@ fn active_bound_covers_the_collision_at_peak_compression() {
     );
     // a bound (>= 1), within 2 of the top frequency
     assert!((1.0..2.0).contains(&ratio), "active / top = {ratio}");
+    fdem_figures::record_part(47, 4, format!("active, collision {ratio:.3}"));
 }
 
 /// The fracture study's Brazilian disc (R/8 exploded ring mesh, joints intact at this state,
@@ -172,6 +174,7 @@ fn active_bound_covers_the_brazilian_disc_under_the_platens() {
     );
     // a bound (>= 1), within 2 of the top frequency
     assert!((1.0..2.0).contains(&ratio), "active / top = {ratio}");
+    fdem_figures::record_part(47, 5, format!("active, disc {ratio:.3}"));
 }
 
 fn temp(name: &str) -> std::path::PathBuf {
@@ -206,6 +209,7 @@ fn contact_bound_covers_the_flat_contact_frequency_within_a_factor_1_5() {
     );
     // the bound covers it, and is within 1.5 of it (measured 1.41)
     assert!((1.0..1.5).contains(&ratio), "omega_max / top = {ratio}");
+    fdem_figures::record_part(47, 1, format!("contact {ratio:.3}"));
 }
 
 /// The fracture study's exploded disc (R/8 ring mesh, 384 triangles, joints p = 300 GPa) at
@@ -230,4 +234,5 @@ fn joint_bound_is_within_ten_percent_of_the_joints_top_frequency() {
     let ratio = bound / top;
     eprintln!("joints: top {top:.4e} rad/s, omega_e {we:.4e}, omega_j {wj:.4e}, ratio {ratio:.3}");
     assert!((1.0..1.1).contains(&ratio), "bound / top = {ratio}");
+    fdem_figures::record_part(47, 2, format!("joints {ratio:.3}"));
 }

@@ -41,6 +41,7 @@ fn kirsch_hoop_stress_is_three_times_far_stress_and_field_matches() {
     eprintln!("Kirsch: hoop stress at the hole top / S = {ratio:.4} (exact 3)");
     // Within 5 % of 3 S.
     assert!((ratio - 3.0).abs() < 0.15, "hoop/S = {ratio}");
+    fdem_figures::record(1, format!("{ratio:.3} S"));
     // Field between 1.5 a and 3 a on a polar grid: every component within 3 % of S.
     let mut worst: f64 = 0.0;
     for i in 0..=6 {
@@ -57,6 +58,7 @@ fn kirsch_hoop_stress_is_three_times_far_stress_and_field_matches() {
     }
     eprintln!("Kirsch: largest error between 1.5 a and 3 a = {worst:.4} S");
     assert!(worst < 0.03, "largest field error {worst} S");
+    fdem_figures::record(2, format!("{:.2} % of S", 100.0 * worst));
 }
 
 /// Hondros's field (radial pressure p on two arcs of half-angle alpha at the poles of the y
@@ -112,6 +114,15 @@ fn brazilian_disc_matches_hondros_on_both_diameters() {
     );
     // Centre tensile stress: within 3 % of 2P/(pi D t) (the 12-degree arcs lower it by 1.3 %).
     assert!((centre[0] / brazil - 1.0).abs() < 0.03);
+    fdem_figures::record(
+        5,
+        format!(
+            "{:.4} of Hondros, {:.4} of `2P/(pi D t)`",
+            centre[0] / exact_c[0],
+            centre[0] / brazil
+        ),
+    );
+    let mut worsts = [0.0; 2];
     let scale = exact_c[1].abs(); // |syy| at the centre, 3x the tensile stress
     for vertical in [false, true] {
         let mut worst: f64 = 0.0;
@@ -138,7 +149,16 @@ fn brazilian_disc_matches_hondros_on_both_diameters() {
         );
         // Within 3 % of the centre compressive stress along both diameters.
         assert!(worst < 0.03, "largest error {worst}");
+        worsts[usize::from(vertical)] = worst;
     }
+    fdem_figures::record(
+        6,
+        format!(
+            "{:.2} % (horizontal), {:.2} % (vertical)",
+            100.0 * worsts[0],
+            100.0 * worsts[1]
+        ),
+    );
 }
 
 #[test]
@@ -176,4 +196,6 @@ fn lame_cylinder_radial_and_hoop_stresses_within_two_percent() {
     // boundary noise (measured 5.6 %): checked loosely, within 8 %.
     assert!(worst < 0.02, "largest error {worst} p");
     assert!(wall < 0.08, "wall error {wall} p");
+    fdem_figures::record(3, format!("{:.2} % of p", 100.0 * worst));
+    fdem_figures::record(4, format!("{:.1} % of p", 100.0 * wall));
 }

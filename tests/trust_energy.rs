@@ -40,7 +40,9 @@ fn ledger_at_step(scene: &Path, h: f64) -> Energies {
 /// at second order: each observed order within 2 +- 0.5 and the least-squares slope of
 /// `log |error|` against `log h` within 2 +- 0.25; and that at the finest step
 /// `|error| <= 1e-6 in_play`.
-fn study(tag: &str, scene: &Path, steps: &[f64]) -> Vec<Energies> {
+/// Runs the scene at each step, asserts the ledger's second-order convergence and records
+/// validation row `row`: the relative error at the coarsest and finest step and the fitted order.
+fn study(row: u32, tag: &str, scene: &Path, steps: &[f64]) -> Vec<Energies> {
     let ledgers: Vec<Energies> = steps.iter().map(|&h| ledger_at_step(scene, h)).collect();
     let mut orders = Vec::new();
     for (k, (h, e)) in steps.iter().zip(&ledgers).enumerate() {
@@ -87,6 +89,23 @@ fn study(tag: &str, scene: &Path, steps: &[f64]) -> Vec<Energies> {
         finest.error,
         finest.in_play
     );
+    let short = |h: f64| {
+        let (v, unit) = if h < 1e-6 {
+            (h * 1e9, "ns")
+        } else {
+            (h * 1e6, "us")
+        };
+        (format!("{}", (v * 1e3).round() / 1e3), unit)
+    };
+    let ((h0, unit), (h1, _)) = (short(steps[0]), short(steps[steps.len() - 1]));
+    fdem_figures::record(
+        row,
+        format!(
+            "{:.1e} … {:.1e} (h = {h0} … {h1} {unit}), fitted order {slope:.2}",
+            ledgers[0].relative_error(),
+            finest.relative_error()
+        ),
+    );
     ledgers
 }
 
@@ -105,7 +124,7 @@ fn case06_collision_ledger_error_converges_at_second_order_to_within_1e_6() {
         v["output"]["frames"] = serde_json::json!(0);
         v["histories"]["every"] = serde_json::json!(50);
     });
-    let ledgers = study("collision", &scene, &[4e-8, 2e-8, 1e-8, 5e-9]);
+    let ledgers = study(23, "collision", &scene, &[4e-8, 2e-8, 1e-8, 5e-9]);
     for e in &ledgers {
         // the scene's terms: the initial kinetic energy, in contact at the end
         assert!(
@@ -135,7 +154,7 @@ fn case06_collision_with_friction_and_contact_damping_closes_the_ledger() {
         v["output"]["frames"] = serde_json::json!(0);
         v["histories"]["every"] = serde_json::json!(50);
     });
-    let ledgers = study("friction", &scene, &[4e-8, 2e-8, 1e-8, 5e-9]);
+    let ledgers = study(24, "friction", &scene, &[4e-8, 2e-8, 1e-8, 5e-9]);
     for e in &ledgers {
         // both at work: measured friction 4.6e-4 J (h = 40 ns) to 8.8e-4 J (5 ns), contact
         // damping 8.0e-3 J
@@ -170,7 +189,7 @@ fn case06_fracture_ledger_error_converges_at_second_order_to_within_1e_6() {
         v["output"]["frames"] = serde_json::json!(0);
         v["histories"]["every"] = serde_json::json!(100);
     });
-    let ledgers = study("fracture", &scene, &[4e-8, 2e-8, 1e-8, 5e-9, 2.5e-9]);
+    let ledgers = study(25, "fracture", &scene, &[4e-8, 2e-8, 1e-8, 5e-9, 2.5e-9]);
     for e in &ledgers {
         // the platens supply the energy; the joints dissipate a good part of it
         assert!(e.wall_work > 0.3 && e.initial.abs() < 1e-20);
@@ -191,7 +210,12 @@ fn case06_relaxation_ledger_error_converges_at_second_order_to_within_1e_6() {
         v["output"]["frames"] = serde_json::json!(0);
         v["histories"]["every"] = serde_json::json!(100);
     });
-    let ledgers = study("relaxation", &scene, &[2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5]);
+    let ledgers = study(
+        26,
+        "relaxation",
+        &scene,
+        &[2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5],
+    );
     for e in &ledgers {
         // both dissipations at work: the mass damping about half the load's work, the
         // viscosity (acting on the higher modes) 3.6e-4 of it

@@ -113,6 +113,7 @@ fn class1_text_after_the_scene_object_is_refused_by_check_and_run() {
     // the good scene checks
     let (code, _, err) = fdem(&["check".as_ref(), good.as_os_str()]);
     assert_eq!(code, 0, "{err}");
+    fdem_figures::record(135, "refused");
 }
 
 #[test]
@@ -161,6 +162,7 @@ fn class3_a_pressure_on_internal_edges_is_refused() {
             "{err}"
         );
     }
+    fdem_figures::record_part(136, 1, "refused");
 }
 
 #[test]
@@ -201,6 +203,11 @@ fn class3_a_pressure_on_a_crack_loads_both_faces() {
     );
     let nodes: std::collections::BTreeSet<u32> = forces.iter().map(|f| f.0 / 2).collect();
     assert_eq!(nodes.len(), 4, "{forces:?}");
+    fdem_figures::record_part(
+        136,
+        2,
+        format!("{pos:.0e} N on each face, on {} nodes", nodes.len()),
+    );
 }
 
 #[test]
@@ -236,6 +243,7 @@ fn class4_fracture_sections_that_act_on_nothing_are_refused() {
         let err = refused(&s);
         assert!(err.contains(path) && err.contains("fix:"), "{tag}: {err}");
     }
+    fdem_figures::record_part(137, 1, "refused");
 }
 
 #[test]
@@ -264,6 +272,7 @@ fn class4_a_joint_material_that_nothing_uses_is_a_warning() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("warning: fracture.materials.weak"), "{err}");
+    fdem_figures::record_part(137, 2, "warned");
 }
 
 /// The disc collision with the right disc's offset set to `x` (the left one at -0.0255, both
@@ -308,6 +317,7 @@ fn class5_bodies_that_overlap_at_the_start_are_refused() {
     });
     let (code, _, err) = fdem(&["check".as_ref(), s.as_os_str()]);
     assert_eq!(code, 0, "{err}");
+    fdem_figures::record(138, "refused; accepted");
 }
 
 #[test]
@@ -362,6 +372,16 @@ fn class6_a_static_solve_with_loads_near_the_top_of_the_number_range_is_not_refu
     // the deflection does not depend on the thickness (loads and stiffness scale alike)
     let (a, b) = (tip(1.0), tip(1e300));
     assert!(a < -1e-3 && ((b - a) / a).abs() < 1e-9, "{a} against {b}");
+    let d = ((b - a) / a).abs();
+    fdem_figures::record_part(
+        139,
+        1,
+        if d == 0.0 {
+            "equal".to_string()
+        } else {
+            format!("within {d:.1e}")
+        },
+    );
 }
 
 #[test]
@@ -401,4 +421,5 @@ fn class10_a_static_load_that_would_overflow_is_refused_at_its_path() {
         err.contains("at `boundary_conditions[1]`") && err.contains("underflow"),
         "{err}"
     );
+    fdem_figures::record_part(139, 2, "refused at `boundary_conditions[1]`");
 }

@@ -135,6 +135,7 @@ fn class7_an_unstable_fracturing_run_writes_its_csv_files_and_its_curve() {
     let events = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
     assert!(events.starts_with("time,"), "{events}");
     assert!(stdout.contains("load-displacement curve"), "{stdout}");
+    fdem_figures::record_part(140, 1, "written");
 }
 
 // ---- class 8: a resume that mixes runs ----
@@ -289,6 +290,7 @@ fn class8_a_resume_that_ends_at_or_before_the_checkpoint_is_refused() {
         .header;
     assert_eq!(json!(header.step), summary(&ended)["steps"]);
     refused(&ended, None, &["`duration`", &format!("{:e}", header.time)]);
+    fdem_figures::record_part(140, 2, "refused");
 }
 
 /// The value after `key` in `text`, up to `end`.
@@ -352,4 +354,5 @@ fn class8_what_a_resume_prints_is_the_step_it_takes() {
         .unwrap();
     assert_eq!(left, steps - 2, "{err}");
     assert_eq!(after(&err, "steps left of h = ", " s"), format!("{h:.4e}"));
+    fdem_figures::record_part(140, 3, "equal");
 }

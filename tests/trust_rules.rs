@@ -94,6 +94,7 @@ fn class6_bodies_at_rest_without_loads_run_to_the_end() {
         },
     );
     succeeds(&block, "rest-block");
+    fdem_figures::record_part(132, 1, "at rest: exit 0");
 }
 
 /// The fracturing block with its platens started 1 mm away from it, loaded ten times faster
@@ -116,6 +117,7 @@ fn class6_platens_started_away_from_the_specimen_reach_it_without_a_false_alarm(
         f > 1e3,
         "the platens did not reach the block: largest force {f} N"
     );
+    fdem_figures::record_part(132, 2, format!("platens: exit 0, largest force {f:.0} N"));
 }
 
 /// Every shipped scene with walls, its walls started 1 mm away from the specimen, runs to the
@@ -133,6 +135,11 @@ fn class6_every_example_with_walls_started_1_mm_away_runs_to_the_end() {
         });
         succeeds(&s, name);
     }
+    fdem_figures::record_part(
+        132,
+        3,
+        format!("{} examples with walls: exit 0", names.len()),
+    );
 }
 
 /// Refused as bad input by `fdem check` and by `fdem run` alike: exit code 2 from both, the
@@ -385,6 +392,7 @@ fn class9_every_range_is_checked_at_load_with_its_path() {
             "{err}"
         );
     }
+    fdem_figures::record(133, "refused");
 }
 
 /// A `mass_scaling.target_step` so large that its factor overflows was reported as a density
@@ -509,4 +517,5 @@ fn class10_drawn_young_modulus_out_of_range_names_its_distribution() {
             "{law}: {err}"
         );
     }
+    fdem_figures::record(134, "refused at the input");
 }

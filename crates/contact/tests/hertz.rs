@@ -309,6 +309,15 @@ fn disc_on_rigid_plane_matches_hertz_half_width_and_peak_pressure() {
         (h.p0_fit_ratio - 1.0).abs() < 0.02,
         "peak pressure (fit): {h:?}"
     );
+    fdem_figures::record(
+        34,
+        format!(
+            "a {:+.2} %, p0 {:+.2} % (pole), {:+.2} % (fit)",
+            100.0 * (h.a_ratio - 1.0),
+            100.0 * (h.p0_ratio - 1.0),
+            100.0 * (h.p0_fit_ratio - 1.0)
+        ),
+    );
 }
 
 /// The study behind the Hertz row of docs/validation.md (not a check): the committed mesh at several loads and

@@ -31,6 +31,7 @@ fn random_pairs(seed: u64, n: usize) -> Vec<(Tri, Tri)> {
 #[test]
 fn momentum_and_angular_momentum_sum_to_round_off_on_random_pairs() {
     // Tolerance: 1e-14 of the largest nodal force (theory: exact up to round-off).
+    let (mut worst_f, mut worst_m): (f64, f64) = (0.0, 0.0);
     for (c, t) in random_pairs(1, 500) {
         let f = pair_normal_force(&c, &t, 1.0);
         let x = [c[0], c[1], c[2], t[0], t[1], t[2]];
@@ -49,7 +50,10 @@ fn momentum_and_angular_momentum_sum_to_round_off_on_random_pairs() {
             "torque {m} vs {}",
             fmax * xmax
         );
+        worst_f = worst_f.max(sx.abs().max(sy.abs()) / fmax);
+        worst_m = worst_m.max(m.abs() / (fmax * xmax));
     }
+    fdem_figures::record(27, format!("{worst_f:.1e}, {worst_m:.1e}"));
 }
 
 #[test]
@@ -120,6 +124,7 @@ fn moved(x: &[[f64; 2]; 3], d: [f64; 2], th: f64) -> [[f64; 2]; 3] {
 fn force_and_torque_equal_minus_energy_gradient_for_rigid_motion() {
     // Central differences of W under rigid translation / rotation of c (step 1e-6 of the
     // size): agreement to 1e-6 of the force scale (truncation ~h^2, round-off ~eps W/h).
+    let mut worst: f64 = 0.0;
     for (c, t) in random_pairs(4, 200) {
         let p = 3.0;
         let f = pair_normal_force(&c, &t, p);
@@ -155,7 +160,13 @@ fn force_and_torque_equal_minus_energy_gradient_for_rigid_motion() {
             (gt - torque).abs() < 1e-6 * scale.max(1e-3) * size,
             "m {torque} vs {gt}"
         );
+        let s = scale.max(1e-3);
+        worst = worst
+            .max((gx - fc[0]).abs() / s)
+            .max((gy - fc[1]).abs() / s)
+            .max((gt - torque).abs() / (s * size));
     }
+    fdem_figures::record(28, format!("{worst:.1e}"));
 }
 
 #[test]
@@ -164,6 +175,7 @@ fn flat_overlap_traction_is_3pd_over_altitudes() {
     // x = -0.5 to 0.5, altitude H_c = 1 + d. Overlap strip of length 1 (minus O(d) at the
     // sloped ends). Expected F_y = 3 p d (1/H_c + 1/H_t) L to O(d/H): 1e-3 relative at d = 1e-5.
     let p = 2.0e9;
+    let mut worst: f64 = 0.0;
     for d in [1e-5, 1e-4] {
         let t = [[-1.0, 0.0], [0.0, -1.5], [1.0, 0.0]];
         let c = [[-0.5, -d], [0.5, -d], [0.0, 1.0]];
@@ -181,7 +193,12 @@ fn flat_overlap_traction_is_3pd_over_altitudes() {
         let w = pair_energy(&c, &t, p);
         let we = 1.5 * p * d * d * (1.0 / hc + 1.0 / 1.5);
         assert!(((w - we) / we).abs() < 30.0 * d, "W {w} vs {we}");
+        let e = (fc[1] - expect) / expect / d;
+        if e.abs() > worst.abs() {
+            worst = e;
+        }
     }
+    fdem_figures::record(29, format!("{worst:.2} d/H"));
 }
 
 #[test]

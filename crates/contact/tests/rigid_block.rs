@@ -177,6 +177,7 @@ fn block_slides_down_incline_with_coulomb_acceleration_on_plane_and_on_ground_tr
     let theta = 0.5f64; // tan θ = 0.546
     let mu = 0.3;
     let expect = G * (theta.sin() - mu * theta.cos());
+    let mut figures = Vec::new();
     for ground in [false, true] {
         let (a, _, e) = incline(theta, mu, ground, 1.0);
         eprintln!(
@@ -196,7 +197,9 @@ fn block_slides_down_incline_with_coulomb_acceleration_on_plane_and_on_ground_tr
             "ground={ground}: D = {} vs {d}",
             e.friction_dissipated
         );
+        figures.push(format!("{:+.1e}", a / expect - 1.0));
     }
+    fdem_figures::record(30, figures.join(", "));
 }
 
 #[test]

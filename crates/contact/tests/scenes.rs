@@ -286,6 +286,15 @@ fn elastic_discs_head_on_momentum_overlap_and_kinetic_energy() {
     assert!(c.dk.abs() < 0.02, "dK/K {}", c.dk);
     assert!(c.de.abs() < 1e-3, "dE/K {}", c.de);
     assert!(c.rebound > 0.9);
+    fdem_figures::record(
+        33,
+        format!(
+            "{:.1e}; {:.2} % of h; `(K + U)/K_0 - 1` = {:.1e}",
+            c.max_momentum,
+            100.0 * c.max_overlap_over_h,
+            c.de
+        ),
+    );
 }
 
 /// The incline scene: a deformable block 0.1 x 0.05 m (`nx x ny` cells, E = 0.1 GPa,
@@ -470,6 +479,7 @@ fn deformable_block_slides_down_incline_with_coulomb_acceleration() {
     // here (docs/contact.md section 3).
     let expect = 9.81 * (0.5f64.sin() - 0.3 * 0.5f64.cos());
     let base = Incline::default();
+    let mut worst: f64 = 0.0;
     for (name, cfg) in [
         ("base", base),
         (
@@ -511,7 +521,9 @@ fn deformable_block_slides_down_incline_with_coulomb_acceleration() {
             "{name}: a = {}, expected {expect}",
             r.a
         );
+        worst = worst.max((r.a / expect - 1.0).abs());
     }
+    fdem_figures::record(31, format!("within {worst:.1e}"));
 }
 
 #[test]
@@ -532,6 +544,7 @@ fn deformable_block_sticks_on_incline_when_mu_exceeds_tan_theta() {
     eprintln!("incline stick: creep = {creep:.3e} m; same damping, mu = 0.3: {slide:.3e} m");
     assert!(creep.abs() < 1e-6, "creep {creep}");
     assert!(slide > 1e-4, "slide {slide}");
+    fdem_figures::record(32, format!("{} m", fdem_figures::sci(creep.abs(), 1)));
 }
 
 #[test]

@@ -308,7 +308,9 @@ mod tests {
 
     /// The KS statistic of a correct sampler stays below 1.63/sqrt(N) with probability 0.99;
     /// the mean within 5 standard errors (sd/sqrt N), the deviation within 3 %.
-    fn assert_matches(d: Distribution, mean: f64, sd: f64) {
+    /// Asserts the draws' mean, deviation and KS distance and records them as part `part` of
+    /// validation row 54.
+    fn assert_matches(part: u32, d: Distribution, mean: f64, sd: f64) {
         let (m, s, ks) = statistics(&d, 42);
         let se = sd / (N as f64).sqrt();
         assert!(
@@ -320,6 +322,17 @@ mod tests {
             "{d:?}: deviation {s} against {sd}"
         );
         assert!(ks < 1.63 / (N as f64).sqrt(), "{d:?}: KS statistic {ks}");
+        let name = ["Weibull", "lognormal", "truncated normal"][part as usize - 1];
+        fdem_figures::record_part(
+            54,
+            part,
+            format!(
+                "{name}: mean {:+.1} standard errors, deviation {:+.2} %, KS {:.2} of its bound",
+                (m - mean) / se,
+                100.0 * (s / sd - 1.0),
+                ks * (N as f64).sqrt() / 1.63
+            ),
+        );
     }
 
     #[test]
@@ -328,6 +341,7 @@ mod tests {
         let mean = lambda * gamma(1.0 + 1.0 / m);
         let sd = lambda * (gamma(1.0 + 2.0 / m) - gamma(1.0 + 1.0 / m).powi(2)).sqrt();
         assert_matches(
+            1,
             Distribution::Weibull {
                 modulus: m,
                 scale: lambda,
@@ -340,6 +354,7 @@ mod tests {
     #[test]
     fn lognormal_draws_match_the_law() {
         assert_matches(
+            2,
             Distribution::Lognormal {
                 mean: 5e6,
                 cov: 0.3,
@@ -353,6 +368,7 @@ mod tests {
     fn truncated_normal_draws_match_the_law() {
         // cov 0.2: the truncation at 0 (5 deviations below the mean) moves nothing measurable.
         assert_matches(
+            3,
             Distribution::Normal {
                 mean: 5e6,
                 cov: 0.2,

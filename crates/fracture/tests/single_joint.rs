@@ -90,6 +90,7 @@ fn pure_tension_follows_the_law_and_dissipates_g_i_times_area() {
     let mut rig = Rig::new(material());
     let n = 20_000;
     let mut peak: f64 = 0.0;
+    let mut worst: f64 = 0.0;
     for i in 1..=n {
         let o = 1.0001 * o_c * i as f64 / n as f64;
         let [(s0, t0), (s1, t1)] = rig.go(o, 0.0);
@@ -104,6 +105,9 @@ fn pure_tension_follows_the_law_and_dissipates_g_i_times_area() {
             "o = {o}: {s0} vs {law}"
         );
         assert!(t0.abs() < 1e-9 * m.ft && t1.abs() < 1e-9 * m.ft);
+        worst = [s0 - law, s1 - law, t0, t1]
+            .into_iter()
+            .fold(worst, |w, d| w.max(d.abs() / m.ft));
         peak = peak.max(s0);
     }
     // the peak is ft, reached at o_p (sampled within 1e-4 of it)
@@ -125,6 +129,13 @@ fn pure_tension_follows_the_law_and_dissipates_g_i_times_area() {
         "pure mode I: dissipated/(G_I A) - 1 = {:e}",
         ev.energy_released / g_area - 1.0
     );
+    fdem_figures::record(
+        35,
+        format!(
+            "law to {worst:.1e} ft, dissipation {:+.1e}",
+            ev.energy_released / g_area - 1.0
+        ),
+    );
 }
 
 #[test]
@@ -135,6 +146,7 @@ fn pure_shear_follows_the_law_and_dissipates_g_ii_times_area() {
     let s_c = s_p + m.slip_softening_width(H, fs);
     let mut rig = Rig::new(material());
     let n = 20_000;
+    let mut worst: f64 = 0.0;
     for i in 1..=n {
         // negative slip: the law is odd in s
         let s = -1.0001 * s_c * i as f64 / n as f64;
@@ -150,6 +162,9 @@ fn pure_shear_follows_the_law_and_dissipates_g_ii_times_area() {
             -mag
         );
         assert!(s0.abs() < 1e-9 * fs);
+        worst = [t0 + mag, t1 + mag, s0]
+            .into_iter()
+            .fold(worst, |w, d| w.max(d.abs() / fs));
     }
     assert_eq!(rig.events.len(), 1);
     let ev = rig.events[0];
@@ -160,6 +175,13 @@ fn pure_shear_follows_the_law_and_dissipates_g_ii_times_area() {
         err < 1e-6,
         "dissipated {} vs G_II A = {g_area} (rel. error {err:e})",
         ev.energy_released
+    );
+    fdem_figures::record(
+        36,
+        format!(
+            "law to {worst:.1e} c, dissipation {:+.1e}",
+            ev.energy_released / g_area - 1.0
+        ),
     );
 }
 
@@ -199,6 +221,7 @@ fn shear_peak_under_compression_is_c_plus_sigma_tan_phi() {
     }
     // peak shear = c + sigma_c tan(phi) = 11.464 MPa, to round-off
     assert!((peak - fs).abs() < 1e-9 * fs, "peak {peak} vs {fs}");
+    fdem_figures::record(37, format!("{:.1e}", (peak - fs).abs() / fs));
     // fully damaged but closed: it stays, carrying the compression only (no shear); the shear
     // branch has dissipated G_II A
     let g_area = m.g_ii * H * T;
@@ -288,6 +311,13 @@ fn mixed_mode_path_follows_the_combined_damage_and_breaks_where_predicted() {
     assert!(
         lb >= lambda_star && lb - lambda_star <= dl * (1.0 + 1e-9),
         "{lb} vs {lambda_star}"
+    );
+    fdem_figures::record(
+        38,
+        format!(
+            "breaks in the predicted step ({:.2} of a step past the root)",
+            (lb - lambda_star) / dl
+        ),
     );
     // dissipation is positive and below the sum of both pure-mode energies
     let e = rig.events[0].energy_released / (H * T);
@@ -463,4 +493,5 @@ fn slip_compress_and_slide_back_cycle_dissipates_and_never_creates_energy() {
         h.work
     );
     assert!((h.dissipated - h.work).abs() < 1e-12 * expected);
+    fdem_figures::record(39, format!("{:.6e} J", h.work));
 }

@@ -185,4 +185,5 @@ fn exploded_kernel_matches_the_two_pass_kernel_bit_for_bit() {
     }
     // a connected mesh is not owned-node
     assert!(!elements(&mesh, Material::new(1e10, 0.25, 2500.0)).owned_nodes);
+    fdem_figures::record_part(62, 2, "exploded kernel equal bit for bit");
 }

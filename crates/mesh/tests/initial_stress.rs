@@ -88,6 +88,7 @@ fn uniform_initial_stress_forces_are_its_boundary_tractions() {
         let d = [s.xx - S0[0], s.yy - S0[1], s.xy - S0[2]];
         assert!(d.iter().all(|d| d.abs() < 1e-9 * 12e6), "tri {t}: {s:?}");
     }
+    fdem_figures::record_part(62, 1, fdem_figures::sci(worst / scale, 1));
 }
 
 /// A rigid rotation `Q` (plus a translation) of a prestressed body gives the stress

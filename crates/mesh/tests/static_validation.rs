@@ -116,6 +116,11 @@ fn thick_cylinder_matches_lame() {
     );
     assert!(worst_u < 0.005, "u_r error {worst_u}");
     assert!(worst_s < 0.02, "hoop error {worst_s}");
+    fdem_figures::record_part(
+        12,
+        1,
+        format!("{:.2} % ({:.3} %)", 100.0 * worst_s, 100.0 * worst_u),
+    );
 }
 
 /// Kirsch: remote tension s0 along x (plane stress). The largest hoop stress over the
@@ -163,6 +168,15 @@ fn plate_with_hole_matches_kirsch() {
     );
     assert!((peak / (3.0 * s0) - 1.0).abs() < 0.05);
     assert!(worst < 0.05);
+    fdem_figures::record_part(
+        12,
+        2,
+        format!(
+            "{:+.1} % ({:.3} S)",
+            100.0 * (peak / (3.0 * s0) - 1.0),
+            peak / s0
+        ),
+    );
 }
 
 /// Cantilever 10 x 1, plane stress, E = 200e3, nu = 0.3, parabolic tip shear P = 1: the tip
@@ -196,6 +210,11 @@ fn cantilever_matches_timoshenko() {
     );
     assert!((defl[1] / exact - 1.0).abs() < 0.03);
     assert!(defl[0].abs() < defl[1].abs());
+    fdem_figures::record_part(
+        12,
+        3,
+        format!("{:.2} %", 100.0 * (defl[1] / exact - 1.0).abs()),
+    );
 }
 
 /// Hondros: Brazilian disc (plane stress) under radial pressure p on the two 12-degree arcs.
@@ -258,4 +277,9 @@ fn brazilian_disc_matches_hondros() {
     assert!(count > 20);
     assert!((centre / s_center - 1.0).abs() < 0.03);
     assert!(rms < 0.03, "{rms}");
+    fdem_figures::record_part(
+        12,
+        4,
+        format!("{:+.2} %", 100.0 * (centre / s_center - 1.0)),
+    );
 }

@@ -79,4 +79,5 @@ fn the_active_dofs_follow_the_whole_run_and_the_others_never_move() {
             assert!((b.x[i] - x0[i]).abs() > 1e-3, "DOF {i} moved");
         }
     }
+    fdem_figures::record(131, "identical");
 }

@@ -58,18 +58,21 @@ fn central_difference_is_second_order() {
     // Tolerance 0.05 on the slope: the asymptotic constant is reached at h = 0.2 already.
     let p = measured_order(SchemeKind::CentralDifference, &H2, true);
     assert!((p - 2.0).abs() < 0.05, "order {p}");
+    fdem_figures::record_part(17, 1, format!("CD {p:.2}"));
 }
 
 #[test]
 fn omf30_is_second_order() {
     let p = measured_order(SchemeKind::Omf30, &H2, true);
     assert!((p - 2.0).abs() < 0.05, "order {p}");
+    fdem_figures::record_part(17, 2, format!("OMF30 {p:.2}"));
 }
 
 #[test]
 fn forest_ruth_is_fourth_order() {
     let p = measured_order(SchemeKind::ForestRuth, &H4, true);
     assert!((p - 4.0).abs() < 0.1, "order {p}");
+    fdem_figures::record_part(17, 6, format!("F&R {p:.2}"));
 }
 
 #[test]
@@ -77,6 +80,7 @@ fn chin_is_fourth_order_with_the_reference_gradient_sign() {
     // G = +2 M^-1 J M^-1 f (the reference's sign): fourth order, as the reference claims.
     let p = measured_order(SchemeKind::Chin, &H4, true);
     assert!((p - 4.0).abs() < 0.1, "order {p}");
+    fdem_figures::record_part(17, 4, format!("CHIN {p:.2}"));
 }
 
 #[test]
@@ -91,6 +95,7 @@ fn omf32_is_fourth_order_with_the_reference_gradient_sign() {
     let hs = [0.4, 0.2, 0.1, 0.05];
     let p = measured_order(SchemeKind::Omf32, &hs, true);
     assert!((p - 4.0).abs() < 0.15, "order {p}");
+    fdem_figures::record_part(17, 5, format!("OMF32 {p:.2}"));
     let p = measured_order(SchemeKind::Omf32, &hs, false);
     assert!(
         (p - 4.0).abs() < 0.15,
@@ -102,10 +107,13 @@ fn omf32_is_fourth_order_with_the_reference_gradient_sign() {
 fn gear_schemes_with_the_default_start_up_are_second_order() {
     // r_3..r_q start at zero: an O(h^3) error in r_3 = h^3/6 x''' that propagates to an
     // O(h^2) global error, whatever q. Measured, not nominal.
+    let mut orders = Vec::new();
     for kind in [SchemeKind::Pc3, SchemeKind::Pc4, SchemeKind::Pc5] {
         let p = measured_order(kind, &[0.1, 0.05, 0.025, 0.0125], true);
         assert!((p - 2.0).abs() < 0.1, "{kind}: order {p}");
+        orders.push(format!("{kind} {p:.2}"));
     }
+    fdem_figures::record_part(17, 3, orders.join(", "));
 }
 
 fn gear_exact_start_order<const Q: usize>(hs: &[f64]) -> f64 {

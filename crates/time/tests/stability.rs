@@ -75,6 +75,7 @@ fn every_scheme_is_stable_at_0_999_and_unstable_at_1_001_of_its_computed_limit()
     // growth rate of at most GROWTH_TOL = 1e-6 per unit time. Runs of 1e6 time units
     // measure the rate (to about 1e-9 for the smooth Gear edges, where the rate changes by
     // about 0.5 % between 0.999 L and 1.001 L); it must fall on each side of 1e-6.
+    let (mut below_max, mut above_min) = (f64::NEG_INFINITY, f64::INFINITY);
     for kind in SchemeKind::ALL {
         let l = kind.stability_limit();
         let below = growth_rate(kind, 0.999 * l, 1e6);
@@ -92,7 +93,17 @@ fn every_scheme_is_stable_at_0_999_and_unstable_at_1_001_of_its_computed_limit()
             "{kind}: growth {above} at 1.001 L = {}",
             1.001 * l
         );
+        below_max = below_max.max(below);
+        above_min = above_min.min(above);
     }
+    fdem_figures::record_part(
+        18,
+        1,
+        format!(
+            "all {} schemes: growth rate at most {below_max:.4e} at 0.999 L, at least {above_min:.4e} at 1.001 L",
+            SchemeKind::ALL.len()
+        ),
+    );
 }
 
 #[test]
@@ -116,6 +127,15 @@ fn computed_limits_match_the_known_closed_forms() {
     let edge = 2.0 * 3.0_f64.sqrt();
     assert!(chin >= edge - 1e-9 && chin < edge * 1.003, "chin {chin}");
     assert!(spectral_radius(SchemeKind::Chin, 0.9999 * edge) <= 1.0 + 1e-12);
+    fdem_figures::record_part(
+        18,
+        2,
+        format!(
+            "limits: CD {:.6}, PC-3 {:.6}, F&R {fr:.4}, CHIN {chin:.4}",
+            stability_limit(SchemeKind::CentralDifference),
+            stability_limit(SchemeKind::Pc3)
+        ),
+    );
 }
 
 #[test]
