@@ -51,9 +51,9 @@ HAND_WRITTEN = {
 
 # Rows not converted yet: their tests do not record; the cell is written by hand.
 PENDING = {
-    68: "tests in crates/solver/src/time_history.rs",
-    82: "tests in crates/solver/src/fracture_stage/checkpoint_tests.rs",
-    83: "tests in crates/solver/src/contact_stage/snapshot/tests.rs (and crates/contact/tests/snapshot.rs)",
+    68: "tests in crates/solver/src/problem/time_function.rs",
+    82: "tests in crates/solver/src/stages/fracture/checkpoint_tests.rs",
+    83: "tests in crates/solver/src/stages/contact/snapshot/tests.rs (and crates/contact/tests/snapshot.rs)",
     91: "test in crates/solver/src/output/vtu_vtkio.rs",
     100: "tests in crates/solver/src/output/recovery.rs",
 }
