@@ -7,10 +7,10 @@
 # without the energy probe) the same ways.
 # Alternates the variants REPEAT times (default 3) and prints each run's triangle-steps per
 # second (rank 0's stepping time) and wall time, then the medians. Needs the MPI build
-# (tests/mpi/mpi_runs.sh makes it: target/mpi/release/fdem).
+# (tests/mpi/mpi_runs.sh makes it: target/release/fdem-mpi).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bin=target/mpi/release/fdem
+bin=target/release/fdem-mpi
 repeat=${REPEAT:-3}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
 work=$(mktemp -d)

@@ -28,6 +28,8 @@ mod adaptive_step;
 mod bar_pulse;
 #[path = "block_compression.rs"]
 mod block_compression;
+#[path = "build_units.rs"]
+mod build_units;
 #[path = "bulk_heterogeneity.rs"]
 mod bulk_heterogeneity;
 #[path = "cantilever.rs"]

@@ -3,37 +3,29 @@
 # and `-np 4` (oversubscribed on a machine with fewer cores), against the single-process run
 # of the bar pulse, the cantilever, the disc collision, the fracturing Brazilian disc and the
 # block compressed to failure: every output file but summary.json identical byte for byte;
-# a run stopped with its checkpoint and resumed on another number of processes; and a relaxation (which a distributed run does not do) refused with exit code 2, the
-# message once and nothing written. Installs Open MPI and libclang from Debian's packages
-# when they are missing and this runs as root; FDEM_SKIP_MPI=1 skips these checks on a
-# machine without them (it says so).
+# a run stopped with its checkpoint and resumed on another number of processes; and a
+# relaxation (which a distributed run does not do) refused with exit code 2, the message once
+# and nothing written. Installs Open MPI and libclang from Debian's packages when they are
+# missing and this runs as root (scripts/mpi_packages.sh); FDEM_SKIP_MPI=1 skips these checks
+# on a machine without them (it says so). The MPI binary stays in target/release/fdem-mpi.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-need=()
-command -v mpirun >/dev/null 2>&1 || need+=(openmpi-bin)
-dpkg -s libopenmpi-dev >/dev/null 2>&1 || need+=(libopenmpi-dev)
-dpkg -s libclang-dev >/dev/null 2>&1 || need+=(libclang-dev)
-if ((${#need[@]})); then
-  if [ "${FDEM_SKIP_MPI:-0}" = 1 ]; then
-    echo "MPI checks SKIPPED (FDEM_SKIP_MPI=1): missing ${need[*]}"
-    exit 0
-  fi
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-    echo "installing ${need[*]}"
-    apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
-  else
-    echo "error: the MPI checks need ${need[*]} (Debian packages)" >&2
-    echo "  fix: sudo apt-get install ${need[*]}, or FDEM_SKIP_MPI=1 to skip these checks" >&2
-    exit 1
-  fi
+if [ "${FDEM_SKIP_MPI:-0}" = 1 ] && ! missing=$(bash scripts/mpi_packages.sh --check); then
+  echo "MPI checks SKIPPED (FDEM_SKIP_MPI=1): $missing"
+  exit 0
 fi
+bash scripts/mpi_packages.sh || { echo "  or FDEM_SKIP_MPI=1 to skip these checks" >&2; exit 1; }
 
-# a build of its own, so that the test command's build stays the default one
-cargo build --release --locked --features mpi --target-dir target/mpi
-cargo clippy --locked --features mpi --target-dir target/mpi -p fdem -p fdem-mpi -- -D warnings
-bin=target/mpi/release/fdem
+# The MPI build reuses the release build of the test command (and of the main job): only the
+# MPI bindings, fdem-mpi and the fdem binary compile. Its binary is copied to fdem-mpi, then
+# the default build is linked back to target/release/fdem (nothing compiles), which the
+# other tests and `cargo run --release` use.
+target=${CARGO_TARGET_DIR:-target}
+cargo build --release --locked --features mpi --bin fdem
+cp "$target/release/fdem" "$target/release/fdem-mpi"
+cargo build --release --locked --bin fdem
+bin=$target/release/fdem-mpi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=ob1
 mpi=(mpirun --oversubscribe)
 
@@ -58,8 +50,7 @@ for scene in examples/bar-pulse.json "$work/cantilever.json" examples/disc-colli
   # each run in a folder of the scene's name (the plots' legends name it)
   "$bin" run "$scene" --out "$work/np1/$name" >/dev/null 2>&1
   # the default build's single-process run: the MPI build changes nothing of it
-  target/release/fdem run "$scene" --out "$work/default/$name" >/dev/null 2>&1 ||
-    cargo run --release --locked -q -- run "$scene" --out "$work/default/$name" >/dev/null 2>&1
+  "$target/release/fdem" run "$scene" --out "$work/default/$name" >/dev/null 2>&1
   diff -r -x summary.json "$work/default/$name" "$work/np1/$name"
   for np in 2 4; do
     "${mpi[@]}" -np "$np" "$bin" run "$scene" --out "$work/np$np/$name" >/dev/null 2>"$work/err"

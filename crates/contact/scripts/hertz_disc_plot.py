@@ -3,7 +3,7 @@
 hertz-disc.png, for docs/contact.md.
 
     mkdir -p /tmp/hz && FDEM_HERTZ_CSV=/tmp/hz FDEM_HERTZ_MESHES="..." \\
-        cargo test -p fdem-contact --test hertz -- --ignored --nocapture
+        cargo test --release -p fdem-contact --test all -- hertz:: --ignored --nocapture
     .venv/bin/python crates/contact/scripts/hertz_disc_plot.py /tmp/hz [--out DIR]
 
 Reads the profiles (*.csv) from SRC. The picture goes to DIR (default

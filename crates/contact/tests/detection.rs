@@ -1,6 +1,6 @@
 //! Broad phases against the O(N^2) brute force, exclusions, and the refresh criterion.
 
-mod common;
+use crate::common;
 use common::{Rng, random_triangle};
 use fdem_contact::broad_parry::ParryBroadPhase;
 use fdem_contact::narrow::separated;

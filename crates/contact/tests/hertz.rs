@@ -323,7 +323,7 @@ fn disc_on_rigid_plane_matches_hertz_half_width_and_peak_pressure() {
 /// The study behind the Hertz row of docs/validation.md (not a check): the committed mesh at several loads and
 /// penalties, plus any meshes listed (space-separated paths) in `FDEM_HERTZ_MESHES`
 /// (`meshes/hertz-disc.geo` with another `lcl`). Run with
-/// `cargo test --release -p fdem-contact --test hertz -- --ignored --nocapture`.
+/// `cargo test --release -p fdem-contact --test all -- hertz:: --ignored --nocapture`.
 #[test]
 #[ignore = "parameter study for the docs, about 2 minutes"]
 fn hertz_disc_study() {

@@ -1,7 +1,7 @@
 //! The contact model: friction history semantics (trial vs commit, reset, carry-over),
 //! thread-count independence, conservation over a whole pass, the check point, and planes.
 
-mod common;
+use crate::common;
 use common::{Rng, cross, random_triangle};
 use fdem_contact::{
     Contact, ContactError, ContactLaw, ContactLaws, ContactSettings, Family, RigidPlane,

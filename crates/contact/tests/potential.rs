@@ -2,7 +2,7 @@
 //! conservation laws, an independent area integral, the energy gradient, the flat-overlap
 //! stiffness, and robustness at deep penetration and degenerate input.
 
-mod common;
+use crate::common;
 use common::{Rng, area, cross, random_triangle};
 use fdem_contact::potential_tri_tri::{
     TriPotential, overlap_area, pair_energy, pair_force_area, pair_normal_force,

@@ -4,7 +4,7 @@
 //! detection (which is what the refresh criterion's guarantee rests on), and the forces equal
 //! bit for bit.
 
-mod common;
+use crate::common;
 use common::{Rng, random_triangle};
 use fdem_contact::{BroadPhase, Contact, ContactLaw, ContactLaws, ContactSettings};
 

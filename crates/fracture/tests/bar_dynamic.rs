@@ -7,7 +7,7 @@
 //! (one node also in y), the right end moves in x at a constant speed. No damping, no contact:
 //! after the break the two pieces fly apart freely.
 
-mod common;
+use crate::common;
 
 use common::{Elastic, exploded_grid};
 use fdem_fracture::*;

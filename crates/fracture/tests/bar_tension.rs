@@ -10,7 +10,7 @@
 //! mass-proportional damping until the residual is below 1e-6 of ft h t). History
 //! is committed after every relaxation step, so damage grows only along the relaxed path.
 
-mod common;
+use crate::common;
 
 use common::{Elastic, exploded_grid};
 use fdem_fracture::*;

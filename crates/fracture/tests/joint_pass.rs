@@ -1,7 +1,7 @@
 //! The joint-force pass over a whole exploded mesh: conservation of linear and angular
 //! momentum, serial-parallel bit parity, extremes, and the time-step bound.
 
-mod common;
+use crate::common;
 
 use common::{Exploded, Lcg, exploded_grid};
 use fdem_fracture::*;

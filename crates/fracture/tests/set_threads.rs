@@ -4,7 +4,7 @@
 //! replaced (kept here as the reference); a set with two bad joints names the first in every
 //! pool; the joints' frequency bound of a fresh state without the state is the bound with it.
 
-mod common;
+use crate::common;
 
 use common::exploded_grid;
 use fdem_fracture::*;

@@ -1,6 +1,6 @@
 //! Bad meshes give an error that names the fault (and the file and item), never a panic.
 
-mod common;
+use crate::common;
 use fdem_mesh::{MeshError, read_mesh_bytes};
 use std::path::Path;
 

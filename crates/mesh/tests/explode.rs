@@ -1,7 +1,7 @@
 //! The explode operation: own nodes per triangle, internal edges in the joint convention of
 //! docs/mesh.md, "Exploding a mesh for fracture", the map back to original nodes, and partial explosion of a group.
 
-mod common;
+use crate::common;
 use common::*;
 use fdem_mesh::{Material, explode, read_mesh};
 

@@ -4,7 +4,7 @@
 //! turns the stress into `Q S0 Q^T`, the force is minus the gradient of the energy
 //! `W + S0 : E`, the directional derivative is exact, and the kernels stay thread-independent.
 
-mod common;
+use crate::common;
 use common::*;
 use fdem_mesh::{ElasticLaw, Elements, ForceScratch, Material, PlaneKind, TriId};
 

@@ -1,7 +1,7 @@
 //! Finite-strain triangle kinematics: patch test, objectivity, small-strain limit, force
 //! consistency with the energy, directional derivative, thread-count parity.
 
-mod common;
+use crate::common;
 use common::*;
 use fdem_mesh::{ElasticLaw, Elements, ForceScratch, Material, PlaneKind, TriId};
 

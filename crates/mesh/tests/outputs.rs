@@ -1,6 +1,6 @@
 //! Stress outputs, inversion check and material validation.
 
-mod common;
+use crate::common;
 use fdem_mesh::{Elements, Material, MeshError, PlaneKind, Stress, TriId};
 
 /// Principal stresses, angle and von Mises of known tensors (1e-12).

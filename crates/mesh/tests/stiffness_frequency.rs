@@ -1,7 +1,7 @@
 //! Small-strain stiffness (faer), the static solve on a patch, lumped mass, and the element
 //! frequency bound against a dense eigen solve of the assembled mesh.
 
-mod common;
+use crate::common;
 use common::*;
 use fdem_mesh::{ElasticLaw, Elements, ForceScratch, Material, PlaneKind, solve_static};
 use nalgebra::{DMatrix, SymmetricEigen};
