@@ -3,7 +3,7 @@
 //!
 //! Saved besides the model: the step in use, the walls' last force and displacement (the
 //! trapezoid of the wall work), whether the bonded list was handed over, the release timer and
-//! the switch-jump energy, the shared report (maxima, counters, wall work, wall forces and
+//! the switch-jump energy, the report (maxima, counters, wall work, wall forces and
 //! displacements, first error, largest active bound), the step count (walls.csv rows), the
 //! damping books, the nodal work books (work, positions and contact forces of the last booked
 //! state, the energy stored at t = 0) and the length of walls.csv. The booked forces are saved,

@@ -478,9 +478,9 @@ fn resume_check(l: &Problem, tag: &str, stop: impl Fn(usize, u64) -> bool, more:
 /// ([`resume_check`]). Asserted bit for bit at every evaluation and step: forces, report
 /// (but its release timer, a wall clock, equal at the restore), committed joint states,
 /// joint frames (every 10th step, and every step once a joint broke), the released pairs and
-/// their order, the shared report with its events; and `fractures.csv`: the resumed file,
-/// longer than at the checkpoint, is cut back and continues as the saved stage's, byte for
-/// byte. Measured: 6 more breaks and 152 released pairs after the restore.
+/// their order, the report with its events and the step's breaks; and `fractures.csv`: the
+/// resumed file, longer than at the checkpoint, is cut back and continues as the saved
+/// stage's, byte for byte. Measured: 6 more breaks and 152 released pairs after the restore.
 #[test]
 fn a_restored_fracture_stage_continues_bit_for_bit() {
     let dir = temp_dir("disc");
