@@ -3,7 +3,7 @@
 //! `cargo test --release -p fdem-mesh --test all -- bad_meshes::`). One binary links the crate
 //! once instead of once per file, and its tests run in parallel with each other. A new test
 //! file needs a line here (`autotests` is off in Cargo.toml, so a file missing here is not
-//! compiled; `every_test_file_is_compiled` fails while one is missing).
+//! compiled; the structure test's `every_test_file_is_compiled` fails while one is missing).
 //!
 //! `no_allocation.rs` is a binary of its own (a `[[test]]` in Cargo.toml): its counting
 //! global allocator sees every thread of the process, so no other test may run beside it.
@@ -29,23 +29,3 @@ mod parallel_build;
 mod static_validation;
 #[path = "stiffness_frequency.rs"]
 mod stiffness_frequency;
-
-/// Every `.rs` file directly under `tests/` is a module of this binary or a test binary of
-/// its own in Cargo.toml: with `autotests` off, a file left out of both would silently never
-/// run.
-#[test]
-fn every_test_file_is_compiled() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let this = std::fs::read_to_string(root.join("tests/all.rs")).unwrap();
-    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).unwrap();
-    for e in std::fs::read_dir(root.join("tests")).unwrap() {
-        let name = e.unwrap().file_name().into_string().unwrap();
-        if name.ends_with(".rs") && name != "all.rs" {
-            assert!(
-                this.contains(&format!("#[path = \"{name}\"]"))
-                    || manifest.contains(&format!("path = \"tests/{name}\"")),
-                "tests/{name} is neither a module of tests/all.rs nor a [[test]] of Cargo.toml"
-            );
-        }
-    }
-}

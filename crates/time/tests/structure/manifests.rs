@@ -338,3 +338,39 @@ fn manifest_lines_are_read_as_cargo_reads_them() {
         ["fdem-solver", "fdem-time"]
     );
 }
+
+/// Every `.rs` file directly under the `tests/` of a crate whose `autotests` is off is
+/// compiled: a module of its `tests/all.rs` (`#[path = "x.rs"]`) or a `[[test]]` of its
+/// `Cargo.toml`. A file left out of both would silently never run.
+#[test]
+fn every_test_file_is_compiled() {
+    let root = workspace_root();
+    let mut problems = Vec::new();
+    for dir in std::iter::once(".".to_string()).chain(member_dirs(&root)) {
+        let manifest = std::fs::read_to_string(root.join(&dir).join("Cargo.toml"))
+            .expect("a crate's Cargo.toml");
+        let autotests_off = manifest
+            .lines()
+            .any(|l| without_comment(l).replace(' ', "") == "autotests=false");
+        let tests = root.join(&dir).join("tests");
+        let (true, Ok(entries)) = (autotests_off, std::fs::read_dir(&tests)) else {
+            continue;
+        };
+        let all = std::fs::read_to_string(tests.join("all.rs")).unwrap_or_default();
+        for e in entries {
+            let name = e.expect("a directory entry").file_name();
+            let name = name.to_string_lossy();
+            if name.ends_with(".rs")
+                && name != "all.rs"
+                && !all.contains(&format!("#[path = \"{name}\"]"))
+                && !manifest.contains(&format!("path = \"tests/{name}\""))
+            {
+                problems.push(format!(
+                    "{dir}/tests/{name} is neither a module of tests/all.rs nor a [[test]] of \
+                     Cargo.toml"
+                ));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
