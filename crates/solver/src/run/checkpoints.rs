@@ -499,25 +499,8 @@ impl<'a> Run<'a> {
             .section("ledger", |d| Books::restore(d, &sys.model))
             .map_err(bad)?;
         d.section("system", |d| sys.restore(d)).map_err(bad)?;
-        let method = super::stepping::relaxation_method(l);
-        let mut kinetic = (method == Some(crate::input::scene::RelaxationMethod::Kinetic))
-            .then(|| super::kinetic::KineticDamping::new(sys, &state));
-        if let Some(k) = &mut kinetic {
-            d.section("kinetic", |d| k.restore(d, 2 * n)).map_err(bad)?;
-        }
-        let mut adaptive = (method == Some(crate::input::scene::RelaxationMethod::Adaptive))
-            .then(|| super::adaptive::AdaptiveDamping::new(sys, &state));
-        if let Some(a) = &mut adaptive {
-            d.section("adaptive", |d| a.restore(d, &mut *sys, 2 * n))
-                .map_err(bad)?;
-        }
-        let mut conjugate = (method
-            == Some(crate::input::scene::RelaxationMethod::ConjugateGradient))
-        .then(|| super::conjugate::ConjugateGradient::sized(2 * n, l.dt));
-        if let Some(c) = &mut conjugate {
-            d.section("conjugate-gradient", |d| c.restore(d, 2 * n))
-                .map_err(bad)?;
-        }
+        let (kinetic, adaptive, conjugate) =
+            restore_relaxation(l, &mut *sys, &state, &mut d).map_err(bad)?;
         for c in &mut sys.contributions {
             let name = c.name().to_string();
             d.section(&name, |d| c.restore(d, &mut sys.events))
@@ -565,4 +548,40 @@ impl<'a> Run<'a> {
         run.sys.timers.setup = l.load_s + started.elapsed().as_secs_f64();
         Ok(run)
     }
+}
+
+/// The relaxation method's own state (kinetic damping's, adaptive damping's or the
+/// conjugate-gradient iteration's), read from its section of a checkpoint.
+#[allow(clippy::type_complexity)]
+fn restore_relaxation(
+    l: &Problem,
+    sys: &mut SceneSystem,
+    state: &State,
+    d: &mut Dec,
+) -> Result<
+    (
+        Option<super::kinetic::KineticDamping>,
+        Option<super::adaptive::AdaptiveDamping>,
+        Option<super::conjugate::ConjugateGradient>,
+    ),
+    DecodeError,
+> {
+    let n = sys.model.n_nodes();
+    let method = super::stepping::relaxation_method(l);
+    let mut kinetic = (method == Some(crate::input::scene::RelaxationMethod::Kinetic))
+        .then(|| super::kinetic::KineticDamping::new(sys, state));
+    if let Some(k) = &mut kinetic {
+        d.section("kinetic", |d| k.restore(d, 2 * n))?;
+    }
+    let mut adaptive = (method == Some(crate::input::scene::RelaxationMethod::Adaptive))
+        .then(|| super::adaptive::AdaptiveDamping::new(sys, state));
+    if let Some(a) = &mut adaptive {
+        d.section("adaptive", |d| a.restore(d, &mut *sys, 2 * n))?;
+    }
+    let mut conjugate = (method == Some(crate::input::scene::RelaxationMethod::ConjugateGradient))
+        .then(|| super::conjugate::ConjugateGradient::sized(2 * n, l.dt));
+    if let Some(c) = &mut conjugate {
+        d.section("conjugate-gradient", |d| c.restore(d, 2 * n))?;
+    }
+    Ok((kinetic, adaptive, conjugate))
 }
