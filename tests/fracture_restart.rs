@@ -1,5 +1,5 @@
 //! A run restarted from a saved state with joints: positions, velocities and the joints'
-//! history (`Outcome::joint_state`, adopted through `FractureSection::initial_state`) carry
+//! history (`Outcome::joint_state`, adopted through `Problem::initial_joint_state`) carry
 //! the run on as if it had not stopped.
 //!
 //! A free 8 x 2-cell bar (40 x 10 mm, the whole bar fracturing, no loads) whose two halves

@@ -74,7 +74,7 @@ pub(super) struct ProbeStart {
     /// Each wall's displacement at T [m].
     walls: Vec<[f64; 2]>,
     /// The joints' history at T (scenes with joints): the probe's fracture stage adopts it
-    /// (`FractureSection::initial_state`), so the joints broken by T stay broken, the
+    /// (`Problem::initial_joint_state`), so the joints broken by T stay broken, the
     /// damaged ones keep their damage, and crack faces in contact at T are contact couples
     /// from the probe's first force evaluation.
     pub(super) joints: Option<fdem_fracture::JointState>,

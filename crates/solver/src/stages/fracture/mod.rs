@@ -110,7 +110,7 @@ pub struct FractureStage {
 
 impl FractureStage {
     /// The stage over `set` at the reference positions of `model`, or from the saved state
-    /// `initial` (one history per joint of `set`, see [`FractureSection::initial_state`]);
+    /// `initial` (one history per joint of `set`, see [`crate::problem::load::Problem::initial_joint_state`]);
     /// `fractures.csv` goes to `out_dir`. Returns with it the bonded pairs at set-up (intact
     /// joints and intact stars: the contact stage's exclusions, given to it at attach,
     /// [`crate::stages::contact::ContactStage::bonded`]); the pairs released later go to the
