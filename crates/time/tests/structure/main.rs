@@ -13,6 +13,8 @@
 //!   to the module the re-export names. The root's own code (its functions, its private
 //!   imports) is the node `(crate root)`, and a module depends on it only when it names an
 //!   item the root defines itself (`crate::write_atomically`).
+//!   Test modules (`#[cfg(test)]`) count as code of the module they are in: a unit test
+//!   that loads a whole scene makes its module depend on the loading.
 //! - **No import cycle among a crate's files**, with the same edges drawn between files,
 //!   except between a module's file and the files of its children (one unit: a child that
 //!   implements more of its parent's type, a parent that calls its child) and with the
