@@ -14,8 +14,7 @@ the repository root). A row is named by its `#` number.
 
 `scripts/test.sh` empties the folder, runs the Rust tests, then checks. Every row of the table
 must be recorded by the run, except the rows listed below in HAND_WRITTEN (measured outside
-the Rust tests or by tests that do not record) and PENDING (not converted yet), whose cell is
-written by hand and left as it is, and the parts in OPTIONAL (recorded only by a test that the
+the Rust tests), whose cell is written by hand and left as it is, and the parts in OPTIONAL (recorded only by a test that the
 test command does not run, `#[ignore]`d): those are checked when recorded and otherwise keep
 their text. Uses the Python 3 standard library only.
 """
@@ -31,9 +30,9 @@ DOC = ROOT / "docs" / "validation.md"
 # Rows whose figure is made of several parts, each recorded by its own test (row: number of
 # parts); the parts are shown in order, joined by "; ".
 PARTS = {
-    12: 4, 14: 2, 17: 6, 18: 2, 40: 2, 43: 2, 47: 5, 54: 3, 62: 2, 70: 2, 77: 2, 87: 4,
-    92: 2, 93: 2, 104: 2, 111: 2, 114: 2, 121: 2, 122: 2, 123: 3, 132: 3, 136: 2, 137: 2,
-    139: 2, 140: 3,
+    12: 4, 14: 2, 17: 6, 18: 2, 40: 2, 43: 2, 47: 5, 54: 3, 62: 2, 68: 3, 70: 2, 77: 2,
+    82: 4, 83: 3, 87: 4, 92: 2, 93: 2, 100: 3, 104: 2, 111: 2, 114: 2, 121: 2, 122: 2,
+    123: 3, 132: 3, 136: 2, 137: 2, 139: 2, 140: 3,
 }
 
 # Parts recorded only by a test that `scripts/test.sh` does not run: (row, part): reason.
@@ -47,15 +46,6 @@ HAND_WRITTEN = {
     49: "measured by tests/python/vtu_readback.py, not a Rust test",
     50: "measured by tests/python/mesh_counts.sh, not a Rust test",
     124: "measured by tests/mpi/mpi_runs.sh, not a Rust test",
-}
-
-# Rows not converted yet: their tests do not record; the cell is written by hand.
-PENDING = {
-    68: "tests in crates/solver/src/problem/time_function.rs",
-    82: "tests in crates/solver/src/stages/fracture/checkpoint_tests.rs",
-    83: "tests in crates/solver/src/stages/contact/snapshot/tests.rs (and crates/contact/tests/snapshot.rs)",
-    91: "test in crates/solver/src/output/vtu_vtkio.rs",
-    100: "tests in crates/solver/src/output/recovery.rs",
 }
 
 SEPARATOR = "; "
@@ -165,22 +155,19 @@ def main(argv):
     problems = [f"{folder / s}: not a figure file (<row>.txt or <row>.<part>.txt)" for s in strays]
     if len(set(numbers)) != len(numbers):
         problems.append("docs/validation.md: a row number appears twice in the Summary table")
-    listed = set(HAND_WRITTEN) | set(PENDING) | set(PARTS) | {r for r, _ in OPTIONAL}
+    listed = set(HAND_WRITTEN) | set(PARTS) | {r for r, _ in OPTIONAL}
     for r in sorted(listed - set(numbers)):
         problems.append(f"row {r}: listed in scripts/validation_figures.py, not in the table")
-    for r in sorted(set(HAND_WRITTEN) & set(PENDING)):
-        problems.append(f"row {r}: both hand-written and pending")
     for r in sorted(set(figures) - set(numbers)):
         problems.append(f"row {r}: recorded, but the table has no such row")
 
     changed = 0
     for i, row, cells in rows:
-        if row in HAND_WRITTEN or row in PENDING:
+        if row in HAND_WRITTEN:
             if row in figures:
                 problems.append(
-                    f"row {row}: recorded, but listed as "
-                    + ("hand-written" if row in HAND_WRITTEN else "pending")
-                    + " in scripts/validation_figures.py (remove it from the list)"
+                    f"row {row}: recorded, but listed as hand-written"
+                    " in scripts/validation_figures.py (remove it from the list)"
                 )
             continue
         text, missing = expected(row, figures.get(row, {}), cells[4])
@@ -207,7 +194,7 @@ def main(argv):
         )
         return 1
     verb = "rewrote" if argv == ["render"] else "checked"
-    n = len(rows) - len(HAND_WRITTEN) - len(PENDING)
+    n = len(rows) - len(HAND_WRITTEN)
     print(f"validation figures: {verb} docs/validation.md ({n} recorded rows, {changed} changed)")
     return 0
 

@@ -254,9 +254,9 @@ fn diagonal_pair_fails_in_shear_under_compression_and_hands_over_to_contact_with
     fdem_figures::record(
         44,
         format!(
-            "mode II break, energy jump {:.1e} of the work, ledger {:.1e}",
-            jump / work,
-            e.error / work
+            "mode II break, energy jump {} of the work, ledger {}",
+            fdem_figures::sci(jump / work, 1),
+            fdem_figures::sci(e.error / work, 1)
         ),
     );
 }

@@ -42,7 +42,11 @@ fn setup_and_two_steps(scene: &std::path::Path, out: &std::path::Path) -> String
             .iter()
             .map(|ld| ld.forces.iter().map(|(d, f)| (*d, f.to_bits())).collect())
             .collect::<Vec<Vec<_>>>(),
-        [l.dt.to_bits(), l.omega_max.to_bits(), l.dt_limit.to_bits()],
+        [
+            l.dt.to_bits(),
+            l.omega_max().to_bits(),
+            l.dt_limit.to_bits()
+        ],
     );
     let mesh = &l.meshes[0];
     key += &format!(

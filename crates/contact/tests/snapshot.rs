@@ -213,6 +213,14 @@ fn a_restored_model_continues_bit_for_bit() {
     assert!(slips > wall_slips && wall_slips > 0, "{slips} {wall_slips}");
     assert!(a.n_released_couples() > 0);
     assert!(s.wall_results.iter().any(|r| r.fn_total > 0.0));
+    fdem_figures::record_part(
+        83,
+        1,
+        format!(
+            "model identical ({det} detections after the restore, slip of couples and platen, {} couples added by releases)",
+            a.n_released_couples()
+        ),
+    );
 }
 
 #[test]

@@ -89,7 +89,7 @@ pub fn load_check<'py>(
                 nodes: l.model.n_nodes(),
                 triangles: l.model.triangles.len(),
                 free_dofs: l.model.constrained.iter().filter(|c| !**c).count(),
-                omega_max: l.omega_max,
+                omega_max: l.omega_max(),
                 bodies: l
                     .scene
                     .bodies

@@ -46,11 +46,9 @@ pub(super) fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active
     if !l.scene.contact.as_ref().is_some_and(|c| c.enabled) {
         return Ok(None);
     }
-    let omega_el = l.elements.max_frequency_bound(&l.model.x0);
-    let omega_j = l.frequency.joints;
     let k = SchemeKind::CentralDifference;
     l.scheme = k;
-    l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);
+    l.dt_limit = driver::stable_step(k, l.omega_max(), l.z_high);
     l.scene.integrator.scheme = k.name().into();
     l.scene.output.frames = 0;
     if let Some(c) = &mut l.scene.contact {
@@ -75,12 +73,12 @@ pub(super) fn active_bound_run(scene: &Path, out: &Path) -> Result<Option<Active
         .pointer("/contact/omega_active_max_time")
         .and_then(|v| v.as_f64())
         .unwrap_or(0.0);
-    let omega_active = (omega_el * omega_el + omega_j * omega_j + wc * wc).sqrt();
+    let omega_active = l.frequency.active([wc]);
     Ok(Some(Active {
-        omega_a_priori: l.omega_max,
+        omega_a_priori: l.omega_max(),
         omega_active,
         omega_contact_active: wc,
         omega_contact_active_time: tc,
-        ratio: l.omega_max / omega_active,
+        ratio: l.omega_max() / omega_active,
     }))
 }

@@ -100,7 +100,7 @@ pub(super) fn probe_start(
     let mut l = driver::load(scene)?;
     let k = SchemeKind::CentralDifference;
     l.scheme = k;
-    l.dt_limit = driver::stable_step(k, l.omega_max, l.z_high);
+    l.dt_limit = driver::stable_step(k, l.omega_max(), l.z_high);
     l.scene.integrator.scheme = k.name().into();
     l.scene.output.frames = 0;
     l.scene.duration = Some(t);
@@ -215,7 +215,7 @@ pub(super) fn stability_probe(
     // bound (`omega_max`, or the active bound from a frozen active state) overestimates it,
     // 1.8 times on the collision's state, where a probe measured in the bound's radians let
     // PC-4's slow growth pass 1.8 times too long a step. Kept within [1/4, 1] of the bound.
-    let bound = start.and_then(|s| s.omega).unwrap_or(l.omega_max);
+    let bound = start.and_then(|s| s.omega).unwrap_or(l.omega_max());
     let omega_t = if seeds.omega_top.is_finite() {
         seeds.omega_top.clamp(0.25 * bound, bound)
     } else {
@@ -263,7 +263,7 @@ fn probe_scene(
     start: Option<&ProbeStart>,
 ) -> Vec<[f64; 2]> {
     l.scheme = scheme;
-    l.dt_limit = driver::stable_step(scheme, l.omega_max, l.z_high);
+    l.dt_limit = driver::stable_step(scheme, l.omega_max(), l.z_high);
     l.scene.integrator.scheme = scheme.name().into();
     l.scene.output.frames = 0;
     l.model.loads.clear();

@@ -73,7 +73,7 @@ pub(super) fn one_run(
 ) -> Result<Raw> {
     let mut l = driver::load(scene)?;
     l.scheme = scheme;
-    l.dt_limit = driver::stable_step(scheme, l.omega_max, l.z_high);
+    l.dt_limit = driver::stable_step(scheme, l.omega_max(), l.z_high);
     l.scene.integrator.scheme = scheme.name().into();
     l.scene.output.frames = 0;
     let duration = l.scene.duration.unwrap_or(0.0);

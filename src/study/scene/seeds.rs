@@ -97,7 +97,7 @@ pub(super) fn top_mode_velocity(
     }
     // a largest speed of amplitude x omega_max x the largest coordinate: displacements
     // ~amplitude of it
-    let amp = amplitude * l.omega_max * size;
+    let amp = amplitude * l.omega_max() * size;
     let scaled = |v: &[f64]| -> Vec<[f64; 2]> {
         let s = scale_of(v);
         v.chunks_exact(2)

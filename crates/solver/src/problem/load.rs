@@ -43,8 +43,6 @@ pub struct Problem {
     pub elements: Elements,
     /// The scheme.
     pub scheme: SchemeKind,
-    /// Largest element frequency bound [rad/s].
-    pub omega_max: f64,
     /// Damping ratio of the highest mode.
     pub z_high: f64,
     /// The stable limit of the chosen scheme [s].
@@ -194,7 +192,6 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
         model,
         elements,
         scheme,
-        omega_max: frequency.omega_max(),
         z_high,
         dt_limit: steps.dt_limit,
         dt: steps.dt,
@@ -302,6 +299,12 @@ pub fn step_count(duration: f64, h: f64) -> (u64, f64) {
 }
 
 impl Problem {
+    /// The a-priori frequency bound [rad/s]: `sqrt(elements^2 + contact^2 + joints^2)` of
+    /// [`Problem::frequency`].
+    pub fn omega_max(&self) -> f64 {
+        self.frequency.omega_max()
+    }
+
     /// A short description: meshes, model size, analysis, time step.
     pub fn describe(&self) -> String {
         let mut s = String::new();

@@ -373,19 +373,28 @@ mod tests {
         let t_end = 6.0;
         let dt = t_end / n as f64;
         let mut sum = 0.0;
+        let mut worst: f64 = 0.0;
         for k in 0..n {
             sum += h.value((k as f64 + 0.5) * dt) * dt;
             if (k + 1) % 20_000 == 0 {
                 let t = (k + 1) as f64 * dt;
-                assert!(
-                    (h.integral(t) - sum).abs() < 1e-9,
-                    "{t}: {} {sum}",
-                    h.integral(t)
-                );
+                let err = (h.integral(t) - sum).abs();
+                assert!(err < 1e-9, "{t}: {} {sum}", h.integral(t));
+                worst = worst.max(err);
             }
         }
         // by hand: 2*0.5 + (2-1)/2*0.5 + (-1+3)/2*0.5 + 3*2.5 + 3/2*1 + 0 = 10.75
-        assert!((h.integral(6.0) - 10.75).abs() < 1e-12);
+        let by_hand = (h.integral(6.0) - 10.75).abs();
+        assert!(by_hand < 1e-12);
+        fdem_figures::record_part(
+            68,
+            1,
+            format!(
+                "table {} (by hand {})",
+                fdem_figures::sci(worst, 1),
+                fdem_figures::sci(by_hand, 1)
+            ),
+        );
     }
 
     /// A sine's integral in closed form against a fine midpoint sum, and its end.
@@ -408,12 +417,10 @@ mod tests {
         for k in 0..n {
             sum += h.value((k as f64 + 0.5) * dt) * dt;
         }
-        assert!(
-            (h.integral(1.3) - sum).abs() < 1e-10,
-            "{} {sum}",
-            h.integral(1.3)
-        );
+        let err = (h.integral(1.3) - sum).abs();
+        assert!(err < 1e-10, "{} {sum}", h.integral(1.3));
         assert!((h.integral(1.3) - h.integral(end) - f_end * 0.4).abs() < 1e-12);
+        fdem_figures::record_part(68, 2, format!("sine {}", fdem_figures::sci(err, 1)));
     }
 
     /// A repeated triangle: its value and integral in the later cycles, and its end; the
@@ -427,8 +434,12 @@ mod tests {
         // period 2 from t = 1: f(5.5) = f(3.5 - 2) = f(1.5) = 0.5, F(5) = 2 periods of 1
         assert_eq!(h.value(5.5), 0.5);
         assert_eq!(h.value(5.0), 0.0);
-        assert!((h.integral(5.0) - 2.0).abs() < 1e-15);
-        assert!((h.integral(5.5) - 2.125).abs() < 1e-15);
+        let errs = [
+            (h.integral(5.0) - 2.0).abs(),
+            (h.integral(5.5) - 2.125).abs(),
+        ];
+        assert!(errs.iter().all(|e| *e < 1e-15), "{errs:?}");
+        let repeat = errs[0].max(errs[1]);
         // ends at 1 + 2.5 * 2 = 6 with f = 1, F = 2.5
         assert_eq!(h.value(9.0), 1.0);
         assert!((h.integral(9.0) - (2.5 + 3.0)).abs() < 1e-12);
@@ -445,5 +456,6 @@ mod tests {
         assert_eq!(h.value(0.6), 0.5);
         assert!((h.value(1.15) - 0.75).abs() < 1e-12);
         assert_eq!(h.value(10.0), 0.0);
+        fdem_figures::record_part(68, 3, format!("repeat {}", fdem_figures::sci(repeat, 1)));
     }
 }

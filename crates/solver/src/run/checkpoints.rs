@@ -462,7 +462,7 @@ impl<'a> Run<'a> {
         )?;
         let n = sys.model.n_nodes();
         let mut integrator = l.scheme.build(2 * n);
-        let mut control = StepControl::new(l, sys);
+        let mut control = StepControl::new(l);
         Books::prepare(&mut *sys, super::stepping::books_residuals(l));
         let mut d = Dec::new(&cp.state);
         let (part, inversions) = d

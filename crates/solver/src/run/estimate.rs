@@ -36,7 +36,8 @@ pub fn check_report(l: &Problem) -> String {
     let _ = writeln!(
         s,
         "highest element frequency bound {:.4e} rad/s; damping ratio of that mode {:.3}",
-        l.omega_max, l.z_high
+        l.omega_max(),
+        l.z_high
     );
     let _ = writeln!(
         s,
@@ -122,7 +123,7 @@ fn scheme_table(s: &mut String, l: &Problem, e: &RunTimeEstimate) {
     );
     let own = l.scheme.cost().force_equivalents(false).max(1) as f64;
     for k in SchemeKind::ALL {
-        let lim = stable_step(k, l.omega_max, l.z_high);
+        let lim = stable_step(k, l.omega_max(), l.z_high);
         let (h, n) = if k == l.scheme {
             (l.dt, e.steps as f64)
         } else {

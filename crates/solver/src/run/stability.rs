@@ -321,7 +321,7 @@ pub fn round_off_floor(
     .filter(|e| e.is_finite())
     .fold(0.0, f64::max);
     // (as the square of sqrt(M / 2) omega eps L: no underflow of a scaled mass's tiny omega)
-    let e_x = ((0.5 * mass).sqrt() * l.omega_max * f64::EPSILON * coord.max(size)).powi(2);
+    let e_x = ((0.5 * mass).sqrt() * l.omega_max() * f64::EPSILON * coord.max(size)).powi(2);
     let floor = ROUND_OFF_MARGIN * (f64::EPSILON * scale + e_x);
     if floor.is_finite() { floor } else { 0.0 }
 }

@@ -6,7 +6,7 @@ use fdem_time::{SchemeKind, State};
 use crate::checkpoint::pack::{Dec, DecodeError, Enc};
 use crate::input::scene::TimeStep;
 use crate::problem::load::Problem;
-use crate::problem::stable_step::stable_step;
+use crate::problem::stable_step::{FrequencyTerms, stable_step};
 use crate::stages::system::SceneSystem;
 
 /// The step a run takes next, and when it has taken its last.
@@ -34,9 +34,8 @@ pub struct AdaptiveStep {
     scheme: SchemeKind,
     z_high: f64,
     t_end: f64,
-    /// The elements' and the joints' frequency bounds [rad/s].
-    omega_el: f64,
-    omega_j: f64,
+    /// The problem's frequency terms (the contact term is replaced by the stages' active ones).
+    terms: FrequencyTerms,
     /// Scratch of the look-ahead positions.
     look_ahead: Vec<[f64; 2]>,
     /// The smallest and the largest step taken [s].
@@ -45,16 +44,15 @@ pub struct AdaptiveStep {
 }
 
 impl StepControl {
-    /// The step of `l` on the system `sys` of its run.
-    pub fn new(l: &Problem, sys: &SceneSystem) -> Self {
+    /// The step of the run of `l`.
+    pub fn new(l: &Problem) -> Self {
         let adaptive = (l.scene.integrator.time_step == TimeStep::Adaptive).then(|| AdaptiveStep {
             every: l.scene.integrator.adapt_every.max(1),
             safety: l.scene.integrator.safety,
             scheme: l.scheme,
             z_high: l.z_high,
             t_end: l.scene.duration.unwrap_or(0.0),
-            omega_el: sys.elements.max_frequency_bound(&sys.model.x0),
-            omega_j: l.frequency.joints,
+            terms: l.frequency,
             look_ahead: Vec::new(),
             h_min: f64::INFINITY,
             h_max: 0.0,
@@ -86,8 +84,7 @@ impl StepControl {
                 state.x_nodes(),
                 state.v_nodes(),
                 ahead,
-                a.omega_el,
-                a.omega_j,
+                &a.terms,
                 &mut a.look_ahead,
             );
             self.h_limit = stable_step(a.scheme, w, a.z_high);

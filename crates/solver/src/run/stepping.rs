@@ -79,7 +79,7 @@ impl<'a> Run<'a> {
         sys.prescribe(0.0, &mut x0, &mut v0);
         let mut state = State::new(0.0, x0, v0);
         let integrator = l.scheme.build(2 * n);
-        let control = StepControl::new(l, sys);
+        let control = StepControl::new(l);
         let book_residuals = books_residuals(l);
         Books::prepare(&mut *sys, book_residuals);
         let alpha = l.scene.damping.mass_proportional;

@@ -18,13 +18,10 @@ use crate::stages::system::{Engaged, SceneSystem, StageReport};
 /// whose forces were last evaluated at `x`:
 /// `omega^2 = omega_el^2 + omega_joints^2 + sum over the stages of their active term^2`
 /// (the contact engaged in that state, `fdem_contact::active_bound`, in place of the a-priori
-/// contact term that assumes every edge pressed flat; docs/contact.md section 12).
-pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], omega_el: f64, omega_j: f64) -> f64 {
-    let terms = FrequencyTerms {
-        elements: omega_el,
-        contact: 0.0,
-        joints: omega_j,
-    };
+/// contact term that assumes every edge pressed flat; docs/contact.md section 12). `terms`:
+/// the problem's frequency terms ([`Problem::frequency`]), whose element and joint terms
+/// are taken as they are and whose contact term is not used.
+pub fn omega_active(sys: &mut SceneSystem, x: &[[f64; 2]], terms: &FrequencyTerms) -> f64 {
     let stages = sys.contributions.iter_mut();
     terms.active(stages.filter_map(|c| c.active_frequency_bound(x, Engaged::LastEvaluation)))
 }
@@ -38,8 +35,7 @@ pub fn omega_active_ahead(
     x: &[[f64; 2]],
     v: &[[f64; 2]],
     ahead: f64,
-    omega_el: f64,
-    omega_j: f64,
+    terms: &FrequencyTerms,
     scratch: &mut Vec<[f64; 2]>,
 ) -> f64 {
     scratch.clear();
@@ -48,11 +44,6 @@ pub fn omega_active_ahead(
             .zip(v)
             .map(|(p, u)| [p[0] + ahead * u[0], p[1] + ahead * u[1]]),
     );
-    let terms = FrequencyTerms {
-        elements: omega_el,
-        contact: 0.0,
-        joints: omega_j,
-    };
     terms.active(sys.contributions.iter_mut().filter_map(|c| {
         let now = c.active_frequency_bound(x, Engaged::LastEvaluation);
         let then = c.active_frequency_bound(scratch, Engaged::Elsewhere);

@@ -72,15 +72,12 @@ pub trait ForceTerm: Send {
     fn reads_velocities(&self) -> bool {
         true
     }
-    /// An upper bound on the highest frequency this term adds [rad/s] (default 0).
-    fn frequency_bound(&self) -> f64 {
-        0.0
-    }
     /// The term's frequency bound from what is engaged at positions `x` [rad/s]
     /// (`at`: what the last force evaluation engaged, its geometry at `x`, or what would be
     /// engaged at positions other than the last evaluation's, e.g. extrapolated ones): at most
-    /// [`ForceTerm::frequency_bound`]'s reach for what the state engages. `None` (the
-    /// default): the term has no such bound, its a-priori one applies.
+    /// the term's a-priori bound in the problem's frequency terms
+    /// ([`crate::problem::stable_step::FrequencyTerms`]), for what the state engages. `None`
+    /// (the default): the term has no such bound, its a-priori one applies.
     fn active_frequency_bound(&mut self, _x: &[[f64; 2]], _at: Engaged) -> Option<f64> {
         None
     }

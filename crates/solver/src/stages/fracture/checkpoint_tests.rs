@@ -511,6 +511,14 @@ fn a_restored_fracture_stage_continues_bit_for_bit() {
         r.files[0] == r.files[1],
         "fractures.csv differs from the saved stage's"
     );
+    fdem_figures::record_part(
+        82,
+        1,
+        format!(
+            "identical at every evaluation ({} new breaks, {} released pairs after the disc's restore)",
+            r.new_breaks, r.after.released
+        ),
+    );
 }
 
 /// The wing-crack block (`examples/wing-crack.json`): its flaw starts broken (the stage
@@ -536,6 +544,14 @@ fn a_restored_stage_with_a_pre_existing_crack_continues_bit_for_bit() {
     assert!(
         r.files[0] == r.files[1],
         "fractures.csv differs from the saved stage's"
+    );
+    fdem_figures::record_part(
+        82,
+        2,
+        format!(
+            "the wing-crack block identical too ({} joints broken at the checkpoint)",
+            r.broken
+        ),
     );
 }
 
@@ -587,6 +603,14 @@ fn a_cut_or_foreign_fracture_checkpoint_is_an_error() {
     let (mut c, _) = stage(&large, &sl, None, true);
     let err = c.restore(&mut Dec::new(&e.buf), &mut events).unwrap_err();
     assert!(err.0.contains("joints where the scene has 1260"), "{err}");
+    fdem_figures::record_part(
+        82,
+        3,
+        format!(
+            "{} cuts, 2 disagreeing flags and another scene's checkpoint refused",
+            cuts.len()
+        ),
+    );
     let mut el = Enc::default();
     c.save(&mut el, &events).unwrap();
     for (l, e) in [(&small, &e), (&large, &el)] {
@@ -640,4 +664,5 @@ fn a_fractures_csv_shorter_than_recorded_or_missing_is_an_error() {
         .restore(&mut Dec::new(&e.buf), &mut StepEvents::default())
         .unwrap_err();
     assert!(err.0.contains("cannot be opened"), "{err}");
+    fdem_figures::record_part(82, 4, "a shorter and a missing fractures.csv refused");
 }

@@ -278,6 +278,14 @@ fn a_restored_stage_continues_bit_for_bit() {
         );
     }
     assert!(before[1] > 0.0, "friction slip before the save");
+    fdem_figures::record_part(
+        83,
+        2,
+        format!(
+            "stage identical over {m} steps ({} detections after the restore)",
+            after[0] - before[0]
+        ),
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -301,6 +309,7 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
             .is_ok()
     );
     let step = (buf.len() / 400).max(1);
+    let mut cuts = 0;
     for cut in (0..buf.len())
         .step_by(step)
         .chain(buf.len() - 40..buf.len())
@@ -308,6 +317,7 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
         let mut s = fresh(&file);
         let r = s.contributions[0].restore(&mut Dec::new(&buf[..cut]), &mut s.events);
         assert!(r.is_err(), "cut at {cut} of {}", buf.len());
+        cuts += 1;
     }
     // a section of another scene: one disc (other node and triangle counts), two walls
     for (name, bodies, top, what) in [
@@ -327,5 +337,10 @@ fn a_damaged_or_foreign_contact_section_is_an_error() {
             .expect_err(name);
         assert!(err.0.contains(what), "{name}: {err}");
     }
+    fdem_figures::record_part(
+        83,
+        3,
+        format!("{cuts} cuts and 2 other scenes' sections refused"),
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
