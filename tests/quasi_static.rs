@@ -226,16 +226,27 @@ fn indicator_warns_above_its_limit() {
             .output()
             .unwrap();
         assert!(o.status.success());
-        let stderr = String::from_utf8_lossy(&o.stderr);
+        let console = format!(
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        );
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
                 .unwrap();
         let w = &s["quasi_static"]["warning"];
         assert_eq!(w.is_string(), warned, "limit {limit}: {w}");
+        // the warning once, in the accuracy block of the console
+        let once = usize::from(warned);
         assert_eq!(
-            stderr.contains("warning: the run is not quasi-static"),
-            warned,
-            "{stderr}"
+            console.matches("the run is not quasi-static").count(),
+            once,
+            "{console}"
+        );
+        assert_eq!(
+            console.matches("WARN quasi_static").count(),
+            once,
+            "{console}"
         );
         assert_eq!(s["quasi_static"]["limit"].as_f64(), Some(limit));
     }

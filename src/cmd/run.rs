@@ -190,13 +190,6 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     let summary = &outcome.summary;
     println!("{}", summary.describe());
-    if let Some(w) = summary
-        .quasi_static
-        .as_ref()
-        .and_then(|q| q.warning.as_ref())
-    {
-        eprintln!("warning: {w}");
-    }
     let c = &outcome.checkpoints;
     if c.written > 0 {
         println!(

@@ -73,7 +73,6 @@ fn loaded() -> Problem {
         model,
         elements,
         scheme,
-        omega_max,
         z_high: 0.0,
         dt_limit,
         dt: 0.5 * dt_limit,
@@ -86,6 +85,7 @@ fn loaded() -> Problem {
             ..Default::default()
         },
         warnings: Vec::new(),
+        accuracy: Vec::new(),
     }
 }
 

@@ -71,6 +71,10 @@ pub struct Problem {
     /// What the scene asks for that does nothing but is not wrong (a joint material that
     /// nothing uses): each a line with the JSON path and the fix, shown by [`Problem::describe`].
     pub warnings: Vec<String>,
+    /// The accuracy indicators the problem decides before a step is taken
+    /// ([`crate::problem::accuracy::predict`]: process zone, joint compliance, mesh quality,
+    /// units); `fdem check` prints them and the run reports them with what it measured.
+    pub accuracy: Vec<crate::problem::accuracy::Indicator>,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.
@@ -185,6 +189,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
         z_high,
         steps,
     } = timed;
+    let accuracy = crate::problem::accuracy::predict(&scene, &model, &elements, &fracturing);
     Ok(Problem {
         file: file.to_path_buf(),
         scene,
@@ -201,6 +206,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
         initial_joint_state: None,
         frequency,
         warnings,
+        accuracy,
     })
 }
 

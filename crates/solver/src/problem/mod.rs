@@ -12,6 +12,7 @@
 //!   [`limits`]: the step, the steps, the frames and the rows checked.
 //! - [`input_checks`], [`static_checks`]: what the scene asks checked against what it acts on.
 
+pub mod accuracy;
 pub mod contact_laws;
 pub mod cracks;
 pub mod input_checks;
@@ -21,6 +22,7 @@ pub mod limits;
 pub mod load;
 pub mod mesh_adapter;
 pub mod model;
+pub mod plausibility;
 pub mod prestress;
 pub mod stable_step;
 pub mod static_checks;

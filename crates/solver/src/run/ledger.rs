@@ -186,6 +186,41 @@ impl Energies {
         ]
     }
 
+    /// One line for the terminal: the closure error against the energy in play and the
+    /// largest book (the term of largest magnitude, sums left out); every term is in
+    /// `summary.json`.
+    pub fn line(&self) -> String {
+        const SUMS: [&str; 6] = [
+            "initial",
+            "supplied",
+            "present",
+            "dissipated",
+            "error",
+            "in_play",
+        ];
+        let largest = self
+            .columns()
+            .into_iter()
+            .filter(|(n, _)| !SUMS.contains(n))
+            .fold(
+                ("none", 0.0f64),
+                |a, b| if b.1.abs() > a.1.abs() { b } else { a },
+            );
+        format!(
+            "energy: closure error {:.2e} J = {:.1e} of the {:.3e} J in play ({}); largest book {} {:.3e} J (every book: summary.json \"energy\")",
+            self.error,
+            self.relative_error(),
+            self.in_play,
+            if self.residuals_booked {
+                "integration error"
+            } else {
+                "integration error and the laws' residuals"
+            },
+            largest.0,
+            largest.1
+        )
+    }
+
     /// The names of [`Energies::columns`].
     pub fn column_names() -> [&'static str; N_COLUMNS] {
         Energies::default().columns().map(|(n, _)| n)

@@ -33,6 +33,7 @@
 //! the same loop ([`Run::resume_loop`]). A distributed run would reduce its checks' sums
 //! inside its observers' `after_step`. Every hook gets the same [`RunView`].
 
+pub mod accuracy;
 mod adaptive;
 mod checkpoint_policy;
 mod checkpoints;
@@ -194,6 +195,8 @@ fn static_run(
         );
         h.flush()?;
     }
+    let strain = accuracy::largest_strain(&l.model, &frame.displacement);
+    summary.accuracy = accuracy::assess(l, &l.model, &l.elements, &summary, Some(strain));
     write_summary(&options.out_dir, &summary)?;
     progress(&Progress {
         step: 1,

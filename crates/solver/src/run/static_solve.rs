@@ -250,6 +250,7 @@ pub fn solve(l: &Problem) -> Result<(FrameData, Summary), RunError> {
         mass_scaling_factor: None,
         loading_rate: None,
         quasi_static: None,
+        accuracy: Default::default(),
         interrupted: None,
         distributed: None,
     };

@@ -385,6 +385,9 @@ impl<'a> Run<'a> {
             }
         }
         self.sys.dist = dist;
+        let (model, elements) = (&self.sys.model, &self.sys.elements);
+        summary.accuracy =
+            crate::run::accuracy::assess(self.loaded, model, elements, &summary, None);
         if writes {
             write_summary(self.out_dir, &summary)?;
         }
@@ -462,6 +465,7 @@ impl<'a> Run<'a> {
             mass_scaling_factor: sys.model.mass_scaling.as_ref().map(|m| m.0),
             loading_rate: l.scene.loading.as_ref().map(|x| x.rate),
             quasi_static: None,
+            accuracy: Default::default(),
             interrupted: None,
             distributed: None,
         }

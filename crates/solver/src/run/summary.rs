@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::error::RunError;
 use crate::output::{FrameData, write_atomic};
+use crate::run::accuracy::Accuracy;
 use crate::run::ledger::Energies;
 use crate::stages::system::StageTimers;
 
@@ -94,6 +95,9 @@ pub struct Summary {
     /// The quasi-static indicator of a dynamic run (kinetic over stored energy).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub quasi_static: Option<QuasiStatic>,
+    /// The accuracy indicators: what the run found and how far to trust it
+    /// ([`crate::run::accuracy`]).
+    pub accuracy: Accuracy,
     /// Present when the run was interrupted (a signal, or `--stop-after`): where it stopped
     /// and the checkpoint to resume from.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -174,14 +178,21 @@ impl Summary {
         let _ = write!(
             s,
             "{}\nmax |u| {:.4e} m",
-            self.energy.describe(),
+            self.energy.line(),
             self.max_displacement
         );
-        if let Some(w) = self.quasi_static.as_ref().and_then(|q| q.warning.as_ref()) {
-            let _ = write!(s, "\nwarning: {w}");
-        }
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
             let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
+        }
+        let a = &self.accuracy;
+        if !a.indicators.is_empty() {
+            let _ = write!(
+                s,
+                "\naccuracy: {} warning{} (value, threshold; every figure: summary.json \"accuracy\"){}",
+                a.warnings,
+                if a.warnings == 1 { "" } else { "s" },
+                crate::problem::accuracy::describe(&a.indicators)
+            );
         }
         s
     }

@@ -1,0 +1,469 @@
+//! The accuracy indicators that the prepared problem already decides, before a step is taken:
+//! the resolution of the fracture process zone and the compliance that intact joints add (per
+//! joint material), the mesh's quality and the triangle that sets the step, and input values
+//! outside the range of the field's materials (a unit slip). `fdem check` prints them and a
+//! run reports them again with what it measured (`crate::run::accuracy`), so the two agree.
+//!
+//! Each indicator carries its value, its threshold and the side that is good, what it means
+//! and, when it fails, one warning in plain words with its fix (docs/accuracy.md derives the
+//! thresholds).
+
+use std::fmt::Write as _;
+
+use fdem_mesh::{Elements, PlaneKind, TriId};
+use rayon::prelude::*;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::input::scene::Scene;
+use crate::problem::Fracturing;
+use crate::problem::model::Model;
+
+/// The smallest `l_ch / h` (characteristic length over the median joint length of a joint
+/// material) without a warning. The Griffith plate's failure stress is 4.7 % above fracture
+/// mechanics at `l_ch / h = 7.7` and -0.3 % at 19 (docs/validation.md, row 70); below about
+/// 5 the elements are longer than the process zone and the strength it predicts rises
+/// steeply (docs/accuracy.md measures it at `l_ch / h = 0.5`).
+pub const PROCESS_ZONE_MIN: f64 = 5.0;
+
+/// The largest `E / p` (Young's modulus over the joints' normal penalty) without a warning:
+/// each intact joint crossed adds about `E / p` of one element's strain, so `p >= 10 E`
+/// keeps the exploded region's added compliance to about 10-20 % (docs/fracture.md, section 2).
+pub const JOINT_COMPLIANCE_MAX: f64 = 0.1;
+
+/// The smallest angle of a triangle without a warning [degrees]: below it a constant-strain
+/// triangle stiffens (its shape error grows as 1/sin of the angle) and it sets a short step.
+pub const MIN_ANGLE_DEG: f64 = 10.0;
+
+/// Which side of its threshold an indicator's value must lie on.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Good {
+    /// At least the threshold.
+    AtLeast,
+    /// At most the threshold.
+    AtMost,
+}
+
+/// One accuracy indicator of a run.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Indicator {
+    /// Its name (`process_zone_i`, `process_zone_ii`, `joint_compliance`, `mesh_quality`,
+    /// `units`, `time_step`, `energy_error`, `quasi_static`, `contact_penetration`,
+    /// `static_strain`).
+    pub name: String,
+    /// What it is about: a JSON path of the scene (`fracture.material`), `mesh` or `run`.
+    pub subject: String,
+    /// What the value is, in words (`l_ch / median joint length`).
+    pub measure: String,
+    /// The value.
+    pub value: f64,
+    /// The threshold.
+    pub threshold: f64,
+    /// The side of the threshold that passes.
+    pub good: Good,
+    /// What it means.
+    pub meaning: String,
+    /// When it fails: what is wrong and the fix, in plain words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
+    /// The figures behind the value.
+    pub details: serde_json::Value,
+}
+
+impl Indicator {
+    /// Whether the value lies on the good side of the threshold.
+    pub fn passes(&self) -> bool {
+        match self.good {
+            Good::AtLeast => self.value >= self.threshold,
+            Good::AtMost => self.value <= self.threshold,
+        }
+    }
+}
+
+/// The indicators decided by the problem: per joint material the process zone in modes I and
+/// II and the joints' compliance, the mesh's quality, and the input values outside the
+/// field's range.
+pub fn predict(
+    scene: &Scene,
+    model: &Model,
+    elements: &Elements,
+    fracturing: &Fracturing,
+) -> Vec<Indicator> {
+    let mut out = fracture_indicators(scene, model, elements, fracturing);
+    if !model.triangles.is_empty() {
+        out.push(mesh_quality(model, elements));
+    }
+    out.push(crate::problem::plausibility::units(scene));
+    out
+}
+
+/// Young's modulus `E` and the plane modulus `E'` (`E / (1 - nu^2)` in plane strain) of
+/// triangle `t`.
+fn moduli(elements: &Elements, t: u32) -> (f64, f64) {
+    let m = &elements.materials[elements.tris[t as usize].material as usize].material;
+    let e = m.youngs_modulus;
+    let nu = m.poisson_ratio;
+    match m.plane {
+        PlaneKind::Strain => (e, e / (1.0 - nu * nu)),
+        PlaneKind::Stress => (e, e),
+    }
+}
+
+/// The median of `v` (sorted in place); 0 when empty.
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// A length in the unit that reads best (m, mm or um), 3 significant digits.
+pub fn length(x: f64) -> String {
+    let a = x.abs();
+    if a >= 0.1 || a == 0.0 {
+        format!("{x:.3} m")
+    } else if a >= 1e-4 {
+        format!("{:.3} mm", x * 1e3)
+    } else {
+        format!("{:.3} um", x * 1e6)
+    }
+}
+
+/// The joints of one joint material: per joint `(h, l_ch I, l_ch II, E / p)`.
+struct MaterialJoints {
+    h: Vec<f64>,
+    l_i: Vec<f64>,
+    l_ii: Vec<f64>,
+    compliance: Vec<f64>,
+}
+
+/// Process zone (modes I and II) and joint compliance per joint material.
+fn fracture_indicators(
+    scene: &Scene,
+    model: &Model,
+    elements: &Elements,
+    fracturing: &Fracturing,
+) -> Vec<Indicator> {
+    let (Some(section), Some(set)) = (&scene.fracture, &fracturing.set) else {
+        return Vec::new();
+    };
+    let list = section.material_list();
+    // the named material of each joint (a heterogeneous one gives each joint its own row)
+    let named = crate::problem::joints::global_joints(&fracturing.bodies, model);
+    let mut per: Vec<MaterialJoints> = (0..list.len())
+        .map(|_| MaterialJoints {
+            h: Vec::new(),
+            l_i: Vec::new(),
+            l_ii: Vec::new(),
+            compliance: Vec::new(),
+        })
+        .collect();
+    for (j, joint) in named.iter().enumerate() {
+        let row = &set.materials[set.material[j] as usize];
+        let [t1, t2] = set.triangles[j];
+        let ((e1, ep1), (e2, ep2)) = (moduli(elements, t1), moduli(elements, t2));
+        let (e, ep) = (e1.max(e2), ep1.max(ep2));
+        let m = &mut per[joint.material as usize];
+        m.h.push(set.ref_length[j]);
+        m.l_i.push(ep * row.g_i / (row.ft * row.ft));
+        m.l_ii.push(ep * row.g_ii / (row.cohesion * row.cohesion));
+        m.compliance.push(e / row.p);
+    }
+    let mut out = Vec::new();
+    for (m, joints) in list.iter().zip(per.iter_mut()) {
+        if joints.h.is_empty() {
+            continue;
+        }
+        let path = m.path();
+        let (h_min, h_max) = min_max(&joints.h);
+        let h_med = median(&mut joints.h);
+        let hs =
+            json!({"joints": joints.h.len(), "h_min": h_min, "h_median": h_med, "h_max": h_max});
+        for (mode, l) in [("i", &mut joints.l_i), ("ii", &mut joints.l_ii)] {
+            out.push(process_zone(&path, mode, l, h_med, &hs));
+        }
+        let (_, worst) = min_max(&joints.compliance);
+        out.push(joint_compliance(&path, worst));
+    }
+    out
+}
+
+/// The smallest and the largest of `v` (0, 0 when empty).
+fn min_max(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (0.0, 0.0);
+    }
+    v.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
+}
+
+/// The process-zone indicator of one joint material in mode `mode` (`"i"` or `"ii"`):
+/// `l_ch / h` with `l_ch` the median over its joints (they differ with drawn strengths) and
+/// `h` the median joint length.
+fn process_zone(
+    path: &str,
+    mode: &str,
+    l: &mut [f64],
+    h_med: f64,
+    hs: &serde_json::Value,
+) -> Indicator {
+    let (l_min, l_max) = min_max(l);
+    let l_med = median(l);
+    let ratio = l_med / h_med;
+    let (what, g, f) = if mode == "i" {
+        ("E' G_I / ft^2", "fracture_energy_i", "tensile_strength")
+    } else {
+        ("E' G_II / c^2", "fracture_energy_ii", "cohesion")
+    };
+    let mut details = hs.clone();
+    details["l_ch_min"] = json!(l_min);
+    details["l_ch_median"] = json!(l_med);
+    details["l_ch_max"] = json!(l_max);
+    let mut ind = Indicator {
+        name: format!("process_zone_{mode}"),
+        subject: path.to_string(),
+        measure: format!("l_ch / h (l_ch = {what}, h the median joint length)"),
+        value: ratio,
+        threshold: PROCESS_ZONE_MIN,
+        good: Good::AtLeast,
+        meaning: format!(
+            "how many joints the mode-{} process zone spans: below {PROCESS_ZONE_MIN} the \
+             elements cannot resolve it and peak loads come out too high",
+            mode.to_uppercase()
+        ),
+        warning: None,
+        details,
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "{path}'s joints are {} long (median), {:.2} times l_ch = {} in mode {}: the \
+             elements cannot resolve the process zone and the strength comes out too high; \
+             refine the fracturing region to {} or less, or raise {path}.{g} / lower {path}.{f}",
+            length(h_med),
+            h_med / l_med,
+            length(l_med),
+            mode.to_uppercase(),
+            length(l_med / PROCESS_ZONE_MIN),
+        ));
+    }
+    ind
+}
+
+/// The joint-compliance indicator of one joint material: the largest `E / p` over its joints.
+fn joint_compliance(path: &str, worst: f64) -> Indicator {
+    let mut ind = Indicator {
+        name: "joint_compliance".into(),
+        subject: path.to_string(),
+        measure: "E / p (per intact joint crossed, the strain it adds over the bulk strain)".into(),
+        value: worst,
+        threshold: JOINT_COMPLIANCE_MAX,
+        good: Good::AtMost,
+        meaning: "the artificial compliance of intact joints: a triangle mesh crosses about 2 \
+                  joints per element, so the exploded region is about 2 E/p softer"
+            .into(),
+        warning: None,
+        details: json!({"young_over_penalty": worst}),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "{path}.penalty_normal is {:.2} E: the intact joints make the exploded region about \
+             {:.0} % softer (stiffness, wave speeds and pre-peak displacements are off by that \
+             much); raise {path}.penalty_normal (and penalty_tangential) to 10 E or more (the \
+             stable step shrinks as 1 / sqrt(p))",
+            1.0 / worst,
+            100.0 * (2.0 * worst / (1.0 + 2.0 * worst)),
+        ));
+    }
+    ind
+}
+
+/// The three angles of triangle `t` [radians] and its longest edge over its shortest
+/// altitude.
+fn shape(x: &[[f64; 2]], t: &[u32; 3]) -> (f64, f64) {
+    let p = t.map(|i| x[i as usize]);
+    let e = |a: usize, b: usize| [p[b][0] - p[a][0], p[b][1] - p[a][1]];
+    let len = |v: [f64; 2]| v[0].hypot(v[1]);
+    let (a, b, c) = (e(0, 1), e(1, 2), e(2, 0));
+    let area2 = (a[0] * (-c[1]) - a[1] * (-c[0])).abs();
+    let (la, lb, lc) = (len(a), len(b), len(c));
+    let angle = |u: [f64; 2], v: [f64; 2]| {
+        let d = -(u[0] * v[0] + u[1] * v[1]);
+        let cross = u[0] * v[1] - u[1] * v[0];
+        cross.abs().atan2(d)
+    };
+    let smallest = angle(a, b).min(angle(b, c)).min(angle(c, a));
+    let longest = la.max(lb).max(lc);
+    (smallest, longest * longest / area2)
+}
+
+/// The mesh's smallest angle, largest aspect ratio and the triangle that sets the step.
+fn mesh_quality(model: &Model, elements: &Elements) -> Indicator {
+    let x = &model.x0;
+    let (angle, aspect, worst) = (0..model.triangles.len())
+        .into_par_iter()
+        .map(|t| {
+            let (a, r) = shape(x, &model.triangles[t]);
+            (a, r, t)
+        })
+        .reduce(
+            || (f64::INFINITY, 0.0, usize::MAX),
+            |p, q| {
+                let (a, r) = (p.0.min(q.0), p.1.max(q.1));
+                let t = if q.0 < p.0 || (q.0 == p.0 && q.2 < p.2) {
+                    q.2
+                } else {
+                    p.2
+                };
+                (a, r, t)
+            },
+        );
+    let (w_max, stepper) = (0..elements.len())
+        .into_par_iter()
+        .map(|t| (elements.frequency_bound(TriId(t as u32), x), t))
+        .reduce(
+            || (0.0, usize::MAX),
+            |p, q| {
+                if q.0 > p.0 || (q.0 == p.0 && q.1 < p.1) {
+                    q
+                } else {
+                    p
+                }
+            },
+        );
+    let mut bounds: Vec<f64> = (0..elements.len())
+        .into_par_iter()
+        .map(|t| elements.frequency_bound(TriId(t as u32), x))
+        .collect();
+    let w_med = median(&mut bounds);
+    let deg = angle.to_degrees();
+    let (stepper_angle, _) = shape(x, &model.triangles[stepper]);
+    let mut ind = Indicator {
+        name: "mesh_quality".into(),
+        subject: "mesh".into(),
+        measure: "the smallest angle of a triangle [degrees]".into(),
+        value: deg,
+        threshold: MIN_ANGLE_DEG,
+        good: Good::AtLeast,
+        meaning: "flat triangles are stiff and inaccurate and set a short stable step".into(),
+        warning: None,
+        details: json!({
+            "smallest_angle_deg": deg,
+            "smallest_angle_triangle": worst,
+            "largest_aspect_ratio": aspect,
+            "step_triangle": stepper,
+            "step_triangle_smallest_angle_deg": stepper_angle.to_degrees(),
+            "step_triangle_bound_over_median": w_max / w_med,
+        }),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "triangle {worst} has an angle of {deg:.1} degrees (aspect ratio up to {aspect:.1}): \
+             remesh with a smallest angle of {MIN_ANGLE_DEG} degrees or more (Gmsh: \
+             Mesh.Algorithm 6 or 5, and Mesh.OptimizeNetgen)"
+        ));
+    }
+    ind
+}
+
+/// The console block of `indicators`: one line each, `ok` or `WARN` with the warning and its
+/// fix on the next line.
+pub fn describe(indicators: &[Indicator]) -> String {
+    let mut s = String::new();
+    for i in indicators {
+        let side = match i.good {
+            Good::AtLeast => ">=",
+            Good::AtMost => "<=",
+        };
+        let tag = if i.passes() { "ok  " } else { "WARN" };
+        let _ = write!(
+            s,
+            "\n  {tag} {:<20} {}: {} = {} ({side} {})",
+            i.name,
+            i.subject,
+            short(&i.measure),
+            number(i.value),
+            number(i.threshold)
+        );
+        if let Some(w) = &i.warning {
+            let _ = write!(s, "\n       {w}");
+        }
+    }
+    s
+}
+
+/// The part of a measure before its parenthesis.
+fn short(measure: &str) -> &str {
+    measure.split(" (").next().unwrap_or(measure).trim()
+}
+
+/// A number in 3 significant digits, fixed or scientific as it reads best.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if x.fract() == 0.0 && a < 1e6 {
+        format!("{x:.0}")
+    } else if (1e-2..1e4).contains(&a) {
+        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// The time-step indicator: the step used over the scheme's stable step a priori
+/// (`l.dt / l.dt_limit`); with `active_limit`, the stable step of the largest active bound
+/// the run met (contact engaged as it was, not every edge pressed flat), as a detail.
+pub fn time_step(l: &crate::problem::load::Problem, active_limit: Option<f64>) -> Indicator {
+    let ratio = l.dt / l.dt_limit;
+    let mut details = json!({
+        "scheme": l.scheme.name(),
+        "time_step": l.dt,
+        "stable_step": l.dt_limit,
+        "omega_max": l.omega_max(),
+    });
+    if let Some(h) = active_limit {
+        details["active_stable_step"] = json!(h);
+        details["step_over_active_stable_step"] = json!(l.dt / h);
+    }
+    let mut ind = Indicator {
+        name: "time_step".into(),
+        subject: "integrator".into(),
+        measure: "the step over the stable step of every stage (a priori)".into(),
+        value: ratio,
+        threshold: 1.0,
+        good: Good::AtMost,
+        meaning: "above 1 the explicit scheme is unstable; the a-priori bound assumes every \
+                  edge in contact, so the margin to the active bound is larger"
+            .into(),
+        warning: None,
+        details,
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the step {:.4e} s is {ratio:.3} times the stable step {:.4e} s: set \
+             integrator.time_step to \"auto\" or below the stable step",
+            l.dt, l.dt_limit
+        ));
+    }
+    ind
+}
+
+/// What `fdem check` reports before a run: the problem's indicators and, for a dynamic or
+/// relaxation analysis, the time step's.
+pub fn before_run(l: &crate::problem::load::Problem) -> Vec<Indicator> {
+    let mut out = l.accuracy.clone();
+    if l.scene.analysis != crate::input::scene::Analysis::Static {
+        out.push(time_step(l, None));
+    }
+    out
+}

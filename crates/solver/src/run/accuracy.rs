@@ -1,0 +1,250 @@
+//! The accuracy section of a run (`summary.json`'s `accuracy`, and a block at the end of the
+//! console): the indicators the problem decided before the run
+//! ([`crate::problem::accuracy`]), with what the run measured: the time step against the
+//! active bound, the energy ledger's closure, the quasi-static indicator and the loading
+//! speed, the contact's deepest penetration, and a static solve's largest strain.
+
+use fdem_mesh::Elements;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::input::scene::Analysis;
+use crate::problem::accuracy::{Good, Indicator, time_step};
+use crate::problem::load::Problem;
+use crate::problem::model::Model;
+use crate::problem::stable_step::stable_step;
+use crate::run::summary::Summary;
+
+/// The largest relative closure error of the energy ledger without a warning.
+pub const ENERGY_ERROR_MAX: f64 = 1e-2;
+
+/// The largest contact overlap over the altitude of the triangle without a warning: a penalty
+/// `p_c` gives overlaps of order `sigma h / p_c`, and at 5 % of the element the contact zone's
+/// compliance is that of a fifth of an element more (docs/accuracy.md).
+pub const PENETRATION_MAX: f64 = 0.05;
+
+/// The largest strain of a static solve without a warning: the solve is linear (small
+/// strain), so above 1 % its stresses and displacements drift from the finite-strain answer.
+pub const STATIC_STRAIN_MAX: f64 = 1e-2;
+
+/// The accuracy section of a run summary.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct Accuracy {
+    /// How many indicators warn.
+    pub warnings: usize,
+    /// Every indicator, in the order of the console block.
+    pub indicators: Vec<Indicator>,
+}
+
+impl Accuracy {
+    /// Collects `indicators` and counts their warnings.
+    pub fn new(indicators: Vec<Indicator>) -> Self {
+        let warnings = indicators.iter().filter(|i| !i.passes()).count();
+        Accuracy {
+            warnings,
+            indicators,
+        }
+    }
+}
+
+/// The accuracy section of the finished run of `l` with the summary `s` (its stages, ledger
+/// and quasi-static indicator filled in); `strain`: a static solve's largest strain.
+/// `model` and `elements` are the run's (a dynamic run holds them in its system).
+pub fn assess(
+    l: &Problem,
+    model: &Model,
+    elements: &Elements,
+    s: &Summary,
+    strain: Option<f64>,
+) -> Accuracy {
+    let mut out = l.accuracy.clone();
+    if l.scene.analysis == Analysis::Static {
+        out.extend(strain.map(static_strain));
+        return Accuracy::new(out);
+    }
+    let wc = crate::stages::omega_contact_active_max(&s.stages);
+    let active = (wc > 0.0).then(|| stable_step(l.scheme, l.frequency.active([wc]), l.z_high));
+    out.push(time_step(l, active));
+    out.push(energy_error(s));
+    if let Some(q) = quasi_static(l, model, elements, s) {
+        out.push(q);
+    }
+    if let Some(p) = penetration(s) {
+        out.push(p);
+    }
+    Accuracy::new(out)
+}
+
+/// The ledger's closure over the energy in play.
+fn energy_error(s: &Summary) -> Indicator {
+    let e = &s.energy;
+    let rel = e.relative_error().abs();
+    let mut ind = Indicator {
+        name: "energy_error".into(),
+        subject: "run".into(),
+        measure: "|ledger error| / energy in play".into(),
+        value: rel,
+        threshold: ENERGY_ERROR_MAX,
+        good: Good::AtMost,
+        meaning: "the energy the books do not account for: the integration error (and the \
+                  residuals of the laws not booked apart)"
+            .into(),
+        warning: None,
+        details: json!({"error": e.error, "in_play": e.in_play}),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the energy ledger misses {:.2} % of the energy in play: lower \
+             integrator.safety or take a smaller time step, and check contact and joint \
+             penalties for stiff spikes",
+            100.0 * rel
+        ));
+    }
+    ind
+}
+
+/// The fastest wall or prescribed velocity of the scene [m/s] (`loading.rate` is in them).
+fn loading_speed(l: &Problem, model: &Model) -> f64 {
+    let walls = l.scene.contact.iter().flat_map(|c| &c.walls);
+    let w = walls.map(|w| w.velocity[0].hypot(w.velocity[1]));
+    let prescribed = model.prescribed.iter().filter(|p| !p.displacement);
+    let p = prescribed.map(|p| p.velocity.abs());
+    w.chain(p).fold(0.0, f64::max)
+}
+
+/// The slowest P-wave speed of the bodies, `sqrt((lambda* + 2 mu) / rho)` [m/s].
+fn wave_speed(elements: &Elements) -> f64 {
+    elements
+        .materials
+        .iter()
+        .map(|c| ((c.lam + 2.0 * c.mu) / c.rho).sqrt())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The quasi-static indicator of a loaded specimen (a `loading` or `mass_scaling` section,
+/// moving walls or prescribed velocities): the kinetic over the stored energy while loading.
+fn quasi_static(l: &Problem, model: &Model, elements: &Elements, s: &Summary) -> Option<Indicator> {
+    let q = s.quasi_static.as_ref()?;
+    let speed = loading_speed(l, model);
+    let specimen = l.scene.loading.is_some() || l.scene.mass_scaling.is_some() || speed > 0.0;
+    if !specimen {
+        return None;
+    }
+    let limit = q
+        .limit
+        .unwrap_or(crate::input::scene::mass_scaling::KINETIC_RATIO_LIMIT);
+    let c = wave_speed(elements);
+    let mut ind = Indicator {
+        name: "quasi_static".into(),
+        subject: "run".into(),
+        measure: "kinetic / stored energy while loading (before the peak)".into(),
+        value: q.kinetic_ratio_max,
+        threshold: limit,
+        good: Good::AtMost,
+        meaning: "inertia in a test meant to be quasi-static: above the limit the peak load \
+                  is raised by the loading rate"
+            .into(),
+        warning: None,
+        details: json!({
+            "loading_speed": speed,
+            "p_wave_speed": c,
+            "loading_speed_over_wave_speed": speed / c,
+            "peak_time": q.peak_time,
+            "mass_scaling_factor": s.mass_scaling_factor,
+        }),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the run is not quasi-static: the kinetic energy reached {:.3} of the stored \
+             energy while loading (the loading speed {speed:.3e} m/s is {:.2e} of the P-wave \
+             speed); load more slowly (loading.rate, wall velocities) or lower the \
+             mass_scaling factor",
+            q.kinetic_ratio_max,
+            speed / c
+        ));
+    }
+    Some(ind)
+}
+
+/// The deepest contact overlap of the run over the altitude of its triangle.
+fn penetration(s: &Summary) -> Option<Indicator> {
+    let d = s
+        .stages
+        .get("contact")?
+        .get("max_depth_over_altitude")?
+        .as_f64()?;
+    let mut ind = Indicator {
+        name: "contact_penetration".into(),
+        subject: "contact".into(),
+        measure: "the deepest overlap / the altitude of its triangle (over the run)".into(),
+        value: d,
+        threshold: PENETRATION_MAX,
+        good: Good::AtMost,
+        meaning: "the penalty's overlap: deep overlaps make contact soft and the bodies sink \
+                  into each other"
+            .into(),
+        warning: None,
+        details: json!({"max_depth_over_altitude": d}),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "contact overlapped {:.1} % of an element: raise the contact penalty (contact \
+             law `penalty`, about 10 E or more) so that overlaps stay below {:.0} %",
+            100.0 * d,
+            100.0 * PENETRATION_MAX
+        ));
+    }
+    Some(ind)
+}
+
+/// The largest strain of a static solve.
+fn static_strain(strain: f64) -> Indicator {
+    let mut ind = Indicator {
+        name: "static_strain".into(),
+        subject: "run".into(),
+        measure: "the largest principal strain of the static solve (absolute)".into(),
+        value: strain,
+        threshold: STATIC_STRAIN_MAX,
+        good: Good::AtMost,
+        meaning: "a static solve is linear: it holds for small strains only".into(),
+        warning: None,
+        details: json!({"largest_strain": strain}),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the static solve reached a strain of {strain:.3e}, outside the small-strain \
+             range of a linear solve: check the units of the moduli and loads (Pa, N/m), or \
+             run a dynamic relaxation (analysis \"relaxation\"), which is at finite strain"
+        ));
+    }
+    ind
+}
+
+/// The largest principal strain (absolute) of the displacements `u` (per node) on the
+/// triangles of `l`, small strain.
+pub fn largest_strain(model: &Model, u: &[[f64; 2]]) -> f64 {
+    let x = &model.x0;
+    model
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| i as usize);
+            let (e1, e2) = (sub(x[b], x[a]), sub(x[c], x[a]));
+            let (d1, d2) = (sub(u[b], u[a]), sub(u[c], u[a]));
+            let det = e1[0] * e2[1] - e1[1] * e2[0];
+            // grad u = [d1 d2] [e1 e2]^-1
+            let inv = [[e2[1] / det, -e2[0] / det], [-e1[1] / det, e1[0] / det]];
+            let g = |k: usize, j: usize| d1[k] * inv[0][j] + d2[k] * inv[1][j];
+            let (exx, eyy, exy) = (g(0, 0), g(1, 1), 0.5 * (g(0, 1) + g(1, 0)));
+            let (m, r) = (
+                0.5 * (exx + eyy),
+                (0.25 * (exx - eyy).powi(2) + exy * exy).sqrt(),
+            );
+            (m + r).abs().max((m - r).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
