@@ -22,6 +22,8 @@ fn write_atomically(path: &std::path::Path, bytes: &[u8]) -> anyhow::Result<()> 
     Ok(())
 }
 
+#[path = "accuracy.rs"]
+mod accuracy;
 #[path = "adaptive_step.rs"]
 mod adaptive_step;
 #[path = "bar_pulse.rs"]

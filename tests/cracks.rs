@@ -339,6 +339,40 @@ fn a_crack_without_contact_or_outside_the_fracture_region_is_refused() {
 /// The Griffith plate on mesh `mesh` (`meshes/griffith-plate*.msh`): peak top reaction over
 /// the width [Pa] of a run of `duration` seconds, and the position of the first break.
 fn griffith_peak(mesh: &str, duration: f64) -> (f64, [f64; 2]) {
+    let (s, first, _) = griffith_run(mesh, duration, GRIFFITH_G, 20.0);
+    (s, first)
+}
+
+/// [`griffith_peak`] with the fracture energy `g_i` and the joint penalties `penalty` E, and
+/// the run's outcome.
+pub fn griffith_run(
+    mesh: &str,
+    duration: f64,
+    g_i: f64,
+    penalty: f64,
+) -> (f64, [f64; 2], fdem_solver::driver::Outcome) {
+    let p = griffith_scene(mesh, duration, g_i, penalty);
+    let (o, out) = common::run(&p);
+    let (head, rows) = common::histories(&out);
+    let peak = common::column(&head, &rows, "reaction_y[top]")
+        .into_iter()
+        .fold(f64::MIN, f64::max);
+    let events = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
+    let first: Vec<f64> = events
+        .lines()
+        .nth(1)
+        .expect("a joint broke")
+        .split(',')
+        .skip(1)
+        .take(2)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    (peak / GRIFFITH_W, [first[0], first[1]], o)
+}
+
+/// The Griffith plate's scene file on mesh `mesh`, pulled over `duration` seconds, with the
+/// fracture energy `g_i` and the joint penalties `penalty` E.
+pub fn griffith_scene(mesh: &str, duration: f64, g_i: f64, penalty: f64) -> PathBuf {
     let dir = common::temp_dir("griffith");
     // each edge pulled apart by 4e-5 m over the run, the velocity ramped over all of it
     let v = 2.0 * 4e-5 / duration;
@@ -353,8 +387,8 @@ fn griffith_peak(mesh: &str, duration: f64) -> (f64, [f64; 2]) {
             "regions": [ { "body": "plate", "groups": ["strip"] } ],
             "material": {
                 "tensile_strength": GRIFFITH_FT, "cohesion": 10e6, "friction_angle_deg": 30.0,
-                "fracture_energy_i": GRIFFITH_G, "fracture_energy_ii": 400.0,
-                "penalty_normal": 20.0 * E, "penalty_tangential": 20.0 * E
+                "fracture_energy_i": g_i, "fracture_energy_ii": 400.0,
+                "penalty_normal": penalty * E, "penalty_tangential": penalty * E
             },
             "cracks": [ { "group": "crack" } ]
         },
@@ -370,33 +404,23 @@ fn griffith_peak(mesh: &str, duration: f64) -> (f64, [f64; 2]) {
     });
     let p = dir.join("griffith.json");
     std::fs::write(&p, scene.to_string()).unwrap();
-    let (_, out) = common::run(&p);
-    let (head, rows) = common::histories(&out);
-    let peak = common::column(&head, &rows, "reaction_y[top]")
-        .into_iter()
-        .fold(f64::MIN, f64::max);
-    let events = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
-    let first: Vec<f64> = events
-        .lines()
-        .nth(1)
-        .expect("a joint broke")
-        .split(',')
-        .skip(1)
-        .take(2)
-        .map(|x| x.parse().unwrap())
-        .collect();
-    (peak / GRIFFITH_W, [first[0], first[1]])
+    p
 }
 
-const GRIFFITH_FT: f64 = 2e6;
-const GRIFFITH_G: f64 = 8.0;
+pub const GRIFFITH_FT: f64 = 2e6;
+pub const GRIFFITH_G: f64 = 8.0;
 const GRIFFITH_A: f64 = 0.1;
 const GRIFFITH_W: f64 = 1.0;
 
 /// Griffith's failure stress of the plate: `sqrt(E G_I / (pi a))`, and the same divided by
 /// Feddersen's finite-width factor `sqrt(sec(pi a / W))` (1.025 for 2a/W = 0.2).
 fn griffith_stress() -> (f64, f64) {
-    let inf = (E * GRIFFITH_G / (std::f64::consts::PI * GRIFFITH_A)).sqrt();
+    griffith_stress_of(GRIFFITH_G)
+}
+
+/// [`griffith_stress`] with the fracture energy `g_i`.
+pub fn griffith_stress_of(g_i: f64) -> (f64, f64) {
+    let inf = (E * g_i / (std::f64::consts::PI * GRIFFITH_A)).sqrt();
     let sec = 1.0 / (std::f64::consts::PI * GRIFFITH_A / GRIFFITH_W).cos();
     (inf, inf / sec.sqrt())
 }

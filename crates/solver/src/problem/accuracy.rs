@@ -19,17 +19,22 @@ use crate::input::scene::Scene;
 use crate::problem::Fracturing;
 use crate::problem::model::Model;
 
-/// The smallest `l_ch / h` (characteristic length over the median joint length of a joint
-/// material) without a warning. The Griffith plate's failure stress is 4.7 % above fracture
-/// mechanics at `l_ch / h = 7.7` and -0.3 % at 19 (docs/validation.md, row 70); below about
-/// 5 the elements are longer than the process zone and the strength it predicts rises
-/// steeply (docs/accuracy.md measures it at `l_ch / h = 0.5`).
+/// The smallest `l_ch / h` (characteristic length over the shortest joint of a joint
+/// material, where a mesh is refined for its crack) without a warning. On the Griffith plate
+/// the failure stress is 4.7 % above fracture mechanics at `l_ch / h = 5.9`, 42 % at 2.9 and
+/// 85 % at 1.5 (docs/accuracy.md).
 pub const PROCESS_ZONE_MIN: f64 = 5.0;
 
 /// The largest `E / p` (Young's modulus over the joints' normal penalty) without a warning:
 /// each intact joint crossed adds about `E / p` of one element's strain, so `p >= 10 E`
 /// keeps the exploded region's added compliance to about 10-20 % (docs/fracture.md, section 2).
 pub const JOINT_COMPLIANCE_MAX: f64 = 0.1;
+
+/// The largest loading speed over the P-wave speed without a warning (with mass scaling, the
+/// wave speed of the scaled masses): the strain a specimen takes per wave transit. On the
+/// three fracturing specimens the peak load stays within 2 % of a slower reference up to
+/// about 6e-6 and drifts by 2-5 % from about 1.2e-5 (docs/speed-vs-accuracy.md).
+pub const LOADING_SPEED_MAX: f64 = 1e-5;
 
 /// The smallest angle of a triangle without a warning [degrees]: below it a constant-strain
 /// triangle stiffens (its shape error grows as 1/sin of the angle) and it sets a short step.
@@ -93,6 +98,9 @@ pub fn predict(
     let mut out = fracture_indicators(scene, model, elements, fracturing);
     if !model.triangles.is_empty() {
         out.push(mesh_quality(model, elements));
+    }
+    if scene.analysis == crate::input::scene::Analysis::Dynamic {
+        out.extend(loading_speed(scene, model, elements));
     }
     out.push(crate::problem::plausibility::units(scene));
     out
@@ -187,7 +195,7 @@ fn fracture_indicators(
         let hs =
             json!({"joints": joints.h.len(), "h_min": h_min, "h_median": h_med, "h_max": h_max});
         for (mode, l) in [("i", &mut joints.l_i), ("ii", &mut joints.l_ii)] {
-            out.push(process_zone(&path, mode, l, h_med, &hs));
+            out.push(process_zone(&path, mode, l, h_min, &hs));
         }
         let (_, worst) = min_max(&joints.compliance);
         out.push(joint_compliance(&path, worst));
@@ -208,17 +216,17 @@ fn min_max(v: &[f64]) -> (f64, f64) {
 
 /// The process-zone indicator of one joint material in mode `mode` (`"i"` or `"ii"`):
 /// `l_ch / h` with `l_ch` the median over its joints (they differ with drawn strengths) and
-/// `h` the median joint length.
+/// `h` the shortest joint.
 fn process_zone(
     path: &str,
     mode: &str,
     l: &mut [f64],
-    h_med: f64,
+    h_min: f64,
     hs: &serde_json::Value,
 ) -> Indicator {
     let (l_min, l_max) = min_max(l);
     let l_med = median(l);
-    let ratio = l_med / h_med;
+    let ratio = l_med / h_min;
     let (what, g, f) = if mode == "i" {
         ("E' G_I / ft^2", "fracture_energy_i", "tensile_strength")
     } else {
@@ -231,7 +239,7 @@ fn process_zone(
     let mut ind = Indicator {
         name: format!("process_zone_{mode}"),
         subject: path.to_string(),
-        measure: format!("l_ch / h (l_ch = {what}, h the median joint length)"),
+        measure: format!("l_ch / h (l_ch = {what}, h the shortest joint)"),
         value: ratio,
         threshold: PROCESS_ZONE_MIN,
         good: Good::AtLeast,
@@ -245,11 +253,11 @@ fn process_zone(
     };
     if !ind.passes() {
         ind.warning = Some(format!(
-            "{path}'s joints are {} long (median), {:.2} times l_ch = {} in mode {}: the \
+            "{path}'s shortest joints are {} long, {:.2} times l_ch = {} in mode {}: the \
              elements cannot resolve the process zone and the strength comes out too high; \
-             refine the fracturing region to {} or less, or raise {path}.{g} / lower {path}.{f}",
-            length(h_med),
-            h_med / l_med,
+             refine where the crack grows to {} or less, or raise {path}.{g} / lower {path}.{f}",
+            length(h_min),
+            h_min / l_med,
             length(l_med),
             mode.to_uppercase(),
             length(l_med / PROCESS_ZONE_MIN),
@@ -372,6 +380,61 @@ fn mesh_quality(model: &Model, elements: &Elements) -> Indicator {
         ));
     }
     ind
+}
+
+/// The fastest wall or prescribed velocity of a scene [m/s] (`loading.rate` is in them).
+fn fastest_loading(scene: &Scene, model: &Model) -> f64 {
+    let walls = scene.contact.iter().flat_map(|c| &c.walls);
+    let w = walls.map(|w| w.velocity[0].hypot(w.velocity[1]));
+    let prescribed = model.prescribed.iter().filter(|p| !p.displacement);
+    let p = prescribed.map(|p| p.velocity.abs());
+    w.chain(p).fold(0.0, f64::max)
+}
+
+/// The loading-speed indicator of a dynamic scene that moves walls or prescribes velocities:
+/// the fastest of them over the slowest P-wave speed `sqrt((lambda* + 2 mu) / rho)` of the
+/// bodies, divided by the square root of the mass scaling factor.
+fn loading_speed(scene: &Scene, model: &Model, elements: &Elements) -> Option<Indicator> {
+    let v = fastest_loading(scene, model);
+    if v <= 0.0 || elements.materials.is_empty() {
+        return None;
+    }
+    let c0 = elements
+        .materials
+        .iter()
+        .map(|c| ((c.lam + 2.0 * c.mu) / c.rho).sqrt())
+        .fold(f64::INFINITY, f64::min);
+    let factor = model.mass_scaling.as_ref().map_or(1.0, |m| m.0);
+    let c = c0 / factor.sqrt();
+    let ratio = v / c;
+    let mut ind = Indicator {
+        name: "loading_speed".into(),
+        subject: "loading".into(),
+        measure: "the fastest wall or prescribed speed / the P-wave speed".into(),
+        value: ratio,
+        threshold: LOADING_SPEED_MAX,
+        good: Good::AtMost,
+        meaning: "the strain a specimen takes per wave transit: above the threshold the \
+                  peak load of a fracturing specimen rises with the loading rate"
+            .into(),
+        warning: None,
+        details: json!({"speed": v, "p_wave_speed": c0, "mass_scaling_factor": factor}),
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the loading speed {v:.3e} m/s is {ratio:.2e} of the P-wave speed {c:.4e} m/s{}: \
+             a peak load comes out several percent too high; load {:.1} times slower \
+             (loading.rate, wall and boundary velocities) or check that the peak agrees with \
+             a run at half the rate",
+            if factor > 1.0 {
+                " (with the mass scaling)"
+            } else {
+                ""
+            },
+            ratio / LOADING_SPEED_MAX
+        ));
+    }
+    Some(ind)
 }
 
 /// The console block of `indicators`: one line each, `ok` or `WARN` with the warning and its

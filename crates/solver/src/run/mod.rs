@@ -196,7 +196,7 @@ fn static_run(
         h.flush()?;
     }
     let strain = accuracy::largest_strain(&l.model, &frame.displacement);
-    summary.accuracy = accuracy::assess(l, &l.model, &l.elements, &summary, Some(strain));
+    summary.accuracy = accuracy::assess(l, &summary, Some(strain));
     write_summary(&options.out_dir, &summary)?;
     progress(&Progress {
         step: 1,

@@ -385,9 +385,7 @@ impl<'a> Run<'a> {
             }
         }
         self.sys.dist = dist;
-        let (model, elements) = (&self.sys.model, &self.sys.elements);
-        summary.accuracy =
-            crate::run::accuracy::assess(self.loaded, model, elements, &summary, None);
+        summary.accuracy = crate::run::accuracy::assess(self.loaded, &summary, None);
         if writes {
             write_summary(self.out_dir, &summary)?;
         }
