@@ -3,7 +3,8 @@
 Pure Python: needs neither the compiled extension nor meshio. Every file is read on first
 access and cached. ``read(out)`` (or ``Output(out)``) gives:
 
-- ``summary`` (``summary.json`` as a dict), ``energy`` (its ``"energy"`` ledger);
+- ``summary`` (``summary.json`` as a dict), ``energy`` (its ``"energy"`` ledger),
+  ``accuracy`` (its accuracy indicators by name) and ``warnings`` (theirs, one line each);
 - ``frames``: the frames listed in ``results.pvd``, a sequence of :class:`Frame` (time,
   points, triangles, arrays), each ``.vtu`` read when its data is first used;
   ``joint_frames``: the same for ``joints.pvd`` (fracturing runs), else ``None``;
@@ -425,6 +426,29 @@ class Output:
     def energy(self) -> Optional[Dict[str, float]]:
         """The energy ledger (``summary["energy"]``, J), None if the summary has none."""
         return self.summary.get("energy")
+
+    @property
+    def accuracy(self) -> Dict[str, Dict[str, Any]]:
+        """The accuracy indicators (``summary["accuracy"]``, docs/accuracy.md) by name, each a
+        dict: ``subject``, ``measure``, ``value``, ``threshold``, ``good`` (``"at_least"`` or
+        ``"at_most"``), ``meaning``, ``warning`` (present when it warns: the problem and its
+        fix), ``details``. An indicator given per joint material is keyed ``name[subject]``
+        (``process_zone_i[fracture.material]``). Empty for a summary without the section.
+        """
+        section = self.summary.get("accuracy") or {}
+        indicators: List[Dict[str, Any]] = section.get("indicators", [])
+        names = [i["name"] for i in indicators]
+        out: Dict[str, Dict[str, Any]] = {}
+        for i in indicators:
+            key = i["name"] if names.count(i["name"]) == 1 else f"{i['name']}[{i['subject']}]"
+            out[key] = i
+        return out
+
+    @property
+    def warnings(self) -> List[str]:
+        """The accuracy indicators' warnings, one line each (``name: warning``); empty when
+        every indicator passes."""
+        return [f"{k}: {i['warning']}" for k, i in self.accuracy.items() if "warning" in i]
 
     @property
     def frames(self) -> Frames:

@@ -186,10 +186,10 @@ impl Energies {
         ]
     }
 
-    /// One line for the terminal: the closure error against the energy in play and the
-    /// largest book (the term of largest magnitude, sums left out); every term is in
-    /// `summary.json`.
-    pub fn line(&self) -> String {
+    /// One line for the terminal: the closure error against the energy in play (`what`
+    /// it is, when given: the round-off of a static solve) and the largest book (the term of
+    /// largest magnitude, sums left out); every term is in `summary.json`.
+    pub fn line(&self, what: Option<&str>) -> String {
         const SUMS: [&str; 6] = [
             "initial",
             "supplied",
@@ -211,11 +211,11 @@ impl Energies {
             self.error,
             self.relative_error(),
             self.in_play,
-            if self.residuals_booked {
+            what.unwrap_or(if self.residuals_booked {
                 "integration error"
             } else {
                 "integration error and the laws' residuals"
-            },
+            }),
             largest.0,
             largest.1
         )

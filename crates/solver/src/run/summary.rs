@@ -178,7 +178,8 @@ impl Summary {
         let _ = write!(
             s,
             "{}\nmax |u| {:.4e} m",
-            self.energy.line(),
+            self.energy
+                .line((self.analysis == "static").then_some("round-off of the solve")),
             self.max_displacement
         );
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {

@@ -1,0 +1,29 @@
+"""The accuracy indicators from Python: ``Result.accuracy`` and ``Output.accuracy`` are the
+run's ``summary.json`` section by name, and ``warnings`` lists the warned ones."""
+
+import json
+
+import fdem
+
+from conftest import ELASTIC
+
+
+def test_the_run_result_carries_the_accuracy_section_of_its_summary(disc_runs):
+    cli_out, _py_out, result = disc_runs
+    section = json.loads((cli_out / "summary.json").read_text())["accuracy"]
+    acc = result.accuracy
+    assert [i["name"] for i in section["indicators"]] == [i["name"] for i in acc.values()]
+    pz = acc["process_zone_i"]
+    assert pz["subject"] == "fracture.material"
+    assert pz["value"] >= pz["threshold"] and "warning" not in pz
+    assert result.warnings == [] and section["warnings"] == 0
+    assert fdem.read(cli_out).accuracy == acc
+
+
+def test_a_modulus_typed_in_gpa_is_warned_by_name(tmp_path):
+    scene = fdem.Scene(ELASTIC)
+    scene["bodies[0].materials.*.young"] = 30.0
+    out = fdem.run(scene, out=tmp_path / "gpa", progress=False)
+    names = [w.split(":")[0] for w in out.warnings]
+    assert names == ["units", "static_strain"], out.warnings
+    assert "young in GPa?" in out.accuracy["units"]["warning"]
