@@ -35,7 +35,7 @@ pub enum PlotCommand {
         #[arg(long)]
         displacement: Option<String>,
         /// Output file stem (default DIR/load_displacement for the first DIR): writes .png
-        /// and .svg.
+        /// and .svg, making its folder when missing.
         #[arg(long)]
         out: Option<PathBuf>,
         /// Chart title (default: the first clause of the first run's scene title, cut to the
@@ -329,6 +329,15 @@ pub fn load_displacement(
     }
     let (x_label, y_label) = labels.unwrap_or_default();
     let stem = out.map_or_else(|| dirs[0].join("load_displacement"), Path::to_path_buf);
+    if let Some(parent) = stem.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).with_context(|| {
+            format!(
+                "making the folder {} of --out {}",
+                parent.display(),
+                stem.display()
+            )
+        })?;
+    }
     let plot = Plot {
         title: title.unwrap_or_else(|| default_title(&dirs[0])),
         x_label,
@@ -374,6 +383,18 @@ mod tests {
             ("platen closure [mm]", "load [kN]")
         );
         let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        assert!(files.iter().all(|f| f.exists()));
+        // --out in a folder that does not exist yet: made
+        let stem = d.join("figures").join("disc-load");
+        let files =
+            load_displacement(std::slice::from_ref(&d), None, None, Some(&stem), None).unwrap();
+        assert_eq!(
+            files,
+            [
+                d.join("figures/disc-load.png"),
+                d.join("figures/disc-load.svg")
+            ]
+        );
         assert!(files.iter().all(|f| f.exists()));
         std::fs::remove_dir_all(&d).unwrap();
     }
