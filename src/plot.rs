@@ -43,7 +43,8 @@ pub enum Scale {
 /// A plot of several curves, drawn with lines and point markers.
 #[derive(Clone, Debug)]
 pub struct Plot {
-    /// Title above the chart.
+    /// Title above the chart; one longer than the chart is wide is cut to fit
+    /// ([`fit_title`]).
     pub title: String,
     /// Label of the horizontal axis.
     pub x_label: String,
@@ -63,6 +64,58 @@ pub struct Plot {
 }
 
 const SIZE: (u32, u32) = (1000, 700);
+/// Margin around the chart [px].
+const MARGIN: u32 = 15;
+/// Font size of the title [px].
+pub const TITLE_SIZE: u32 = 26;
+/// The widest title drawn [px]: the image less its margins and some air either side.
+pub const TITLE_WIDTH: u32 = SIZE.0 - 2 * MARGIN - 30;
+
+/// The width of `text` in the title's font [px], as the chart lays it out.
+pub fn title_width(text: &str) -> Result<u32> {
+    register_font();
+    let font = ("sans-serif", f64::from(TITLE_SIZE)).into_font();
+    let (w, _) = font
+        .box_size(text)
+        .map_err(|e| anyhow!("measuring the title {text:?}: {e:?}"))?;
+    Ok(w)
+}
+
+/// `title` cut to at most `max` pixels wide as `width` measures it: whole when it fits, else
+/// the longest run of its comma-separated clauses that fits (when that keeps at least half the
+/// width), else the longest run of its words, else of its characters, followed by an
+/// ellipsis.
+pub fn fit_title(
+    title: &str,
+    max: u32,
+    mut width: impl FnMut(&str) -> Result<u32>,
+) -> Result<String> {
+    let title = title.trim();
+    if width(title)? <= max {
+        return Ok(title.to_string());
+    }
+    let cut = |head: &str| {
+        let head = head.trim_end_matches(|c: char| c.is_whitespace() || ",;:-(".contains(c));
+        format!("{head}\u{2026}")
+    };
+    // ends of the clauses (before each ", "), of the words, of the characters: longest first
+    let clauses: Vec<usize> = title.match_indices(", ").map(|(i, _)| i).collect();
+    let words: Vec<usize> = title.match_indices(' ').map(|(i, _)| i).collect();
+    let chars: Vec<usize> = title.char_indices().map(|(i, _)| i).skip(1).collect();
+    for (ends, least) in [(clauses, max / 2), (words, 0), (chars, 0)] {
+        for &end in ends.iter().rev() {
+            let t = cut(&title[..end]);
+            let w = width(&t)?;
+            if w <= max {
+                if w >= least {
+                    return Ok(t);
+                }
+                break;
+            }
+        }
+    }
+    Ok("\u{2026}".into())
+}
 const COLOURS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -185,9 +238,10 @@ impl Plot {
         };
         let (xt, yt) = (tick(self.x_scale), tick(self.y_scale));
         root.fill(&WHITE).map_err(err)?;
+        let title = fit_title(&self.title, TITLE_WIDTH, title_width)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(&self.title, ("sans-serif", 26))
-            .margin(15)
+            .caption(&title, ("sans-serif", TITLE_SIZE))
+            .margin(MARGIN)
             .x_label_area_size(55)
             .y_label_area_size(85)
             .build_cartesian_2d(x, y)

@@ -35,10 +35,11 @@ pub enum PlotCommand {
         #[arg(long)]
         displacement: Option<String>,
         /// Output file stem (default DIR/load_displacement for the first DIR): writes .png
-        /// and .svg.
+        /// and .svg, making its folder when missing.
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Chart title (default: the first run's scene title).
+        /// Chart title (default: the first clause of the first run's scene title, cut to the
+        /// chart's width at a comma or word with an ellipsis).
         #[arg(long)]
         title: Option<String>,
     },
@@ -174,8 +175,8 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
             if let (Some(cl), Some(cd)) = (t.col(l)?, t.col(d)?) {
                 return Ok(Curve {
                     points: abs_pairs(t.values(cd), t.values(cl)),
-                    x_label: d.to_string(),
-                    y_label: l.to_string(),
+                    x_label: format!("|{d}| [mm]"),
+                    y_label: format!("|{l}| [kN]"),
                 });
             }
         }
@@ -228,16 +229,16 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
                     }
                 }
             }
-            let names: Vec<&str> = moving.iter().map(|m| m.0.as_str()).collect();
-            let x_label = if names.len() > 1 {
-                format!("platen closure ({}) [mm]", names.join(" + "))
+            let closing = moving.iter().filter(|m| m.1 == *axis).count();
+            let x_label = if closing > 1 {
+                "platen closure [mm]"
             } else {
-                format!("platen displacement ({first}) [mm]")
+                "platen displacement [mm]"
             };
             return Ok(Curve {
                 points: abs_pairs(u, w.values(f)),
-                x_label,
-                y_label: format!("load |force_{axis}[{first}]| [kN]"),
+                x_label: x_label.into(),
+                y_label: "load [kN]".into(),
             });
         }
     }
@@ -254,8 +255,8 @@ fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
                 if let Some(cu) = h.col(&format!("u_{axis}[{group}]"))? {
                     return Ok(Curve {
                         points: abs_pairs(h.values(cu), h.values(i)),
-                        x_label: format!("displacement |u_{axis}[{group}]| [mm]"),
-                        y_label: format!("load |reaction_{axis}[{group}]| [kN]"),
+                        x_label: format!("displacement of group {group} [mm]"),
+                        y_label: "load [kN]".into(),
                     });
                 }
             }
@@ -276,16 +277,31 @@ fn abs_pairs(x: Vec<f64>, y: Vec<f64>) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The scene title of a run folder (from summary.json's scene file), if any.
-fn scene_title(dir: &Path) -> Option<String> {
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).ok()?).ok()?;
-    let scene = s.get("scene")?.as_str()?;
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scene).ok()?).ok()?;
-    let t = v.get("title")?.as_str()?;
-    // The first clause: titles are long descriptions.
-    let short = t.split([':', ';']).next().unwrap_or(t).trim();
-    Some(short.chars().take(90).collect())
+/// The default title of a run folder's chart: the first clause (up to a `:` or `;`) of its
+/// scene's title (the scene file named in summary.json), else the scene file's name, else the
+/// folder's name. The chart cuts a title wider than itself at a clause or word, with an
+/// ellipsis.
+fn default_title(dir: &Path) -> String {
+    let scene = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|s| serde_json::from_str::<serde_json::Value>(&s).ok())
+        .and_then(|s| s.get("scene")?.as_str().map(PathBuf::from));
+    let title = scene.as_ref().and_then(|p| {
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()?;
+        let t = v.get("title")?.as_str()?;
+        // The first clause: titles are long descriptions.
+        let short = t.split([':', ';']).next().unwrap_or(t).trim();
+        (!short.is_empty()).then(|| short.to_string())
+    });
+    let name = |p: &Path| {
+        p.file_stem()
+            .map(|n| n.to_string_lossy().into_owned())
+            .filter(|n| !n.is_empty())
+    };
+    title
+        .or_else(|| scene.as_deref().and_then(name))
+        .or_else(|| name(dir))
+        .unwrap_or_else(|| "load-displacement".into())
 }
 
 /// Draws the load-displacement curves of `dirs` into `out` (default
@@ -313,10 +329,17 @@ pub fn load_displacement(
     }
     let (x_label, y_label) = labels.unwrap_or_default();
     let stem = out.map_or_else(|| dirs[0].join("load_displacement"), Path::to_path_buf);
+    if let Some(parent) = stem.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).with_context(|| {
+            format!(
+                "making the folder {} of --out {}",
+                parent.display(),
+                stem.display()
+            )
+        })?;
+    }
     let plot = Plot {
-        title: title
-            .or_else(|| scene_title(&dirs[0]))
-            .unwrap_or_else(|| "load-displacement".into()),
+        title: title.unwrap_or_else(|| default_title(&dirs[0])),
         x_label,
         y_label,
         x_scale: Scale::Linear,
@@ -355,10 +378,112 @@ mod tests {
         );
         let c = curve(&d, None, None).unwrap();
         assert_eq!(c.points, vec![(0.0, 0.0), (2e-6, 500.0)]);
-        assert!(c.x_label.contains("top + bottom"));
+        assert_eq!(
+            (c.x_label.as_str(), c.y_label.as_str()),
+            ("platen closure [mm]", "load [kN]")
+        );
         let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
         assert!(files.iter().all(|f| f.exists()));
+        // --out in a folder that does not exist yet: made
+        let stem = d.join("figures").join("disc-load");
+        let files =
+            load_displacement(std::slice::from_ref(&d), None, None, Some(&stem), None).unwrap();
+        assert_eq!(
+            files,
+            [
+                d.join("figures/disc-load.png"),
+                d.join("figures/disc-load.svg")
+            ]
+        );
+        assert!(files.iter().all(|f| f.exists()));
         std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    /// The texts of an SVG chart, in order (the title first, then the axis labels).
+    fn svg_texts(svg: &Path) -> Vec<String> {
+        let text = std::fs::read_to_string(svg).unwrap();
+        text.split("<text")
+            .skip(1)
+            .map(|t| {
+                let body = &t[t.find('>').unwrap() + 1..t.find("</text>").unwrap()];
+                body.trim().to_string()
+            })
+            .collect()
+    }
+
+    const WALLS: &str = "time,u_x[top],u_y[top],force_x[top],force_y[top]\n\
+                         0,0,0,0,0\n\
+                         1,0,-1e-6,0,-500\n";
+
+    #[test]
+    fn a_long_scene_title_is_cut_to_the_charts_width_and_the_axes_are_physical() {
+        let clause = "Brazilian disc D = 50 mm, t = 10 mm, ring mesh h = R/12 (864 triangles), \
+                      the whole disc fracturing (1260 joints), between two rigid platens closing \
+                      at 2 x 0.02 m/s (ramped over 0.1 ms)";
+        let d = folder("title", &[("walls.csv", WALLS)]);
+        let scene = d.join("disc.json");
+        std::fs::write(
+            &scene,
+            serde_json::json!({ "title": format!("{clause}; ft = 3 MPa") }).to_string(),
+        )
+        .unwrap();
+        std::fs::write(
+            d.join("summary.json"),
+            serde_json::json!({ "scene": scene }).to_string(),
+        )
+        .unwrap();
+        assert!(crate::plot::title_width(clause).unwrap() > crate::plot::TITLE_WIDTH);
+        let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        let texts = svg_texts(&files[1]);
+        let title = &texts[0];
+        assert_eq!(
+            title,
+            "Brazilian disc D = 50 mm, t = 10 mm, ring mesh h = R/12 (864 triangles)\u{2026}"
+        );
+        assert!(crate::plot::title_width(title).unwrap() <= crate::plot::TITLE_WIDTH);
+        // one moving wall: its displacement; the load without the column's name
+        assert_eq!(texts[1..3], ["load [kN]", "platen displacement [mm]"]);
+        assert!(
+            !texts
+                .iter()
+                .any(|t| t.contains("force_") || t.contains("u_y"))
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn without_a_scene_title_the_chart_is_titled_by_the_scene_file_or_the_folder() {
+        let d = folder("untitled", &[("walls.csv", WALLS)]);
+        let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        let name = d.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(svg_texts(&files[1])[0], name);
+        let scene = d.join("my-specimen.json");
+        std::fs::write(&scene, "{}").unwrap();
+        std::fs::write(
+            d.join("summary.json"),
+            serde_json::json!({ "scene": scene }).to_string(),
+        )
+        .unwrap();
+        let files = load_displacement(std::slice::from_ref(&d), None, None, None, None).unwrap();
+        assert_eq!(svg_texts(&files[1])[0], "my-specimen");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_title_is_cut_at_a_clause_else_a_word_else_a_character() {
+        // 10 px a character
+        let w = |s: &str| Ok(10 * s.chars().count() as u32);
+        let fit = |t: &str, max: u32| crate::plot::fit_title(t, max, w).unwrap();
+        assert_eq!(fit("short title", 200), "short title");
+        let t = "Block 50 x 50 mm, t = 50 mm, between platens";
+        assert_eq!(fit(t, 300), "Block 50 x 50 mm, t = 50 mm\u{2026}");
+        // the first clause alone is less than half the width: words instead
+        assert_eq!(
+            fit("A, bb cc dd ee ff gg hh", 180),
+            "A, bb cc dd ee ff\u{2026}"
+        );
+        assert_eq!(fit("Abcdefghijklmnop", 60), "Abcde\u{2026}");
+        assert_eq!(fit("Abcdefghijklmnop", 5), "\u{2026}");
     }
 
     #[test]
@@ -374,9 +499,17 @@ mod tests {
         );
         let c = curve(&d, None, None).unwrap();
         assert_eq!(c.points, vec![(0.0, 0.0), (1e-5, 700.0)]);
+        assert_eq!(
+            (c.x_label.as_str(), c.y_label.as_str()),
+            ("displacement of group load [mm]", "load [kN]")
+        );
         // Named columns win; a missing column is an error that lists the columns.
         let c = curve(&d, Some("reaction_x[load]"), Some("u_x[load]")).unwrap();
         assert_eq!(c.points[1], (1e-7, 3.0));
+        assert_eq!(
+            (c.x_label.as_str(), c.y_label.as_str()),
+            ("|u_x[load]| [mm]", "|reaction_x[load]| [kN]")
+        );
         let e = curve(&d, Some("nope"), Some("u_x[load]")).unwrap_err();
         assert!(format!("{e}").contains("reaction_y[load]"));
         std::fs::remove_dir_all(&d).unwrap();

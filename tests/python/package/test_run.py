@@ -69,6 +69,27 @@ def test_the_progress_callable_sees_the_steps(short_runs):
     assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
 
 
+def test_a_missing_name_of_the_results_dicts_lists_the_names(short_runs):
+    """Every dict of the Result indexed by name: a KeyError naming the key and listing the
+    keys, sorted."""
+    _, one, _, _ = short_runs
+    for d, what in [
+        (one.summary, "summary entries"),
+        (one.energy, "energy terms"),
+        (one.histories, "histories"),
+        (one.walls, "columns of walls.csv"),
+        (one.point_extra, "extra point arrays"),
+        (one.cell_extra, "extra cell arrays"),
+        (one.joints, "joint arrays"),
+        (one.joint_state, "joint state arrays"),
+    ]:
+        assert d, what
+        with pytest.raises(KeyError) as e:
+            d["nope"]
+        assert e.value.args[0].endswith(f"'nope'; the {what}: {', '.join(sorted(d))}"), what
+        assert "nope" not in d and d.get("nope") is None
+
+
 def test_a_temporary_folder_goes_with_its_result_unless_kept(tmp_path):
     s = short_disc(2e-5)
     r = fdem.run(s, progress=False)

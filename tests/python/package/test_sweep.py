@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -99,6 +100,9 @@ def test_a_bad_variant_gives_a_row_with_its_error(tmp_path):
     assert "KeyError: bodies[0].materialz.body.young: no 'materialz'" in rows[2]["error"]
     assert set(rows[1]) - {YOUNG} == set(rows[2]) - set(variants[2])
     assert set(ROW_FIELDS) <= set(rows[2])
+    fields = ", ".join(sorted(rows[0]))
+    with pytest.raises(KeyError, match=re.escape(f"no row field 'peak'; the row fields: {fields}")):
+        rows[0]["peak"]
     with pytest.raises(RuntimeError, match=r"bodies\[0\]\.materials\.body\.young"):
         sweep(scene, variants[:2], processes=2, runner=cli_runner, raise_errors=True)
     with pytest.raises(TypeError, match="list of dicts"):

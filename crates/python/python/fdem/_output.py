@@ -20,6 +20,10 @@ access and cached. ``read(out)`` (or ``Output(out)``) gives:
   wrote no frames, or the frames do not carry that array: ``output.arrays``), and ``joints``
   (the last joint frame's arrays).
 
+Every dict of names (``summary``, ``energy``, ``histories``, ``walls``, ``fractures``,
+``joints``, a frame's ``point_data`` and ``cell_data``) is a :class:`fdem._named.Named`: a
+plain dict whose missing key raises a KeyError naming the key and listing the keys there.
+
 How the 3D arrays of the ``.vtu`` files map back to fdem's 2D arrays (the convenience
 properties of :class:`Frame`): a point vector (``displacement``, ``velocity``, ``force``,
 ``reaction``, ``contact_force``) is written as ``(x, y, 0)``; the property is the first two
@@ -58,6 +62,7 @@ import numpy as np
 
 _T = TypeVar("_T")
 
+from ._named import Named
 from ._vtu import VtuData, VtuFormatError, read_vtu
 
 __all__ = [
@@ -112,6 +117,20 @@ def stress4(a: np.ndarray, name: str = "stress") -> np.ndarray:
             f"{name}: not an in-plane symmetric tensor [sxx, sxy, 0, sxy, syy, 0, 0, 0, szz]"
         )
     return np.ascontiguousarray(a[:, [0, 4, 1, 8]], dtype=np.float64)
+
+
+def summary_dict(data: Any, where: str) -> Dict[str, Any]:
+    """``summary.json`` (``where``) as read by ``json``, with the summary and its energy ledger
+    as :class:`Named` dicts (a missing entry raises a KeyError listing the entries there)."""
+    if not isinstance(data, dict):
+        raise ValueError(
+            f"{where}: holds a JSON {type(data).__name__}, not an object: not a summary fdem "
+            "writes (re-run the scene to write it again)"
+        )
+    summary: Dict[str, Any] = Named(data, what="summary entry", plural="summary entries")
+    if isinstance(summary.get("energy"), dict):
+        summary["energy"] = Named(summary["energy"], what="energy term")
+    return summary
 
 
 class Frame:
@@ -337,8 +356,10 @@ class _Table:
             [r[c] if c < len(r) else float("nan") for r in self.rows], dtype=np.float64
         )
 
-    def columns(self) -> Dict[str, np.ndarray]:
-        """Every column by name; an error for a repeated name or a row of another length."""
+    def columns(self, what: str, plural: str) -> Dict[str, np.ndarray]:
+        """Every column by name (a missing name raises a KeyError listing them, ``what`` and
+        ``plural`` naming a column in its message); an error for a repeated name or a row of
+        another length."""
         for h in self.head:
             self.col(h)
         for i, r in enumerate(self.rows):
@@ -346,7 +367,9 @@ class _Table:
                 raise ValueError(
                     f"{self.path}: row {i + 1} has {len(r)} values for {len(self.head)} columns"
                 )
-        return {h: self.values(c) for c, h in enumerate(self.head)}
+        return Named(
+            ((h, self.values(c)) for c, h in enumerate(self.head)), what=what, plural=plural
+        )
 
 
 _NUMBER = re.compile(
@@ -417,8 +440,7 @@ class Output:
                     "killed); an interrupted run writes one, a finished one too"
                 )
             with open(p, encoding="utf-8") as f:
-                summary: Dict[str, Any] = json.load(f)
-            return summary
+                return summary_dict(json.load(f), str(p))
 
         return self._cached("summary", make)
 
@@ -544,7 +566,7 @@ class Output:
         if jf is None or not len(jf):
             return None
         last = jf[-1]
-        return {"points": last.points, **last.cell_data}
+        return Named({"points": last.points, **last.cell_data}, what="joint array")
 
     def _table(self, name: str) -> Optional[_Table]:
         def make() -> Optional[_Table]:
@@ -557,13 +579,23 @@ class Output:
     def histories(self) -> Optional[Dict[str, np.ndarray]]:
         """``histories.csv`` as float64 arrays by column (``time`` first), None if absent."""
         t = self._table("histories.csv")
-        return None if t is None else self._cached("histories", t.columns)
+        return (
+            None
+            if t is None
+            else self._cached("histories", lambda: t.columns("history", "histories"))
+        )
 
     @property
     def walls(self) -> Optional[Dict[str, np.ndarray]]:
         """``walls.csv`` as float64 arrays by column, None if absent."""
         t = self._table("walls.csv")
-        return None if t is None else self._cached("walls", t.columns)
+        return (
+            None
+            if t is None
+            else self._cached(
+                "walls", lambda: t.columns("column of walls.csv", "columns of walls.csv")
+            )
+        )
 
     @property
     def fractures(self) -> Optional[Dict[str, np.ndarray]]:
@@ -584,7 +616,9 @@ class Output:
         for i, r in enumerate(rows):
             if len(r) != len(head):
                 raise ValueError(f"{p} line {i + 2}: {len(r)} values for {len(head)} columns")
-        out: Dict[str, np.ndarray] = {}
+        out: Dict[str, np.ndarray] = Named(
+            what="column of fractures.csv", plural="columns of fractures.csv"
+        )
         for c, h in enumerate(head):
             col = [r[c] for r in rows]
             try:

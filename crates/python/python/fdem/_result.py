@@ -14,7 +14,8 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Union, cast
 import numpy as np
 
 from . import _core
-from ._output import Output
+from ._named import Named
+from ._output import Output, summary_dict
 from ._scene import PathLike, Scene, as_scene
 
 RunError = _core.RunError
@@ -40,7 +41,9 @@ class Result(Output):
         frame: Dict[str, Any] = dict(data["frame"])
         # the summary and the last frame's arrays as the run returned them (Output reads the
         # same values from the folder's files)
-        self._cache["summary"] = json.loads(data["summary"])
+        self._cache["summary"] = summary_dict(
+            json.loads(data["summary"]), f"{self.out}: the run's summary"
+        )
         self._end: Dict[str, Any] = {
             name: frame[key]
             for name, key in (
@@ -69,13 +72,23 @@ class Result(Output):
         #: von Mises stress of the nodal stress [Pa], (n,), or None.
         self.nodal_von_mises: Optional[np.ndarray] = frame["nodal_von_mises"]
         #: Further point arrays of the frame by name (``contact_force`` with contact).
-        self.point_extra: Dict[str, np.ndarray] = dict(frame["point_extra"])
+        self.point_extra: Dict[str, np.ndarray] = Named(
+            frame["point_extra"], what="extra point array"
+        )
         #: Further cell arrays of the frame by name (``contact_active``, ``young``).
-        self.cell_extra: Dict[str, np.ndarray] = dict(frame["cell_extra"])
-        self._joints: Optional[Dict[str, np.ndarray]] = data.get("joints")
+        self.cell_extra: Dict[str, np.ndarray] = Named(
+            frame["cell_extra"], what="extra cell array"
+        )
+        joints = data.get("joints")
+        self._joints: Optional[Dict[str, np.ndarray]] = (
+            None if joints is None else Named(joints, what="joint array")
+        )
         #: The joints' history at the end (``point_damage`` (j, 2), ``broken``,
         #: ``broken_at``, ``work``, ``stored``, ``dissipated``), or None without joints.
-        self.joint_state: Optional[Dict[str, np.ndarray]] = data.get("joint_state")
+        state = data.get("joint_state")
+        self.joint_state: Optional[Dict[str, np.ndarray]] = (
+            None if state is None else Named(state, what="joint state array")
+        )
         self._finalizer: Optional[Any] = None  # a weakref.finalize
         if temporary:
             self._finalizer = weakref.finalize(self, shutil.rmtree, str(self.out), True)

@@ -6,7 +6,7 @@ process (``concurrent.futures.ProcessPoolExecutor`` with the ``spawn`` context: 
 its own process, its own memory and its own rayon threads), and returns one row per variant,
 in the order of ``variants``.
 
-A row (a dict) holds the variant's values under their key paths, then ``peak_load`` (N, or
+A row (a dict: a missing field raises a KeyError listing the fields) holds the variant's values under their key paths, then ``peak_load`` (N, or
 None), ``steps``, ``wall_time`` (s, the variant's wall-clock time in its worker: load, run,
 output), ``converged`` (relaxation and static runs; None for dynamic runs), the energy totals
 ``energy_supplied``, ``energy_present``, ``energy_dissipated``, ``energy_error`` (J, from
@@ -31,6 +31,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
+from ._named import Named
 from ._output import Output
 
 __all__ = ["sweep", "parse_key_path", "get_path", "set_path", "fdem_runner", "ROW_FIELDS"]
@@ -313,7 +314,9 @@ def sweep(
                     Tuple[Dict[str, Any], Optional[str], Optional[Future[Any]], Optional[BaseException]]
                 ] = []
                 for i, v in enumerate(variants):
-                    head = {k: copy.deepcopy(val) for k, val in v.items()}
+                    head: Dict[str, Any] = Named(
+                        ((k, copy.deepcopy(val)) for k, val in v.items()), what="row field"
+                    )
                     d = copy.deepcopy(base_dict)
                     try:
                         for k, val in v.items():

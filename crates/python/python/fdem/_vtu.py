@@ -31,6 +31,8 @@ from typing import Callable, Dict, List, NoReturn, Union
 
 import numpy as np
 
+from ._named import Named
+
 __all__ = ["VtuData", "VtuFormatError", "read_vtu"]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -72,16 +74,19 @@ class VtuData:
         cells: the cells' point indices, int64, shape ``(m, k)`` (k = 3 for triangles, 2 for
             the joints' lines).
         cell_type: the VTK cell type of every cell (5 triangle, 3 line).
-        point_data: the point arrays by name, in the file's order.
-        cell_data: the cell arrays by name, in the file's order.
+        point_data: the point arrays by name, in the file's order (a missing name raises a
+            KeyError listing the arrays there).
+        cell_data: the cell arrays by name, in the file's order (the same).
     """
 
     path: str
     points: np.ndarray
     cells: np.ndarray
     cell_type: int
-    point_data: Dict[str, np.ndarray] = field(default_factory=dict)
-    cell_data: Dict[str, np.ndarray] = field(default_factory=dict)
+    point_data: Dict[str, np.ndarray] = field(
+        default_factory=lambda: Named(what="point array")
+    )
+    cell_data: Dict[str, np.ndarray] = field(default_factory=lambda: Named(what="cell array"))
 
 
 def _u64(data: memoryview, at: int, count: int, fail: Callable[[str], NoReturn]) -> np.ndarray:
@@ -191,8 +196,8 @@ def read_vtu(path: PathLike) -> VtuData:
         a = np.frombuffer(b, dtype=ty).astype(ty.newbyteorder("="), copy=False)
         return a.reshape(tuples, comps) if comps > 1 else a
 
-    def section(tag: str, tuples: int) -> Dict[str, np.ndarray]:
-        out: Dict[str, np.ndarray] = {}
+    def section(tag: str, tuples: int, what: str) -> Dict[str, np.ndarray]:
+        out: Dict[str, np.ndarray] = Named(what=what)
         for s in piece.findall(tag):
             for e in s.findall("DataArray"):
                 name = e.get("Name", "")
@@ -209,8 +214,8 @@ def read_vtu(path: PathLike) -> VtuData:
             fail(f"no single <DataArray Name=\"{name}\"> in <{parent}>")
         return array(found[0], tuples)
 
-    point_data = section("PointData", n_points)
-    cell_data = section("CellData", n_cells)
+    point_data = section("PointData", n_points, "point array")
+    cell_data = section("CellData", n_cells, "cell array")
     pts = piece.findall("./Points/DataArray")
     if len(pts) != 1:
         fail("no single <DataArray> in <Points>")
