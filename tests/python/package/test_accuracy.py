@@ -18,6 +18,12 @@ def test_the_run_result_carries_the_accuracy_section_of_its_summary(disc_runs):
     assert pz["value"] >= pz["threshold"] and "warning" not in pz
     assert result.warnings == [] and section["warnings"] == 0
     assert fdem.read(cli_out).accuracy == acc
+    try:
+        acc["process_zone"]
+    except KeyError as e:
+        assert "process_zone_i" in str(e) and "energy_error" in str(e), e
+    else:
+        raise AssertionError("no KeyError")
 
 
 def test_a_modulus_typed_in_gpa_is_warned_by_name(tmp_path):

@@ -460,7 +460,7 @@ class Output:
         section = self.summary.get("accuracy") or {}
         indicators: List[Dict[str, Any]] = section.get("indicators", [])
         names = [i["name"] for i in indicators]
-        out: Dict[str, Dict[str, Any]] = {}
+        out: Dict[str, Dict[str, Any]] = Named(what="accuracy indicator")
         for i in indicators:
             key = i["name"] if names.count(i["name"]) == 1 else f"{i['name']}[{i['subject']}]"
             out[key] = i
