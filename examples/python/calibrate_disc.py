@@ -33,7 +33,10 @@ def peak_of(ft: float, scene: fdem.Scene) -> float:
     edited = scene.edit({STRENGTH: ft})
     result = fdem.run(edited, progress=False)
     if result.peak_load is None:
-        raise RuntimeError("the run wrote no load-displacement curve")
+        raise RuntimeError(
+            f"the disc of ft = {ft:.4g} Pa did not fail within the run "
+            f"({result.failure['criterion']}): lengthen its duration"
+        )
     return float(result.peak_load)
 
 
@@ -48,6 +51,10 @@ def calibrate(target: float, processes: int, tolerance: float) -> float:
     for r in rows:
         if r["error"]:
             raise RuntimeError(r["error"])
+        if not r["failed"]:
+            raise RuntimeError(
+                f"the disc of ft = {r[STRENGTH]:.4g} Pa did not fail within the run: no peak"
+            )
     print(f"{'ft [MPa]':>10} {'peak [N]':>10} {'wall [s]':>9}")
     pairs = []
     for r in rows:

@@ -39,12 +39,13 @@ def plot(run_dir: Path, png: Path) -> None:
     a.set_title(f"t = {last.time * 1e3:.3f} ms")
     a.set_xlabel("x [m]")
     a.set_ylabel("y [m]")
-    if out.peak_load is not None:  # the run has a load-displacement curve
+    if out.largest_load is not None:  # the run has a load-displacement curve
         u, p = out.load_displacement()
         b.plot(u * 1e3, p / 1e3)
         b.set_xlabel("displacement [mm]")
         b.set_ylabel("load [kN]")
-        b.set_title(f"peak {out.peak_load / 1e3:.3f} kN" if out.peak_load else "load")
+        peak = out.peak_load  # None unless the specimen failed
+        b.set_title(f"peak {peak / 1e3:.3f} kN" if peak else "load (no failure)")
     else:
         b.set_axis_off()
     fig.tight_layout()

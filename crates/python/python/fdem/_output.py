@@ -13,7 +13,9 @@ access and cached. ``read(out)`` (or ``Output(out)``) gives:
   the same as pandas DataFrames;
 - ``fractures`` (``fractures.csv``: one row per broken joint): dict of arrays (``time``, ``x``,
   ``y``, ``mode_mix``, ``energy_released`` float64, ``joint`` int64, ``mode`` str);
-- ``load_displacement()``: the curve ``fdem plot load-displacement`` draws, ``peak_load``;
+- ``load_displacement()``: the curve ``fdem plot load-displacement`` draws; ``failure``
+  (whether the specimen failed, and how), ``failed``, ``peak_load`` (None unless it failed)
+  and ``largest_load``;
 - the last frame's arrays as fdem's 2D arrays: ``positions``, ``displacements``,
   ``velocities``, ``forces``, ``reactions``, ``cell_stress``, ``principal_stress``,
   ``von_mises``, ``nodal_stress``, ``triangles``, ``material``, ``body`` (None when the run
@@ -738,14 +740,72 @@ class Output:
         )
 
     @property
-    def peak_load(self) -> Optional[float]:
-        """The largest load of :meth:`load_displacement` [N]; None when the run has no such
-        curve (or it has no rows). A repeated column or damaged file still raises."""
+    def largest_load(self) -> Optional[float]:
+        """The largest load of :meth:`load_displacement` [N], whether or not the specimen
+        failed; None when the run has no such curve (or it has no rows). A repeated column or
+        damaged file still raises."""
         try:
             _, p = self.load_displacement()
         except CurveError:
             return None
         return float(np.max(p)) if len(p) else None
+
+    @property
+    def failure(self) -> Dict[str, Any]:
+        """Whether the specimen failed, and how: a dict with ``failed`` (True, False, or None
+        without a load-displacement curve), ``criterion`` (the rule, in words), ``peak_load``
+        [N] and ``displacement_at_peak`` [m] (the curve's largest load and where; None when
+        it did not fail), ``largest_load`` [N], ``final_load`` [N] and ``broken_joints``.
+
+        The rule: a joint broke and, after the largest load, the load fell to
+        ``FAILURE_DROP`` (0.8) of it or below. A run that ends while the load still rises, or
+        without a broken joint, did not fail: its largest load is not a peak.
+        """
+        fr = self.fractures
+        broken = 0 if fr is None else len(next(iter(fr.values()), []))
+        out: Dict[str, Any] = Named(what="failure entry", plural="failure entries")
+        out.update(
+            failed=None,
+            criterion=f"a joint broke and the load fell to {FAILURE_DROP} of its largest value or below after it",
+            peak_load=None,
+            displacement_at_peak=None,
+            largest_load=None,
+            final_load=None,
+            broken_joints=broken,
+        )
+        try:
+            u, p = self.load_displacement()
+        except CurveError:
+            return out
+        if not len(p):
+            return out
+        k = int(np.argmax(p))
+        failed = broken > 0 and float(np.min(p[k:])) <= FAILURE_DROP * float(p[k])
+        out.update(failed=bool(failed), largest_load=float(p[k]), final_load=float(p[-1]))
+        if failed:
+            out.update(peak_load=float(p[k]), displacement_at_peak=float(u[k]))
+        return out
+
+    @property
+    def failed(self) -> Optional[bool]:
+        """Whether the specimen failed (:attr:`failure`); None without a load-displacement
+        curve."""
+        failed: Optional[bool] = self.failure["failed"]
+        return failed
+
+    @property
+    def peak_load(self) -> Optional[float]:
+        """The peak load [N] of a specimen that failed (:attr:`failure`): the largest load of
+        :meth:`load_displacement`. None when it did not fail within the run (no joint broke,
+        or the load never fell after its largest value: see :attr:`largest_load`) or the run
+        has no such curve."""
+        peak: Optional[float] = self.failure["peak_load"]
+        return peak
+
+
+#: The load drop after the largest load that, with a broken joint, marks a failed specimen
+#: (:attr:`Output.failure`): the load falls to this fraction of its largest value or below.
+FAILURE_DROP = 0.8
 
 
 def read(out: PathLike) -> Output:

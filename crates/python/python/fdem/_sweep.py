@@ -6,8 +6,10 @@ process (``concurrent.futures.ProcessPoolExecutor`` with the ``spawn`` context: 
 its own process, its own memory and its own rayon threads), and returns one row per variant,
 in the order of ``variants``.
 
-A row (a dict: a missing field raises a KeyError listing the fields) holds the variant's values under their key paths, then ``peak_load`` (N, or
-None), ``steps``, ``wall_time`` (s, the variant's wall-clock time in its worker: load, run,
+A row (a dict: a missing field raises a KeyError listing the fields) holds the variant's values under their key paths, then ``failed`` (whether the
+specimen failed within the run, ``Output.failure``; None without a load-displacement curve),
+``peak_load`` (N; None when it did not fail: a run that ends while the load still rises has no
+peak), ``largest_load`` (N, failed or not), ``steps``, ``wall_time`` (s, the variant's wall-clock time in its worker: load, run,
 output), ``converged`` (relaxation and static runs; None for dynamic runs), the energy totals
 ``energy_supplied``, ``energy_present``, ``energy_dissipated``, ``energy_error`` (J, from
 ``summary.json``), ``metric`` (when ``metric`` is given: ``metric(output)`` for the run's
@@ -43,7 +45,9 @@ Runner = Callable[[Dict[str, Any], str, str, Optional[int]], Optional[Dict[str, 
 
 #: The fields every row has after the variant's values, in order.
 ROW_FIELDS = (
+    "failed",
     "peak_load",
+    "largest_load",
     "steps",
     "wall_time",
     "converged",
@@ -184,8 +188,11 @@ def _run_variant(
         o = Output(out)
         s = o.summary
         energy = s.get("energy") or {}
+        failure = o.failure
         row: Dict[str, Any] = {
-            "peak_load": o.peak_load,
+            "failed": failure["failed"],
+            "peak_load": failure["peak_load"],
+            "largest_load": failure["largest_load"],
             "steps": s.get("steps"),
             "wall_time": wall,
             "converged": s.get("converged"),

@@ -335,9 +335,13 @@ impl Problem {
             );
         }
         let free = self.model.constrained.iter().filter(|c| !**c).count();
+        let joints = match self.fracturing.n_joints() {
+            0 => String::new(),
+            n => format!(", {n} joints"),
+        };
         let _ = write!(
             s,
-            "  {} nodes, {} triangles, {} free DOFs; analysis {:?}",
+            "  {} nodes, {} triangles{joints}, {} free DOFs; analysis {:?}",
             self.model.n_nodes(),
             self.model.triangles.len(),
             free,
