@@ -6,7 +6,8 @@ use crate::common;
 use crate::cracks::{GRIFFITH_FT, griffith_run, griffith_scene, griffith_stress_of};
 
 use fdem_solver::driver;
-use fdem_solver::problem::accuracy::{Indicator, before_run};
+use fdem_solver::problem::indicator::Indicator;
+use fdem_solver::run::accuracy::before_run;
 use serde_json::json;
 
 /// The indicator `name` (of `subject` when given) in `list`.

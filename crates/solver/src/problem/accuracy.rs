@@ -8,15 +8,13 @@
 //! and, when it fails, one warning in plain words with its fix (docs/accuracy.md derives the
 //! thresholds).
 
-use std::fmt::Write as _;
-
 use fdem_mesh::{Elements, PlaneKind, TriId};
 use rayon::prelude::*;
-use serde::Serialize;
 use serde_json::json;
 
 use crate::input::scene::Scene;
 use crate::problem::Fracturing;
+use crate::problem::indicator::{Good, Indicator, length};
 use crate::problem::model::Model;
 
 /// The smallest `l_ch / h` (characteristic length over the shortest joint of a joint
@@ -41,52 +39,6 @@ pub const LOADING_SPEED_MAX: f64 = 1e-5;
 /// Griffith plate's coarse mesh has a triangle of 7.9 degrees and fails within 4.7 % of
 /// fracture mechanics; below 5 degrees (aspect ratios above about 12) a triangle is a sliver.
 pub const MIN_ANGLE_DEG: f64 = 5.0;
-
-/// Which side of its threshold an indicator's value must lie on.
-#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum Good {
-    /// At least the threshold.
-    AtLeast,
-    /// At most the threshold.
-    AtMost,
-}
-
-/// One accuracy indicator of a run.
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct Indicator {
-    /// Its name (`process_zone_i`, `process_zone_ii`, `joint_compliance`, `mesh_quality`,
-    /// `units`, `time_step`, `energy_error`, `quasi_static`, `contact_penetration`,
-    /// `static_strain`).
-    pub name: String,
-    /// What it is about: a JSON path of the scene (`fracture.material`), `mesh` or `run`.
-    pub subject: String,
-    /// What the value is, in words (`l_ch / median joint length`).
-    pub measure: String,
-    /// The value.
-    pub value: f64,
-    /// The threshold.
-    pub threshold: f64,
-    /// The side of the threshold that passes.
-    pub good: Good,
-    /// What it means.
-    pub meaning: String,
-    /// When it fails: what is wrong and the fix, in plain words.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub warning: Option<String>,
-    /// The figures behind the value.
-    pub details: serde_json::Value,
-}
-
-impl Indicator {
-    /// Whether the value lies on the good side of the threshold.
-    pub fn passes(&self) -> bool {
-        match self.good {
-            Good::AtLeast => self.value >= self.threshold,
-            Good::AtMost => self.value <= self.threshold,
-        }
-    }
-}
 
 /// The indicators decided by the problem: per joint material the process zone in modes I and
 /// II and the joints' compliance, the mesh's quality, and the input values outside the
@@ -131,18 +83,6 @@ fn median(v: &mut [f64]) -> f64 {
         v[n / 2]
     } else {
         0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
-/// A length in the unit that reads best (m, mm or um), 3 significant digits.
-pub fn length(x: f64) -> String {
-    let a = x.abs();
-    if a >= 0.1 || a == 0.0 {
-        format!("{x:.3} m")
-    } else if a >= 1e-4 {
-        format!("{:.3} mm", x * 1e3)
-    } else {
-        format!("{:.3} um", x * 1e6)
     }
 }
 
@@ -437,98 +377,4 @@ fn loading_speed(scene: &Scene, model: &Model, elements: &Elements) -> Option<In
         ));
     }
     Some(ind)
-}
-
-/// The console block of `indicators`: one line each, `ok` or `WARN` with the warning and its
-/// fix on the next line.
-pub fn describe(indicators: &[Indicator]) -> String {
-    let mut s = String::new();
-    for i in indicators {
-        let side = match i.good {
-            Good::AtLeast => ">=",
-            Good::AtMost => "<=",
-        };
-        let tag = if i.passes() { "ok  " } else { "WARN" };
-        let _ = write!(
-            s,
-            "\n  {tag} {:<20} {}: {} = {} ({side} {})",
-            i.name,
-            i.subject,
-            short(&i.measure),
-            number(i.value),
-            number(i.threshold)
-        );
-        if let Some(w) = &i.warning {
-            let _ = write!(s, "\n       {w}");
-        }
-    }
-    s
-}
-
-/// The part of a measure before its parenthesis.
-fn short(measure: &str) -> &str {
-    measure.split(" (").next().unwrap_or(measure).trim()
-}
-
-/// A number in 3 significant digits, fixed or scientific as it reads best.
-pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if x.fract() == 0.0 && a < 1e6 {
-        format!("{x:.0}")
-    } else if (1e-2..1e4).contains(&a) {
-        let digits = (2 - a.log10().floor() as i32).max(0) as usize;
-        format!("{x:.digits$}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
-/// The time-step indicator: the step used over the scheme's stable step a priori
-/// (`l.dt / l.dt_limit`); with `active_limit`, the stable step of the largest active bound
-/// the run met (contact engaged as it was, not every edge pressed flat), as a detail.
-pub fn time_step(l: &crate::problem::load::Problem, active_limit: Option<f64>) -> Indicator {
-    let ratio = l.dt / l.dt_limit;
-    let mut details = json!({
-        "scheme": l.scheme.name(),
-        "time_step": l.dt,
-        "stable_step": l.dt_limit,
-        "omega_max": l.omega_max(),
-    });
-    if let Some(h) = active_limit {
-        details["active_stable_step"] = json!(h);
-        details["step_over_active_stable_step"] = json!(l.dt / h);
-    }
-    let mut ind = Indicator {
-        name: "time_step".into(),
-        subject: "integrator".into(),
-        measure: "the step over the stable step of every stage (a priori)".into(),
-        value: ratio,
-        threshold: 1.0,
-        good: Good::AtMost,
-        meaning: "above 1 the explicit scheme is unstable; the a-priori bound assumes every \
-                  edge in contact, so the margin to the active bound is larger"
-            .into(),
-        warning: None,
-        details,
-    };
-    if !ind.passes() {
-        ind.warning = Some(format!(
-            "the step {:.4e} s is {ratio:.3} times the stable step {:.4e} s: set \
-             integrator.time_step to \"auto\" or below the stable step",
-            l.dt, l.dt_limit
-        ));
-    }
-    ind
-}
-
-/// What `fdem check` reports before a run: the problem's indicators and, for a dynamic or
-/// relaxation analysis, the time step's.
-pub fn before_run(l: &crate::problem::load::Problem) -> Vec<Indicator> {
-    let mut out = l.accuracy.clone();
-    if l.scene.analysis != crate::input::scene::Analysis::Static {
-        out.push(time_step(l, None));
-    }
-    out
 }

@@ -74,7 +74,7 @@ pub struct Problem {
     /// The accuracy indicators the problem decides before a step is taken
     /// ([`crate::problem::accuracy::predict`]: process zone, joint compliance, mesh quality,
     /// units); `fdem check` prints them and the run reports them with what it measured.
-    pub accuracy: Vec<crate::problem::accuracy::Indicator>,
+    pub accuracy: Vec<crate::problem::indicator::Indicator>,
 }
 
 /// Reads a scene file, its meshes, and builds the model; every error names the file and field.

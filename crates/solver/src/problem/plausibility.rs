@@ -6,7 +6,7 @@
 use serde_json::json;
 
 use crate::input::scene::Scene;
-use crate::problem::accuracy::{Good, Indicator, number};
+use crate::problem::indicator::{Good, Indicator, number};
 
 /// A ratio's plausible range, and the unit slips to try on a value outside it.
 struct Range {

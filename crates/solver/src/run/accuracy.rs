@@ -4,11 +4,10 @@
 //! active bound, the energy ledger's closure, the quasi-static indicator and the loading
 //! speed, the contact's deepest penetration, and a static solve's largest strain.
 
-use serde::Serialize;
 use serde_json::json;
 
 use crate::input::scene::Analysis;
-use crate::problem::accuracy::{Good, Indicator, time_step};
+use crate::problem::indicator::{Accuracy, Good, Indicator};
 use crate::problem::load::Problem;
 use crate::problem::model::Model;
 use crate::problem::stable_step::stable_step;
@@ -25,26 +24,6 @@ pub const PENETRATION_MAX: f64 = 0.05;
 /// The largest strain of a static solve without a warning: the solve is linear (small
 /// strain), so above 1 % its stresses and displacements drift from the finite-strain answer.
 pub const STATIC_STRAIN_MAX: f64 = 1e-2;
-
-/// The accuracy section of a run summary.
-#[derive(Debug, Clone, Default, Serialize, PartialEq)]
-pub struct Accuracy {
-    /// How many indicators warn.
-    pub warnings: usize,
-    /// Every indicator, in the order of the console block.
-    pub indicators: Vec<Indicator>,
-}
-
-impl Accuracy {
-    /// Collects `indicators` and counts their warnings.
-    pub fn new(indicators: Vec<Indicator>) -> Self {
-        let warnings = indicators.iter().filter(|i| !i.passes()).count();
-        Accuracy {
-            warnings,
-            indicators,
-        }
-    }
-}
 
 /// The accuracy section of the finished run of `l` with the summary `s` (its stages, ledger
 /// and quasi-static indicator filled in); `strain`: a static solve's largest strain.
@@ -216,4 +195,52 @@ pub fn largest_strain(model: &Model, u: &[[f64; 2]]) -> f64 {
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
+}
+
+/// The time-step indicator: the step used over the scheme's stable step a priori
+/// (`l.dt / l.dt_limit`); with `active_limit`, the stable step of the largest active bound
+/// the run met (contact engaged as it was, not every edge pressed flat), as a detail.
+pub fn time_step(l: &Problem, active_limit: Option<f64>) -> Indicator {
+    let ratio = l.dt / l.dt_limit;
+    let mut details = json!({
+        "scheme": l.scheme.name(),
+        "time_step": l.dt,
+        "stable_step": l.dt_limit,
+        "omega_max": l.omega_max(),
+    });
+    if let Some(h) = active_limit {
+        details["active_stable_step"] = json!(h);
+        details["step_over_active_stable_step"] = json!(l.dt / h);
+    }
+    let mut ind = Indicator {
+        name: "time_step".into(),
+        subject: "integrator".into(),
+        measure: "the step over the stable step of every stage (a priori)".into(),
+        value: ratio,
+        threshold: 1.0,
+        good: Good::AtMost,
+        meaning: "above 1 the explicit scheme is unstable; the a-priori bound assumes every \
+                  edge in contact, so the margin to the active bound is larger"
+            .into(),
+        warning: None,
+        details,
+    };
+    if !ind.passes() {
+        ind.warning = Some(format!(
+            "the step {:.4e} s is {ratio:.3} times the stable step {:.4e} s: set \
+             integrator.time_step to \"auto\" or below the stable step",
+            l.dt, l.dt_limit
+        ));
+    }
+    ind
+}
+
+/// What `fdem check` reports before a run: the problem's indicators
+/// ([`crate::problem::accuracy`]) and, for a dynamic or relaxation analysis, the time step's.
+pub fn before_run(l: &Problem) -> Vec<Indicator> {
+    let mut out = l.accuracy.clone();
+    if l.scene.analysis != crate::input::scene::Analysis::Static {
+        out.push(time_step(l, None));
+    }
+    out
 }

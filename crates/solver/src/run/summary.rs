@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use crate::error::RunError;
 use crate::output::{FrameData, write_atomic};
-use crate::run::accuracy::Accuracy;
+use crate::problem::indicator::Accuracy;
 use crate::run::ledger::Energies;
 use crate::stages::system::StageTimers;
 
@@ -192,7 +192,7 @@ impl Summary {
                 "\naccuracy: {} warning{} (value, threshold; every figure: summary.json \"accuracy\"){}",
                 a.warnings,
                 if a.warnings == 1 { "" } else { "s" },
-                crate::problem::accuracy::describe(&a.indicators)
+                crate::problem::indicator::describe(&a.indicators)
             );
         }
         s
