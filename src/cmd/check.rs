@@ -12,11 +12,6 @@ pub fn check(scene: &Path) -> Result<()> {
     println!("{}", loaded.describe());
     println!("{}", driver::check_report(&loaded));
     let predicted = fdem_solver::run::accuracy::before_run(&loaded);
-    let warnings = predicted.iter().filter(|i| !i.passes()).count();
-    println!(
-        "accuracy before the run: {warnings} warning{} (a run reports these again with what it measures){}",
-        if warnings == 1 { "" } else { "s" },
-        fdem_solver::problem::indicator::describe(&predicted)
-    );
+    println!("{}", fdem_solver::run::accuracy::check_block(&predicted));
     Ok(())
 }

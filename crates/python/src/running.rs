@@ -56,6 +56,8 @@ struct Checked {
     free_dofs: usize,
     omega_max: f64,
     bodies: Vec<(Option<String>, String, usize, usize)>,
+    /// The predicted accuracy indicators, as JSON.
+    accuracy: String,
 }
 
 /// Loads the scene `text` as `fdem check` loads a file, with every check of the command line:
@@ -64,8 +66,8 @@ struct Checked {
 /// prints it), `report` (with `report=True`: `fdem check`'s report, which times a force
 /// evaluation; else None), `text` (both, as `fdem check` prints them), `analysis`, `scheme`,
 /// `time_step`, `time_step_limit` [s], `steps`, `duration` [s], `nodes`, `triangles`,
-/// `free_dofs`, `omega_max` [rad/s] and `bodies` (a list of dicts: `name`, `mesh`, `nodes`,
-/// `triangles`). Raises `SceneError` as the command line refuses the scene.
+/// `free_dofs`, `omega_max` [rad/s], `bodies` (a list of dicts: `name`, `mesh`, `nodes`,
+/// `triangles`) and `accuracy` (the indicators `fdem check` predicts, as a JSON list). Raises `SceneError` as the command line refuses the scene.
 #[pyfunction]
 #[pyo3(signature = (text, file, report = false))]
 pub fn load_check<'py>(
@@ -79,7 +81,13 @@ pub fn load_check<'py>(
             let l = driver::load_text(text, &file)?;
             Ok::<_, SceneError>(Checked {
                 describe: l.describe(),
-                report: report.then(|| driver::check_report(&l)),
+                report: report.then(|| {
+                    let predicted = fdem_solver::run::accuracy::before_run(&l);
+                    let block = fdem_solver::run::accuracy::check_block(&predicted);
+                    format!("{}\n{block}", driver::check_report(&l))
+                }),
+                accuracy: serde_json::to_string(&fdem_solver::run::accuracy::before_run(&l))
+                    .unwrap_or_else(|_| "[]".into()),
                 analysis: l.scene.analysis,
                 scheme: l.scheme.to_string(),
                 time_step: l.dt,
@@ -130,6 +138,7 @@ pub fn load_check<'py>(
     d.set_item("triangles", c.triangles)?;
     d.set_item("free_dofs", c.free_dofs)?;
     d.set_item("omega_max", c.omega_max)?;
+    d.set_item("accuracy", c.accuracy)?;
     let bodies = pyo3::types::PyList::empty(py);
     for (name, mesh, nodes, triangles) in c.bodies {
         let b = PyDict::new(py);

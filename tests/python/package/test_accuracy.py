@@ -28,8 +28,18 @@ def test_the_run_result_carries_the_accuracy_section_of_its_summary(disc_runs):
 
 def test_a_modulus_typed_in_gpa_is_warned_by_name(tmp_path):
     scene = fdem.Scene(ELASTIC)
-    scene["bodies[0].materials.*.young"] = 30.0
+    scene["bodies[0].materials.body.young"] = 30.0
     out = fdem.run(scene, out=tmp_path / "gpa", progress=False)
     names = [w.split(":")[0] for w in out.warnings]
     assert names == ["units", "static_strain"], out.warnings
     assert "young in GPa?" in out.accuracy["units"]["warning"]
+
+
+def test_check_predicts_the_indicators_the_run_reports():
+    report = fdem.check(ELASTIC)
+    names = [i["name"] for i in report.accuracy]
+    assert names == ["mesh_quality", "units"], names
+    assert "accuracy before the run: 0 warnings" in report.text
+    run = fdem.run(ELASTIC, progress=False)
+    for i in report.accuracy:
+        assert run.accuracy[i["name"]]["value"] == i["value"]

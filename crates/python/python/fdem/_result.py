@@ -169,6 +169,9 @@ class CheckReport:
     omega_max: float
     #: Per body: ``name``, ``mesh``, ``nodes``, ``triangles`` (of its mesh as read).
     bodies: List[Dict[str, Any]] = field(default_factory=list)
+    #: The accuracy indicators ``fdem check`` predicts (docs/accuracy.md), each a dict as in
+    #: ``summary.json``'s ``accuracy``: ``name``, ``subject``, ``value``, ``threshold``, ...
+    accuracy: List[Dict[str, Any]] = field(default_factory=list)
 
     def __str__(self) -> str:
         return self.text
@@ -179,8 +182,9 @@ def check(scene: Union[Scene, Mapping[str, Any], PathLike]) -> CheckReport:
     scheme, estimated run time, model size). Raises SceneError as the command line does."""
     s = as_scene(scene)
     d = _core.load_check(s.to_json(), str(s.error_file), True)
-    keys = CheckReport.__dataclass_fields__
-    return CheckReport(**{k: d[k] for k in keys})
+    keys = [k for k in CheckReport.__dataclass_fields__ if k != "accuracy"]
+    accuracy: List[Dict[str, Any]] = json.loads(d["accuracy"])
+    return CheckReport(**{k: d[k] for k in keys}, accuracy=accuracy)
 
 
 class _StderrProgress:

@@ -244,3 +244,14 @@ pub fn before_run(l: &Problem) -> Vec<Indicator> {
     }
     out
 }
+
+/// `fdem check`'s accuracy block: a header with the number of warnings, then one line per
+/// indicator of `predicted` ([`before_run`]).
+pub fn check_block(predicted: &[Indicator]) -> String {
+    let warnings = predicted.iter().filter(|i| !i.passes()).count();
+    format!(
+        "accuracy before the run: {warnings} warning{} (a run reports these again with what it measures){}",
+        if warnings == 1 { "" } else { "s" },
+        crate::problem::indicator::describe(predicted)
+    )
+}
