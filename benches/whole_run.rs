@@ -75,13 +75,7 @@ fn job(bin: &Path, scene: &Path, out: &Path, threads: usize) -> Job {
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    fdem_solver::problem::accuracy::median(&mut v)
 }
 
 /// The scene file of the job, written beside the bench disc's.

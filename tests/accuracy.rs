@@ -139,8 +139,8 @@ fn a_griffith_plate_with_joints_twice_l_ch_is_warned_and_fails_far_above_fractur
     );
 }
 
-/// The secant stiffness P / u of the notched beam's load point over the rows with 15-35 % of
-/// the peak load (after the first micrometre), and the peak [N].
+/// The notched beam with joint penalties `penalty_factor` E: its pre-peak secant stiffness
+/// and peak [N] (`fracture_specimens::notched_curve`), and its accuracy indicators.
 fn notched_beam(tag: &str, penalty_factor: f64) -> (f64, f64, Vec<Indicator>) {
     let scene = common::edited_example("notched-beam-fracture.json", tag, |v| {
         let m = &mut v["fracture"]["material"];
@@ -149,22 +149,8 @@ fn notched_beam(tag: &str, penalty_factor: f64) -> (f64, f64, Vec<Indicator>) {
         v["output"]["frames"] = json!(0);
     });
     let (o, out) = common::run(&scene);
-    let (h, rows) = common::histories(&out);
-    let p: Vec<f64> = common::column(&h, &rows, "reaction_y[load]")
-        .iter()
-        .map(|x| -x)
-        .collect();
-    let u: Vec<f64> = common::column(&h, &rows, "u_y[load]")
-        .iter()
-        .map(|x| -x)
-        .collect();
-    let ip = (0..p.len()).max_by(|i, j| p[*i].total_cmp(&p[*j])).unwrap();
-    let sec: Vec<f64> = (0..ip)
-        .filter(|&i| p[i] > 0.15 * p[ip] && p[i] < 0.35 * p[ip] && u[i] > 1e-6)
-        .map(|i| p[i] / u[i])
-        .collect();
-    let k = sec.iter().sum::<f64>() / sec.len() as f64;
-    (k, p[ip], o.summary.accuracy.indicators)
+    let c = crate::fracture_specimens::notched_curve(&out);
+    (c.k, c.p[c.ip], o.summary.accuracy.indicators)
 }
 
 /// The notched beam with a joint penalty of 1 E (the example's 10 E is the accurate

@@ -139,6 +139,42 @@ fn check_joint_series(out: &Path, o: &Outcome) -> (usize, usize) {
     (n_joints, n_broken)
 }
 
+/// The notched beam's load-point curve from `histories.csv` (load and displacement made
+/// positive), the row of its peak and its pre-peak (secant) stiffness: the mean `P / u` over
+/// the rows with 15-35 % of the peak load, after the loading ramp's first micrometre.
+pub struct NotchedCurve {
+    pub p: Vec<f64>,
+    pub u: Vec<f64>,
+    pub ip: usize,
+    pub k: f64,
+    pub rows: usize,
+}
+
+/// [`NotchedCurve`] of the run folder `out`.
+pub fn notched_curve(out: &std::path::Path) -> NotchedCurve {
+    let (hh, rows) = common::histories(out);
+    let neg = |name: &str| -> Vec<f64> {
+        common::column(&hh, &rows, name)
+            .iter()
+            .map(|v| -v)
+            .collect()
+    };
+    let (p, u) = (neg("reaction_y[load]"), neg("u_y[load]"));
+    let ip = (0..p.len()).max_by(|i, j| p[*i].total_cmp(&p[*j])).unwrap();
+    let sec: Vec<f64> = (0..ip)
+        .filter(|&i| p[i] > 0.15 * p[ip] && p[i] < 0.35 * p[ip] && u[i] > 1e-6)
+        .map(|i| p[i] / u[i])
+        .collect();
+    let k = sec.iter().sum::<f64>() / sec.len() as f64;
+    NotchedCurve {
+        p,
+        u,
+        ip,
+        k,
+        rows: sec.len(),
+    }
+}
+
 #[test]
 fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_and_peak() {
     let (ft, t, h, a, s): (f64, f64, f64, f64, f64) = (3e6, 0.05, 0.05, 0.01, 0.18);
@@ -158,24 +194,14 @@ fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_a
 
     let scene = common::edited_example("notched-beam-fracture.json", "nb-fracture", |_| {});
     let (o, out) = common::run_raw(&scene);
-    let (hh, rows) = common::histories(&out);
-    let p: Vec<f64> = common::column(&hh, &rows, "reaction_y[load]")
-        .iter()
-        .map(|v| -v)
-        .collect();
-    let u: Vec<f64> = common::column(&hh, &rows, "u_y[load]")
-        .iter()
-        .map(|v| -v)
-        .collect();
-    let ip = (0..p.len()).max_by(|i, j| p[*i].total_cmp(&p[*j])).unwrap();
+    let NotchedCurve {
+        p,
+        u,
+        ip,
+        k: k_dyn,
+        rows: sec_rows,
+    } = notched_curve(&out);
     let peak = p[ip];
-    // Pre-peak (secant) stiffness: mean P/u over the rows with 15-35 % of the peak load, after
-    // the loading ramp's first micrometre.
-    let sec: Vec<f64> = (0..ip)
-        .filter(|&i| p[i] > 0.15 * peak && p[i] < 0.35 * peak && u[i] > 1e-6)
-        .map(|i| p[i] / u[i])
-        .collect();
-    let k_dyn = sec.iter().sum::<f64>() / sec.len() as f64;
     let p_ns = 2.0 * ft * t * (h - a).powi(2) / (3.0 * s);
     // The crack.
     let (eh, ev) = csv(&out.join("fractures.csv"));
@@ -194,7 +220,7 @@ fn notched_beam_cracks_from_the_notch_tip_towards_the_load_with_beam_stiffness_a
          {k_dyn:.4e} N/m ({:+.2} %); peak {peak:.1} N at u = {:.3e} m, net-section estimate \
          {p_ns:.1} N, ratio {:.3}; final load {:.1} N; {} joints broken, first at ({:.2}, {:.2}) mm \
          t = {:.4e} s, highest y {:.2} mm, max |x| {:.2} mm; energy residual {:.3e} of work {work:.4e} J",
-        sec.len(),
+        sec_rows,
         100.0 * (k_dyn / k_static - 1.0),
         u[ip],
         peak / p_ns,

@@ -73,7 +73,7 @@ fn moduli(elements: &Elements, t: u32) -> (f64, f64) {
 }
 
 /// The median of `v` (sorted in place); 0 when empty.
-fn median(v: &mut [f64]) -> f64 {
+pub fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
