@@ -43,3 +43,16 @@ def test_check_predicts_the_indicators_the_run_reports():
     run = fdem.run(ELASTIC, progress=False)
     for i in report.accuracy:
         assert run.accuracy[i["name"]]["value"] == i["value"]
+
+
+def test_the_split_disc_failed_along_its_loaded_diameter(disc_runs):
+    """The fracturing disc splits: failed, its peak the largest load, the broken joints by
+    mode adding up, and the crack a narrow band along the loaded (vertical) diameter."""
+    cli_out, _py_out, result = disc_runs
+    f = result.failure
+    assert f["failed"] is True and f["peak_load"] == f["largest_load"] > 2000.0
+    assert f == fdem.read(cli_out).failure
+    assert sum(f["broken_by_mode"].values()) == f["broken_joints"] > 0
+    assert f["broken_by_mode"]["I"] > f["broken_joints"] / 2  # a tensile split
+    (x0, x1), (y0, y1) = f["crack_extent"]["x"], f["crack_extent"]["y"]
+    assert max(abs(x0), abs(x1)) < 0.005 and y1 - y0 > 0.03  # R = 25 mm

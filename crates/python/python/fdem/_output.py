@@ -755,7 +755,10 @@ class Output:
         """Whether the specimen failed, and how: a dict with ``failed`` (True, False, or None
         without a load-displacement curve), ``criterion`` (the rule, in words), ``peak_load``
         [N] and ``displacement_at_peak`` [m] (the curve's largest load and where; None when
-        it did not fail), ``largest_load`` [N], ``final_load`` [N] and ``broken_joints``.
+        it did not fail), ``largest_load`` [N], ``final_load`` [N], ``broken_joints``, their
+        count by mode ``broken_by_mode`` (``{"I": .., "II": .., "mixed": ..}``) and the crack
+        pattern's extent ``crack_extent`` (``{"x": [min, max], "y": [min, max]}`` [m] of the
+        broken joints' midpoints; None when none broke).
 
         The rule: a joint broke and, after the largest load, the load fell to
         ``FAILURE_DROP`` (0.8) of it or below. A run that ends while the load still rises, or
@@ -763,6 +766,16 @@ class Output:
         """
         fr = self.fractures
         broken = 0 if fr is None else len(next(iter(fr.values()), []))
+        by_mode = {m: 0 for m in ("I", "II", "mixed")}
+        extent: Optional[Dict[str, List[float]]] = None
+        if fr is not None and broken:
+            for m in fr["mode"]:
+                by_mode[str(m)] = by_mode.get(str(m), 0) + 1
+            x, y = fr["x"], fr["y"]
+            extent = {
+                "x": [float(np.min(x)), float(np.max(x))],
+                "y": [float(np.min(y)), float(np.max(y))],
+            }
         out: Dict[str, Any] = Named(what="failure entry", plural="failure entries")
         out.update(
             failed=None,
@@ -772,6 +785,8 @@ class Output:
             largest_load=None,
             final_load=None,
             broken_joints=broken,
+            broken_by_mode=by_mode,
+            crack_extent=extent,
         )
         try:
             u, p = self.load_displacement()
