@@ -276,23 +276,15 @@ fn mesh_quality(model: &Model, elements: &Elements) -> Indicator {
                 (a, r, t)
             },
         );
-    let (w_max, stepper) = (0..elements.len())
-        .into_par_iter()
-        .map(|t| (elements.frequency_bound(TriId(t as u32), x), t))
-        .reduce(
-            || (0.0, usize::MAX),
-            |p, q| {
-                if q.0 > p.0 || (q.0 == p.0 && q.1 < p.1) {
-                    q
-                } else {
-                    p
-                }
-            },
-        );
     let mut bounds: Vec<f64> = (0..elements.len())
         .into_par_iter()
         .map(|t| elements.frequency_bound(TriId(t as u32), x))
         .collect();
+    // the first triangle of the largest bound
+    let (stepper, w_max) = bounds
+        .iter()
+        .enumerate()
+        .fold((0, 0.0), |b, (t, &w)| if w > b.1 { (t, w) } else { b });
     let w_med = median(&mut bounds);
     let deg = angle.to_degrees();
     let (stepper_angle, _) = shape(x, &model.triangles[stepper]);
@@ -324,20 +316,11 @@ fn mesh_quality(model: &Model, elements: &Elements) -> Indicator {
     ind
 }
 
-/// The fastest wall or prescribed velocity of a scene [m/s] (`loading.rate` is in them).
-fn fastest_loading(scene: &Scene, model: &Model) -> f64 {
-    let walls = scene.contact.iter().flat_map(|c| &c.walls);
-    let w = walls.map(|w| w.velocity[0].hypot(w.velocity[1]));
-    let prescribed = model.prescribed.iter().filter(|p| !p.displacement);
-    let p = prescribed.map(|p| p.velocity.abs());
-    w.chain(p).fold(0.0, f64::max)
-}
-
 /// The loading-speed indicator of a dynamic scene that moves walls or prescribes velocities:
-/// the fastest of them over the slowest P-wave speed `sqrt((lambda* + 2 mu) / rho)` of the
+/// the fastest of them ([`crate::problem::strains::fastest_loading`]) over the slowest P-wave speed `sqrt((lambda* + 2 mu) / rho)` of the
 /// bodies, divided by the square root of the mass scaling factor.
 fn loading_speed(scene: &Scene, model: &Model, elements: &Elements) -> Option<Indicator> {
-    let v = fastest_loading(scene, model);
+    let (v, _) = crate::problem::strains::fastest_loading(scene, model);
     if v <= 0.0 || elements.materials.is_empty() {
         return None;
     }

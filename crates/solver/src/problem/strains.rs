@@ -193,3 +193,30 @@ pub fn input_strains(scene: &Scene, model: &Model) -> Vec<InputStrain> {
     out.sort_by(|a, b| b.strain.total_cmp(&a.strain));
     out
 }
+
+/// The fastest prescribed speed of a scene, supports and enabled walls, each times the
+/// largest factor of its history [m/s], and the largest prescribed displacement [m]
+/// (`loading.rate` is in them).
+pub fn fastest_loading(scene: &Scene, model: &Model) -> (f64, f64) {
+    let (mut v, mut d) = (0.0f64, 0.0f64);
+    for p in &model.prescribed {
+        let f = p.history.as_ref().map_or(1.0, |h| h.max_abs());
+        if p.displacement {
+            d = d.max((p.velocity * f).abs());
+        } else {
+            v = v.max((p.velocity * f).abs());
+        }
+    }
+    let walls = scene
+        .contact
+        .iter()
+        .filter(|c| c.enabled)
+        .flat_map(|c| &c.walls);
+    for w in walls {
+        let f = w.history.as_ref().map_or(1.0, |h| {
+            crate::problem::time_function::History::new(h).max_abs()
+        });
+        v = v.max(w.velocity[0].hypot(w.velocity[1]) * f);
+    }
+    (v, d)
+}

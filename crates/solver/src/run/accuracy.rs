@@ -9,7 +9,6 @@ use serde_json::json;
 use crate::input::scene::Analysis;
 use crate::problem::indicator::{Accuracy, Good, Indicator};
 use crate::problem::load::Problem;
-use crate::problem::model::Model;
 use crate::problem::stable_step::stable_step;
 use crate::run::summary::Summary;
 
@@ -168,33 +167,19 @@ fn static_strain(strain: f64) -> Indicator {
     ind
 }
 
-/// The largest principal strain (absolute) of the displacements `u` (per node) on the
-/// triangles of `l`, small strain.
-pub fn largest_strain(model: &Model, u: &[[f64; 2]]) -> f64 {
-    let x = &model.x0;
-    model
-        .triangles
+/// The largest principal strain (absolute) of the displacements `u` (two per node) on the
+/// triangles of `elements`, small strain ([`crate::run::static_solve::small_strain`]).
+pub fn largest_strain(elements: &fdem_mesh::Elements, u: &[f64]) -> f64 {
+    elements
+        .tris
         .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| i as usize);
-            let (e1, e2) = (sub(x[b], x[a]), sub(x[c], x[a]));
-            let (d1, d2) = (sub(u[b], u[a]), sub(u[c], u[a]));
-            let det = e1[0] * e2[1] - e1[1] * e2[0];
-            // grad u = [d1 d2] [e1 e2]^-1
-            let inv = [[e2[1] / det, -e2[0] / det], [-e1[1] / det, e1[0] / det]];
-            let g = |k: usize, j: usize| d1[k] * inv[0][j] + d2[k] * inv[1][j];
-            let (exx, eyy, exy) = (g(0, 0), g(1, 1), 0.5 * (g(0, 1) + g(1, 0)));
-            let (m, r) = (
-                0.5 * (exx + eyy),
-                (0.25 * (exx - eyy).powi(2) + exy * exy).sqrt(),
-            );
+        .map(|td| {
+            let [exx, eyy, gxy] = crate::run::static_solve::small_strain(td, u);
+            let m = 0.5 * (exx + eyy);
+            let r = (0.25 * (exx - eyy).powi(2) + 0.25 * gxy * gxy).sqrt();
             (m + r).abs().max((m - r).abs())
         })
         .fold(0.0, f64::max)
-}
-
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
 }
 
 /// The time-step indicator: the step used over the scheme's stable step a priori

@@ -195,7 +195,7 @@ fn static_run(
         );
         h.flush()?;
     }
-    let strain = accuracy::largest_strain(&l.model, &frame.displacement);
+    let strain = accuracy::largest_strain(&l.elements, frame.displacement.as_flattened());
     summary.accuracy = accuracy::assess(l, &summary, Some(strain));
     write_summary(&options.out_dir, &summary)?;
     progress(&Progress {

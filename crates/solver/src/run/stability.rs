@@ -273,28 +273,8 @@ pub fn round_off_floor(
     }
     let duration = l.scene.duration.unwrap_or(0.0);
     // the fastest prescribed speed (supports and walls) and the largest displacement
-    let (mut v, mut d) = (0.0f64, 0.0f64);
-    for p in &model.prescribed {
-        let f = p.history.as_ref().map_or(1.0, |h| h.max_abs());
-        if p.displacement {
-            d = d.max((p.velocity * f).abs());
-        } else {
-            v = v.max((p.velocity * f).abs());
-        }
-    }
-    for w in l
-        .scene
-        .contact
-        .iter()
-        .filter(|c| c.enabled)
-        .flat_map(|c| &c.walls)
-    {
-        let f = w.history.as_ref().map_or(1.0, |h| {
-            crate::problem::time_function::History::new(h).max_abs()
-        });
-        v = v.max(w.velocity[0].hypot(w.velocity[1]) * f);
-    }
-    d = d.max(v * duration);
+    let (v, d) = crate::problem::strains::fastest_loading(&l.scene, model);
+    let d = d.max(v * duration);
     let force: f64 = model
         .loads
         .iter()

@@ -291,7 +291,7 @@ pub fn linear_stresses(l: &Problem, u: &[f64]) -> (Vec<[f64; 4]>, Vec<f64>) {
 
 /// The small strain `[exx, eyy, gamma_xy]` of triangle `td` under the nodal displacements `u`
 /// (two per node).
-fn small_strain(td: &fdem_mesh::TriData, u: &[f64]) -> [f64; 3] {
+pub fn small_strain(td: &fdem_mesh::TriData, u: &[f64]) -> [f64; 3] {
     let g = reference_gradients(td.ginv);
     let (mut exx, mut eyy, mut gxy) = (0.0, 0.0, 0.0);
     for a in 0..3 {
