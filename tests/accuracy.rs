@@ -249,6 +249,20 @@ fn a_collision_with_a_contact_penalty_1000_times_too_soft_is_warned() {
     );
     assert!(a.passes() && !b.passes(), "{a:?} {b:?}");
     assert!(b.warning.as_deref().unwrap().contains("penalty"));
+    // the mean over the loaded contacts of every pass: below the deepest, and deeper with
+    // the soft penalty too
+    let mean = |i: &fdem_solver::problem::indicator::Indicator| {
+        i.details["mean_depth_over_altitude"].as_f64().unwrap()
+    };
+    eprintln!(
+        "collision: mean overlap {:.2e} (penalty 10 E), {:.2e} (0.01 E)",
+        mean(a),
+        mean(b)
+    );
+    for i in [a, b] {
+        assert!(mean(i) > 0.0 && mean(i) < i.value, "{i:?}");
+    }
+    assert!(mean(b) > 5.0 * mean(a), "{} {}", mean(a), mean(b));
     fdem_figures::record_part(
         143,
         4,

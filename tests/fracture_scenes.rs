@@ -102,6 +102,34 @@ fn brazilian_disc_splits_along_loaded_diameter_at_tensile_strength_with_closed_e
     assert!(span > 1.6 * r, "crack spans {span} m");
     // Peak load: 2P/(pi D t) within 15 % of ft.
     assert!((sigma / ft - 1.0).abs() < 0.15, "2P/(pi D t) = {sigma}");
+    // The run's result block says the same, from its own files: failed, this peak, this
+    // Brazilian stress (a disc), these broken joints and their extent.
+    let res = o.summary.result.as_ref().expect("a result block");
+    assert_eq!(res.failed, Some(true));
+    assert_eq!(res.peak_load, Some(peak));
+    let sp = res.specimen.as_ref().expect("a specimen between platens");
+    assert_eq!(sp.shape, "disc");
+    assert!((sp.width - d).abs() < 1e-9 && (sp.thickness - t).abs() < 1e-12);
+    assert!((sp.peak_stress.unwrap() / sigma - 1.0).abs() < 1e-9);
+    assert!((sp.strain_at_peak.unwrap() - 2.0 * u_peak.abs() / d).abs() < 1e-12);
+    assert_eq!(sp.modulus, None);
+    assert_eq!(res.broken_joints, xs.len());
+    let by = res.broken_by_mode;
+    assert_eq!(by.i + by.ii + by.mixed, xs.len());
+    let ext = res.crack_extent.unwrap();
+    assert!((ext.y[1] - ext.y[0] - span).abs() < 1e-12);
+    fdem_figures::record_part(
+        145,
+        1,
+        format!(
+            "disc: failed, {:.4} MPa = the test's, {} joints (I {}, II {}, mixed {})",
+            1e-6 * sp.peak_stress.unwrap(),
+            res.broken_joints,
+            by.i,
+            by.ii,
+            by.mixed
+        ),
+    );
     // Energy balance closes within 2 % of the work of the platens.
     assert!(
         (residual / work).abs() < 0.02,

@@ -302,6 +302,42 @@ fn block(mu: f64, tag: &str) -> (f64, f64, usize, usize, f64, f64) {
     let e = &o.summary.energy;
     let work = e.supplied;
     let (_, nb) = check_joint_series(&out, &o);
+    // The run's result block, from its own files: this peak and these broken joints; a
+    // rectangle whose loading-branch modulus is E with the joints' compliance in series:
+    // about E / (1 + E/p) with one joint crossed per element row (an unstructured mesh
+    // crosses somewhat more, and the platens' contact adds its own), so within 2 %.
+    let res = o.summary.result.as_ref().expect("a result block");
+    assert_eq!(res.failed, Some(true));
+    assert_eq!(res.peak_load, Some(p[ip]));
+    assert_eq!(res.broken_joints, nb);
+    assert_eq!(res.broken_by_mode.ii + res.broken_by_mode.mixed, shear);
+    let sp = res.specimen.as_ref().expect("a specimen between platens");
+    assert_eq!(sp.shape, "rectangle");
+    assert!((sp.peak_stress.unwrap() - p[ip] / (0.05 * 0.05)).abs() < 1e-6 * p[ip]);
+    // the block's slope over 10-50 % of the peak, the test's over 20-60 %: one linear branch
+    let stiffness = res.stiffness.unwrap();
+    assert!(
+        (stiffness / slope - 1.0).abs() < 0.01,
+        "{stiffness} against {slope}"
+    );
+    let e_joints = 30e9 / (1.0 + 1.0 / 100.0);
+    let modulus = sp.modulus.unwrap();
+    eprintln!(
+        "block mu = {mu}: result modulus {modulus:.4e} Pa = {:.4} E/(1+E/p)",
+        modulus / e_joints
+    );
+    assert!((modulus / e_joints - 1.0).abs() < 0.02, "modulus {modulus}");
+    if mu == 0.0 {
+        fdem_figures::record_part(
+            145,
+            2,
+            format!(
+                "block (mu = 0): modulus {:.2} GPa, {:+.1} % of E/(1+E/p)",
+                1e-9 * modulus,
+                100.0 * (modulus / e_joints - 1.0)
+            ),
+        );
+    }
     eprintln!(
         "block mu = {mu}: peak {:.1} N at closure {:.3e} m, slope {slope:.4e} N/m, {nb} broken \
          ({shear} mode II or mixed), energy residual {:.3e} of work {work:.4e} J, stages {}",

@@ -45,14 +45,15 @@ fn result_files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
-/// `summary.json` without what depends on the wall clock (times, throughput).
+/// `summary.json` without what depends on the wall clock (times, throughput), and without
+/// the notice of a resume (`resumed`: only the resumed run has it).
 fn summary_without_timers(dir: &Path) -> serde_json::Value {
     fn strip(v: &mut serde_json::Value) {
         if let Some(o) = v.as_object_mut() {
             o.retain(|k, _| {
                 !matches!(
                     k.as_str(),
-                    "wall_time" | "triangle_steps_per_second" | "timers"
+                    "wall_time" | "triangle_steps_per_second" | "timers" | "resumed"
                 ) && !k.ends_with("_s")
             });
             o.values_mut().for_each(strip);
@@ -101,8 +102,24 @@ pub(crate) fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, Pat
         assert!(summary.contains("\"interrupted\""), "{summary}");
         assert!(summary.contains(&format!("\"steps\": {stop}")), "{summary}");
     }
-    let (code, err) = fdem_run(&["run", "--resume", s(&b)]);
-    assert_eq!(code, 0, "{err}");
+    let o = fdem()
+        .args(["run", "--resume", s(&b)])
+        .output()
+        .expect("fdem runs");
+    let (out, err) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    // the resumed run says where it took up, in its summary and on the console
+    let last = stops.last().copied().unwrap_or(0);
+    let resumed = &summary_of(&b)["resumed"];
+    assert_eq!(resumed["step"].as_u64(), Some(last), "{resumed}");
+    assert!(summary_of(&a).get("resumed").is_none());
+    assert!(
+        out.contains(&format!("resumed from the checkpoint at step {last}")),
+        "{out}"
+    );
     let n = assert_same_results(&a, &b);
     eprintln!(
         "{}: {n} files identical after {} stops",
@@ -115,6 +132,10 @@ pub(crate) fn straight_and_resumed(scene: &Path, stops: &[u64]) -> (PathBuf, Pat
 /// The number of files [`assert_same_results`] compares in a run folder.
 fn files_of(dir: &Path) -> usize {
     result_files(dir).len() + 1
+}
+
+fn summary_of(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("summary.json")).unwrap()).unwrap()
 }
 
 fn steps_of(dir: &Path) -> u64 {

@@ -1,21 +1,15 @@
 //! `fdem plot load-displacement DIR...`: the load-displacement curve of one or more runs as
 //! `load_displacement.png` (and `.svg`), read from the run folders' CSV files.
 //!
-//! Where the curve comes from, unless `--load` and `--displacement` name the columns:
-//! - `walls.csv` with moving walls (platens): the load is the force of the first moving wall
-//!   along its direction of motion, `|force_y[w]|` (or `x`), and the displacement is the sum of
-//!   the moving walls' `|u_y|` (the platen closure when two platens approach each other);
-//! - otherwise `histories.csv`: the first group with both `reaction_y[G]` and `u_y[G]` (then
-//!   `x`): the load is `|reaction_y[G]|` (the force the prescribed nodes apply), the
-//!   displacement `|u_y[G]|`.
-//!
-//! A column name that a file repeats (runs written before history columns were made unique)
-//! is refused with the list of columns, never taken first.
+//! The curve is the run's own ([`fdem_solver::output::curve`]: the platens of `walls.csv`,
+//! else a loaded group of `histories.csv`), unless `--load` and `--displacement` name the
+//! columns.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Subcommand;
+use fdem_solver::output::curve::Curve;
 
 use crate::plot::{Plot, Scale, Series};
 
@@ -43,6 +37,21 @@ pub enum PlotCommand {
         #[arg(long)]
         title: Option<String>,
     },
+    /// Nominal stress against nominal strain of specimens between platens (the platens' load
+    /// and closure scaled by the specimen's size, from summary.json's "result"): a disc's
+    /// Brazilian stress 2P/(pi D t), otherwise P/(W t), against the closure over the height.
+    StressStrain {
+        /// Run folders (the --out of fdem run) of specimens between platens.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output file stem (default DIR/stress_strain for the first DIR): writes .png and
+        /// .svg, making its folder when missing.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Chart title (default as for load-displacement).
+        #[arg(long)]
+        title: Option<String>,
+    },
 }
 
 /// Runs a plot command.
@@ -67,214 +76,19 @@ pub fn run(cmd: PlotCommand) -> Result<()> {
             }
             Ok(())
         }
-    }
-}
-
-/// A CSV file: column names and rows.
-struct Table {
-    path: PathBuf,
-    head: Vec<String>,
-    rows: Vec<Vec<f64>>,
-}
-
-impl Table {
-    fn read(path: &Path) -> Result<Option<Table>> {
-        if !path.exists() {
-            return Ok(None);
-        }
-        let text =
-            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-        let mut lines = text.lines();
-        let head: Vec<String> = lines
-            .next()
-            .unwrap_or("")
-            .split(',')
-            .map(|s| s.trim().to_string())
-            .collect();
-        let mut rows = Vec::new();
-        for (i, l) in lines.enumerate() {
-            if l.trim().is_empty() {
-                continue;
+        PlotCommand::StressStrain { dirs, out, title } => {
+            for p in stress_strain(&dirs, out.as_deref(), title)? {
+                println!("{}", p.display());
             }
-            let row: Result<Vec<f64>, _> = l.split(',').map(|s| s.trim().parse::<f64>()).collect();
-            let row = row.map_err(|_| {
-                crate::bad_input(format!("{} line {}: not a number", path.display(), i + 2))
-            })?;
-            rows.push(row);
+            Ok(())
         }
-        Ok(Some(Table {
-            path: path.to_path_buf(),
-            head,
-            rows,
-        }))
-    }
-
-    /// The index of column `name`; an error when the file has it more than once (runs that
-    /// predate unique history columns), listing the columns.
-    fn col(&self, name: &str) -> Result<Option<usize>> {
-        let mut hits = self
-            .head
-            .iter()
-            .enumerate()
-            .filter(|(_, h)| *h == name)
-            .map(|(i, _)| i);
-        let first = hits.next();
-        if let Some(second) = hits.next() {
-            return Err(crate::bad_input(format!(
-                "{}: the column {name} appears more than once (columns {} and {}), so it is not \
-                 clear which one is meant; columns: {} (re-run the scene: runs now name such \
-                 columns body/group, e.g. v_x[disc/center])",
-                self.path.display(),
-                first.unwrap_or(0) + 1,
-                second + 1,
-                self.head.join(",")
-            )));
-        }
-        Ok(first)
-    }
-
-    fn values(&self, c: usize) -> Vec<f64> {
-        self.rows
-            .iter()
-            .map(|r| r.get(c).copied().unwrap_or(f64::NAN))
-            .collect()
     }
 }
 
-/// One run's curve: displacement [m] and load [N], and what they are.
-#[derive(Debug)]
-struct Curve {
-    points: Vec<(f64, f64)>,
-    x_label: String,
-    y_label: String,
-}
-
-/// The curve of run folder `dir`.
+/// The curve of run folder `dir` ([`fdem_solver::output::curve`]): a damaged file, a missing
+/// column or a folder without curves is bad input.
 fn curve(dir: &Path, load: Option<&str>, disp: Option<&str>) -> Result<Curve> {
-    if !dir.is_dir() {
-        return Err(crate::bad_input(format!(
-            "{}: no such folder: give the folder of a run (the --out of fdem run)",
-            dir.display()
-        )));
-    }
-    let walls = Table::read(&dir.join("walls.csv"))?;
-    let hist = Table::read(&dir.join("histories.csv"))?;
-    let tables: Vec<&Table> = walls.iter().chain(hist.iter()).collect();
-    if tables.is_empty() {
-        return Err(crate::bad_input(format!(
-            "{}: neither walls.csv nor histories.csv: is this an fdem run folder? (a scene \
-             needs moving walls in \"contact\" or a \"reaction\" probe in \"histories\")",
-            dir.display()
-        )));
-    }
-    if load.is_some() || disp.is_some() {
-        let (Some(l), Some(d)) = (load, disp) else {
-            return Err(crate::bad_input("give both --load and --displacement"));
-        };
-        for t in &tables {
-            if let (Some(cl), Some(cd)) = (t.col(l)?, t.col(d)?) {
-                return Ok(Curve {
-                    points: abs_pairs(t.values(cd), t.values(cl)),
-                    x_label: format!("|{d}| [mm]"),
-                    y_label: format!("|{l}| [kN]"),
-                });
-            }
-        }
-        return Err(crate::bad_input(format!(
-            "{}: no file has both columns {} and {} (columns: {})",
-            dir.display(),
-            fdem_solver::excerpt(l),
-            fdem_solver::excerpt(d),
-            fdem_solver::shorten(
-                &tables
-                    .iter()
-                    .map(|t| format!("{}: {}", t.path.display(), t.head.join(",")))
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            )
-        )));
-    }
-    if let Some(w) = &walls {
-        // Moving walls: their names from the u_y[...] columns, axis of the larger motion.
-        let mut moving = Vec::new();
-        for (i, h) in w.head.iter().enumerate() {
-            let Some(name) = h.strip_prefix("u_x[").and_then(|s| s.strip_suffix(']')) else {
-                continue;
-            };
-            w.col(h)?;
-            let Some(iy) = w.col(&format!("u_y[{name}]"))? else {
-                continue;
-            };
-            let last = |c: usize| {
-                w.rows
-                    .last()
-                    .and_then(|r| r.get(c))
-                    .map_or(0.0, |v| v.abs())
-            };
-            let (ux, uy) = (last(i), last(iy));
-            if ux.max(uy) > 0.0 {
-                let axis = if uy >= ux { "y" } else { "x" };
-                moving.push((name.to_string(), axis));
-            }
-        }
-        if let Some((first, axis)) = moving.first() {
-            let f = w
-                .col(&format!("force_{axis}[{first}]"))?
-                .with_context(|| format!("{}: no force_{axis}[{first}]", w.path.display()))?;
-            let mut u = vec![0.0; w.rows.len()];
-            for (name, ax) in moving.iter().filter(|m| m.1 == *axis) {
-                if let Some(c) = w.col(&format!("u_{ax}[{name}]"))? {
-                    for (s, v) in u.iter_mut().zip(w.values(c)) {
-                        *s += v.abs();
-                    }
-                }
-            }
-            let closing = moving.iter().filter(|m| m.1 == *axis).count();
-            let x_label = if closing > 1 {
-                "platen closure [mm]"
-            } else {
-                "platen displacement [mm]"
-            };
-            return Ok(Curve {
-                points: abs_pairs(u, w.values(f)),
-                x_label: x_label.into(),
-                y_label: "load [kN]".into(),
-            });
-        }
-    }
-    if let Some(h) = &hist {
-        for axis in ["y", "x"] {
-            for (i, col) in h.head.iter().enumerate() {
-                let prefix = format!("reaction_{axis}[");
-                let Some(group) = col.strip_prefix(&prefix).and_then(|s| s.strip_suffix(']'))
-                else {
-                    continue;
-                };
-                // a repeated reaction or displacement column is refused, not taken first
-                h.col(col)?;
-                if let Some(cu) = h.col(&format!("u_{axis}[{group}]"))? {
-                    return Ok(Curve {
-                        points: abs_pairs(h.values(cu), h.values(i)),
-                        x_label: format!("displacement of group {group} [mm]"),
-                        y_label: "load [kN]".into(),
-                    });
-                }
-            }
-        }
-    }
-    Err(crate::bad_input(format!(
-        "{}: no load-displacement data: no moving wall in walls.csv, and histories.csv has no \
-         group with both a \"reaction\" and a \"displacement\" probe (add them to the scene, or \
-         name the columns with --load and --displacement)",
-        dir.display()
-    )))
-}
-
-fn abs_pairs(x: Vec<f64>, y: Vec<f64>) -> Vec<(f64, f64)> {
-    x.into_iter()
-        .zip(y)
-        .map(|(a, b)| (a.abs(), b.abs()))
-        .collect()
+    fdem_solver::output::curve::curve(dir, load, disp).map_err(|e| crate::bad_input(e.to_string()))
 }
 
 /// The default title of a run folder's chart: the first clause (up to a `:` or `;`) of its
@@ -342,6 +156,86 @@ pub fn load_displacement(
         title: title.unwrap_or_else(|| default_title(&dirs[0])),
         x_label,
         y_label,
+        x_scale: Scale::Linear,
+        y_scale: Scale::Linear,
+        series,
+        y_range: None,
+        lines: true,
+    };
+    plot.write(&stem)
+}
+
+/// The specimen of run folder `dir` (`summary.json`'s `result.specimen`): the factors from
+/// load to stress and from displacement to strain, and the stress's label; an error when the
+/// run is not of a specimen between platens.
+fn specimen_scale(dir: &Path) -> Result<(f64, f64, String)> {
+    let file = dir.join("summary.json");
+    let text =
+        std::fs::read_to_string(&file).with_context(|| format!("reading {}", file.display()))?;
+    let v: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| crate::bad_input(format!("{}: {e}", file.display())))?;
+    let sp = v.pointer("/result/specimen").ok_or_else(|| {
+        crate::bad_input(format!(
+            "{}: no result.specimen: a stress-strain curve needs a specimen between moving \
+             platens (walls in \"contact\"); plot its load instead (fdem plot load-displacement)",
+            file.display()
+        ))
+    })?;
+    let num = |k: &str| sp.get(k).and_then(|x| x.as_f64()).filter(|x| *x > 0.0);
+    let (Some(w), Some(h), Some(t)) = (num("width"), num("height"), num("thickness")) else {
+        return Err(crate::bad_input(format!(
+            "{}: result.specimen lacks a positive width, height or thickness",
+            file.display()
+        )));
+    };
+    Ok(
+        if sp.get("shape").and_then(|x| x.as_str()) == Some("disc") {
+            (
+                2.0 / (std::f64::consts::PI * w * t),
+                1.0 / h,
+                "Brazilian stress 2P/(\u{3c0}Dt) [MPa]".into(),
+            )
+        } else {
+            (1.0 / (w * t), 1.0 / h, "stress P/(Wt) [MPa]".into())
+        },
+    )
+}
+
+/// Draws the nominal stress-strain curves of the specimens of `dirs` into `out` (default
+/// `dirs[0]/stress_strain`): returns the files written (PNG and SVG). Stress in MPa, strain
+/// in units of 1e-3.
+pub fn stress_strain(
+    dirs: &[PathBuf],
+    out: Option<&Path>,
+    title: Option<String>,
+) -> Result<Vec<PathBuf>> {
+    let mut series = Vec::new();
+    let mut y_label = None;
+    for d in dirs {
+        let (to_stress, to_strain, label) = specimen_scale(d)?;
+        let c = curve(d, None, None)?;
+        let name = d
+            .file_name()
+            .map_or_else(|| d.display().to_string(), |n| n.to_string_lossy().into());
+        series.push(Series {
+            name,
+            points: c
+                .points
+                .iter()
+                .map(|(u, p)| (1e3 * to_strain * u, 1e-6 * to_stress * p))
+                .collect(),
+        });
+        y_label.get_or_insert(label);
+    }
+    let stem = out.map_or_else(|| dirs[0].join("stress_strain"), Path::to_path_buf);
+    if let Some(parent) = stem.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .with_context(|| format!("making the folder {}", parent.display()))?;
+    }
+    let plot = Plot {
+        title: title.unwrap_or_else(|| default_title(&dirs[0])),
+        x_label: "strain: platen closure / height [10\u{207b}\u{b3}]".into(),
+        y_label: y_label.unwrap_or_default(),
         x_scale: Scale::Linear,
         y_scale: Scale::Linear,
         series,

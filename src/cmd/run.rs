@@ -88,7 +88,24 @@ pub(super) fn plot_curve(out: &Path) {
             None,
             None,
         ) {
-            Ok(files) => println!("load-displacement curve: {}", files[0].display()),
+            Ok(files) => {
+                // a specimen between platens: its stress-strain curve too
+                let specimen = std::fs::read_to_string(out.join("summary.json"))
+                    .ok()
+                    .and_then(|s| serde_json::from_str::<serde_json::Value>(&s).ok())
+                    .is_some_and(|v| v.pointer("/result/specimen").is_some());
+                match specimen.then(|| super::plot::stress_strain(&[out.to_path_buf()], None, None))
+                {
+                    Some(Ok(ss)) => {
+                        println!("curves: {} and {}", files[0].display(), ss[0].display())
+                    }
+                    Some(Err(e)) => {
+                        println!("load-displacement curve: {}", files[0].display());
+                        eprintln!("no stress-strain curve: {e:#}");
+                    }
+                    None => println!("load-displacement curve: {}", files[0].display()),
+                }
+            }
             Err(e) => eprintln!("no load-displacement curve: {e:#}"),
         }
     }

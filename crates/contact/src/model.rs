@@ -99,6 +99,9 @@ pub struct ContactStats {
     pub max_phi: f64,
     /// The couple with the largest phi: triangles `[i, j]`, or `[u32::MAX, tri]` for a plane.
     pub max_phi_couple: [u32; 2],
+    /// The sum over the couples and plane pairs with a non-zero normal force of each one's
+    /// largest phi (its mean over them: this over `n_active + n_wall_active`).
+    pub sum_phi_loaded: f64,
     /// Couples skipped because a triangle was degenerate, inverted or not finite.
     pub n_invalid: usize,
     /// First such couple.

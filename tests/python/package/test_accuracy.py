@@ -56,3 +56,13 @@ def test_the_split_disc_failed_along_its_loaded_diameter(disc_runs):
     assert f["broken_by_mode"]["I"] > f["broken_joints"] / 2  # a tensile split
     (x0, x1), (y0, y1) = f["crack_extent"]["x"], f["crack_extent"]["y"]
     assert max(abs(x0), abs(x1)) < 0.005 and y1 - y0 > 0.03  # R = 25 mm
+    # the run's result block (Rust, at the end of the run) and Python's own reading of the
+    # same files agree entry for entry
+    assert f == result.failure_from_files()
+    r = result.result
+    assert r is not None and r["curve"]["file"] == "walls.csv"
+    sp = r["specimen"]
+    assert sp["shape"] == "disc" and sp["stress_measure"] == "2 P / (pi D t)"
+    # 2 P / (pi D t) with D = 50 mm, t = 10 mm: within 15 % of ft = 3 MPa (row 42)
+    assert abs(sp["peak_stress"] / 3e6 - 1.0) < 0.15
+    assert sp["peak_stress"] == 2.0 * f["peak_load"] / (3.141592653589793 * sp["width"] * sp["thickness"])

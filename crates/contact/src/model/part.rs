@@ -103,6 +103,9 @@ impl ContactStats {
             }
             s.n_slipping += t.slipping;
             s.trial_dissipation += t.dissipation;
+            if t.loaded {
+                s.sum_phi_loaded += t.phi_max;
+            }
             if t.phi_max > s.max_phi {
                 s.max_phi = t.phi_max;
                 s.max_phi_couple = if t.wall {

@@ -751,6 +751,25 @@ class Output:
         return float(np.max(p)) if len(p) else None
 
     @property
+    def result(self) -> Optional[Dict[str, Any]]:
+        """The run's result block (``summary["result"]``, docs/accuracy.md): what the run
+        found, from its own files: ``curve`` (its file and columns), ``failed``,
+        ``criterion``, ``largest_load``, ``final_load``, ``peak_load``,
+        ``displacement_at_peak``, ``stiffness`` (the loading branch's slope [N/m]),
+        ``specimen`` (between platens: ``shape``, ``width``, ``height``, ``thickness``,
+        ``stress_measure``, ``peak_stress`` [Pa], ``strain_at_peak``, ``modulus`` [Pa] of a
+        rectangle), ``broken_joints``, ``broken_by_mode``, ``crack_extent``. None for a run
+        without a load-displacement curve or broken joints, a static solve or an interrupted
+        run."""
+        r = self.summary.get("result")
+        if not isinstance(r, dict):
+            return None
+        out: Dict[str, Any] = Named(r, what="result entry", plural="result entries")
+        if isinstance(out.get("specimen"), dict):
+            out["specimen"] = Named(out["specimen"], what="specimen entry", plural="specimen entries")
+        return out
+
+    @property
     def failure(self) -> Dict[str, Any]:
         """Whether the specimen failed, and how: a dict with ``failed`` (True, False, or None
         without a load-displacement curve), ``criterion`` (the rule, in words), ``peak_load``
@@ -763,7 +782,31 @@ class Output:
         The rule: a joint broke and, after the largest load, the load fell to
         ``FAILURE_DROP`` (0.8) of it or below. A run that ends while the load still rises, or
         without a broken joint, did not fail: its largest load is not a peak.
+
+        These entries of the run's :attr:`result` block when it has one; else (an interrupted
+        run) computed from the run's files by the same rule.
         """
+        keys = (
+            "failed",
+            "criterion",
+            "peak_load",
+            "displacement_at_peak",
+            "largest_load",
+            "final_load",
+            "broken_joints",
+            "broken_by_mode",
+            "crack_extent",
+        )
+        r = self.result
+        if r is not None:
+            out: Dict[str, Any] = Named(what="failure entry", plural="failure entries")
+            out.update({k: r.get(k) for k in keys})
+            return out
+        return self.failure_from_files()
+
+    def failure_from_files(self) -> Dict[str, Any]:
+        """:attr:`failure` computed from the run's files (``walls.csv`` or ``histories.csv``,
+        and ``fractures.csv``), whether or not the summary has a result block."""
         fr = self.fractures
         broken = 0 if fr is None else len(next(iter(fr.values()), []))
         by_mode = {m: 0 for m in ("I", "II", "mixed")}
@@ -779,7 +822,7 @@ class Output:
         out: Dict[str, Any] = Named(what="failure entry", plural="failure entries")
         out.update(
             failed=None,
-            criterion=f"a joint broke and the load fell to {FAILURE_DROP} of its largest value or below after it",
+            criterion=f"a joint broke and the load then fell to {FAILURE_DROP} of its largest value or below",
             peak_load=None,
             displacement_at_peak=None,
             largest_load=None,

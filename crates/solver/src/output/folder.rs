@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// The fixed names of the files a run writes (with [`NUMBERED`] and the temporaries of
 /// [`is_run_file`]). A new output file must be added here.
-pub const FIXED: [&str; 10] = [
+pub const FIXED: [&str; 12] = [
     "results.pvd",
     "checkpoint.fdem",
     crate::checkpoint::RUN_ID_FILE,
@@ -18,6 +18,8 @@ pub const FIXED: [&str; 10] = [
     "walls.csv",
     "load_displacement.png",
     "load_displacement.svg",
+    "stress_strain.png",
+    "stress_strain.svg",
 ];
 
 /// The numbered series a run writes: (prefix, extension) of `prefix_NNNN.extension`.
@@ -97,6 +99,8 @@ mod tests {
             "walls.csv",
             "load_displacement.png",
             "load_displacement.svg",
+            "stress_strain.png",
+            "stress_strain.part.png",
             ".frame_0001.vtu.tmp4242",
             ".summary.json.tmp7",
             "load_displacement.svg.part",

@@ -8,6 +8,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod curve;
 pub mod folder;
 pub mod frame;
 pub mod history;

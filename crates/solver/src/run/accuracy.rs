@@ -115,15 +115,19 @@ fn quasi_static(l: &Problem, s: &Summary) -> Option<Indicator> {
 
 /// The deepest contact overlap of the run over the altitude of its triangle.
 fn penetration(s: &Summary) -> Option<Indicator> {
-    let d = s
-        .stages
-        .get("contact")?
-        .get("max_depth_over_altitude")?
-        .as_f64()?;
+    let c = s.stages.get("contact")?;
+    let d = c.get("max_depth_over_altitude")?.as_f64()?;
+    let mean = c
+        .get("mean_depth_over_altitude")
+        .and_then(|m| m.as_f64())
+        .unwrap_or(0.0);
     let mut ind = Indicator {
         name: "contact_penetration".into(),
         subject: "contact".into(),
-        measure: "the deepest overlap / the altitude of its triangle (over the run)".into(),
+        measure: format!(
+            "the deepest overlap / the altitude of its triangle (mean over the loaded \
+             contacts {mean:.2e})"
+        ),
         value: d,
         threshold: PENETRATION_MAX,
         good: Good::AtMost,
@@ -131,7 +135,7 @@ fn penetration(s: &Summary) -> Option<Indicator> {
                   into each other"
             .into(),
         warning: None,
-        details: json!({"max_depth_over_altitude": d}),
+        details: json!({"max_depth_over_altitude": d, "mean_depth_over_altitude": mean}),
     };
     if !ind.passes() {
         ind.warning = Some(format!(
@@ -184,7 +188,10 @@ pub fn largest_strain(elements: &fdem_mesh::Elements, u: &[f64]) -> f64 {
 
 /// The time-step indicator: the step used over the scheme's stable step a priori
 /// (`l.dt / l.dt_limit`); with `active_limit`, the stable step of the largest active bound
-/// the run met (contact engaged as it was, not every edge pressed flat), as a detail.
+/// the run met (contact engaged as it was, not every edge pressed flat), as a detail. The
+/// joints' term in both is that of every joint intact: softening lowers a joint's secant
+/// stiffness and a broken joint has none, so the intact term is the largest the joints reach
+/// in any state of the run, their active bound as well as their a-priori one.
 pub fn time_step(l: &Problem, active_limit: Option<f64>) -> Indicator {
     let ratio = l.dt / l.dt_limit;
     let mut details = json!({
@@ -192,6 +199,11 @@ pub fn time_step(l: &Problem, active_limit: Option<f64>) -> Indicator {
         "time_step": l.dt,
         "stable_step": l.dt_limit,
         "omega_max": l.omega_max(),
+        "omega_terms": {
+            "elements": l.frequency.elements,
+            "contact": l.frequency.contact,
+            "joints_intact": l.frequency.joints,
+        },
     });
     if let Some(h) = active_limit {
         details["active_stable_step"] = json!(h);

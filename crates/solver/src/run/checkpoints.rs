@@ -529,7 +529,12 @@ impl<'a> Run<'a> {
             kinetic,
             adaptive,
             conjugate,
+            resumed: None,
         };
+        run.resumed = Some(crate::run::summary::Resumed {
+            step: run.steps,
+            time: run.state.t,
+        });
         run.checkpoints.any = true;
         run.checkpoints.run_id = Some(cp.header.run_id);
         for o in observers.iter_mut() {

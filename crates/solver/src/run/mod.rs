@@ -49,6 +49,7 @@ mod observer;
 mod options;
 mod progress;
 mod relaxation;
+pub mod result;
 mod stability;
 pub mod static_solve;
 mod step_control;

@@ -208,7 +208,22 @@ pub fn solve(l: &Problem) -> Result<(FrameData, Summary), RunError> {
         .iter()
         .map(|d| (d[0] * d[0] + d[1] * d[1]).sqrt())
         .fold(0.0, f64::max);
-    let summary = Summary {
+    let energy = Energies {
+        kinetic: 0.0,
+        strain,
+        external_work: ext,
+        support_work: sup,
+        dissipated_or_error: ext + sup - strain,
+        ..Default::default()
+    };
+    let summary = static_summary(l, solve_time, energy, max_u);
+    Ok((frame, summary))
+}
+
+/// The summary of the static solve of `l`: the solve's time, its ledger `energy` and the
+/// largest displacement `max_u`.
+fn static_summary(l: &Problem, solve_time: f64, energy: Energies, max_u: f64) -> Summary {
+    Summary {
         scene: l.file.display().to_string(),
         analysis: "static".into(),
         scheme: "sparse-cholesky".into(),
@@ -225,14 +240,7 @@ pub fn solve(l: &Problem) -> Result<(FrameData, Summary), RunError> {
             internal_forces: solve_time,
             ..Default::default()
         },
-        energy: Energies {
-            kinetic: 0.0,
-            strain,
-            external_work: ext,
-            support_work: sup,
-            dissipated_or_error: ext + sup - strain,
-            ..Default::default()
-        },
+        energy,
         frames: 0,
         converged: None,
         relative_residual: None,
@@ -251,10 +259,11 @@ pub fn solve(l: &Problem) -> Result<(FrameData, Summary), RunError> {
         loading_rate: None,
         quasi_static: None,
         accuracy: Default::default(),
+        result: None,
+        resumed: None,
         interrupted: None,
         distributed: None,
-    };
-    Ok((frame, summary))
+    }
 }
 
 /// Linear stresses `(sxx, syy, sxy, szz)` and strain energy densities of every triangle for

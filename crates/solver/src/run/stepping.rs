@@ -55,6 +55,8 @@ pub struct Run<'a> {
     /// A conjugate-gradient relaxation's minimiser (`None` for any other run): its
     /// iteration replaces the scheme's step.
     pub(super) conjugate: Option<ConjugateGradient>,
+    /// Where a resumed run took up (`None` for a run from the start).
+    pub(super) resumed: Option<crate::run::summary::Resumed>,
 }
 
 impl<'a> Run<'a> {
@@ -118,6 +120,7 @@ impl<'a> Run<'a> {
             kinetic,
             adaptive,
             conjugate,
+            resumed: None,
         })
     }
 
@@ -387,6 +390,13 @@ impl<'a> Run<'a> {
         self.sys.dist = dist;
         summary.accuracy = crate::run::accuracy::assess(self.loaded, &summary, None);
         if writes {
+            summary.result =
+                crate::run::result::read(self.out_dir, &self.sys.model).map_err(|message| {
+                    RunError::Output {
+                        file: self.out_dir.to_path_buf(),
+                        message,
+                    }
+                })?;
             write_summary(self.out_dir, &summary)?;
         }
         let mut last_frame = state_frame(self.sys, &self.state);
@@ -464,6 +474,8 @@ impl<'a> Run<'a> {
             loading_rate: l.scene.loading.as_ref().map(|x| x.rate),
             quasi_static: None,
             accuracy: Default::default(),
+            result: None,
+            resumed: self.resumed.clone(),
             interrupted: None,
             distributed: None,
         }

@@ -98,6 +98,15 @@ pub struct Summary {
     /// The accuracy indicators: what the run found and how far to trust it
     /// ([`crate::run::accuracy`]).
     pub accuracy: Accuracy,
+    /// What the run found: failure, peak load and stress, stiffness, broken joints
+    /// ([`crate::run::result`]); absent for a run without a load-displacement curve or broken
+    /// joints, a static solve and an interrupted run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub result: Option<crate::run::result::RunResult>,
+    /// Present when the run was resumed from a checkpoint (`fdem run --resume`): where it
+    /// resumed. The summary is of the whole run; its wall time adds the earlier parts'.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resumed: Option<Resumed>,
     /// Present when the run was interrupted (a signal, or `--stop-after`): where it stopped
     /// and the checkpoint to resume from.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -131,6 +140,15 @@ pub struct QuasiStatic {
     /// The warning, when `kinetic_ratio_max` exceeds `limit`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warning: Option<String>,
+}
+
+/// Where a resumed run took up from its checkpoint.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Resumed {
+    /// The step of the checkpoint.
+    pub step: u64,
+    /// The time of the checkpoint [s].
+    pub time: f64,
 }
 
 /// How an interrupted run stopped.
@@ -184,6 +202,16 @@ impl Summary {
         );
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
             let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
+        }
+        if let Some(r) = &self.resumed {
+            let _ = write!(
+                s,
+                "\nresumed from the checkpoint at step {} (t = {:.4e} s); every figure is of the whole run",
+                r.step, r.time
+            );
+        }
+        if let Some(r) = &self.result {
+            let _ = write!(s, "\n{}", crate::run::result::describe(r));
         }
         let a = &self.accuracy;
         if !a.indicators.is_empty() {

@@ -49,6 +49,15 @@ pub struct ContactReport {
     pub max_phi: f64,
     /// Largest overlap depth over the run relative to the altitude of the triangle, `phi/3`.
     pub max_depth_over_altitude: f64,
+    /// The mean overlap depth relative to the altitude of the triangle over the run: the mean
+    /// of each loaded couple's largest `phi / 3` over every loaded couple of every force pass.
+    pub mean_depth_over_altitude: f64,
+    /// The sum behind the mean: each loaded couple's largest `phi`, over the passes.
+    #[serde(skip)]
+    pub phi_sum: f64,
+    /// The loaded couples behind the mean, over the passes.
+    #[serde(skip)]
+    pub phi_count: u64,
     /// Detections done.
     pub detections: u64,
     /// Active couples (normal force > 0) at the last evaluation.
@@ -312,6 +321,12 @@ impl ContactStage {
         if stats.max_phi > r.max_phi {
             r.max_phi = stats.max_phi;
             r.max_depth_over_altitude = stats.max_phi / 3.0;
+        }
+        let loaded = (stats.n_active + stats.n_wall_active) as u64;
+        if loaded > 0 {
+            r.phi_sum += stats.sum_phi_loaded;
+            r.phi_count += loaded;
+            r.mean_depth_over_altitude = r.phi_sum / (3.0 * r.phi_count as f64);
         }
         if r.error.is_none()
             && let Err(e) = stats.check(self.contact.settings.max_phi)

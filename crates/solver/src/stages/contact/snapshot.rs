@@ -92,6 +92,7 @@ impl Pack for ContactStats {
         e.put(&self.n_invalid);
         e.put(&self.first_invalid);
         e.put(&self.trial_dissipation);
+        e.put(&self.sum_phi_loaded);
     }
     fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
         Ok(Self {
@@ -104,6 +105,7 @@ impl Pack for ContactStats {
             n_invalid: d.get()?,
             first_invalid: d.get()?,
             trial_dissipation: d.get()?,
+            sum_phi_loaded: d.get()?,
         })
     }
 }
@@ -158,6 +160,8 @@ impl Pack for ContactSnapshot {
 fn put_report(e: &mut Enc, r: &ContactReport) {
     e.put(&r.max_phi);
     e.put(&r.max_depth_over_altitude);
+    e.put(&r.phi_sum);
+    e.put(&r.phi_count);
     e.put(&r.detections);
     e.put(&r.active_couples);
     e.put(&r.wall_work);
@@ -170,9 +174,12 @@ fn put_report(e: &mut Enc, r: &ContactReport) {
 
 /// The report of a stage with `nw` walls.
 fn get_report(d: &mut Dec, nw: usize) -> Result<ContactReport, DecodeError> {
-    Ok(ContactReport {
+    let mut r = ContactReport {
         max_phi: d.get()?,
         max_depth_over_altitude: d.get()?,
+        mean_depth_over_altitude: 0.0,
+        phi_sum: d.get()?,
+        phi_count: d.get()?,
         detections: d.get()?,
         active_couples: d.get()?,
         wall_work: d.get()?,
@@ -181,7 +188,11 @@ fn get_report(d: &mut Dec, nw: usize) -> Result<ContactReport, DecodeError> {
         error: d.get()?,
         omega_active_max: d.get()?,
         omega_active_max_time: d.get()?,
-    })
+    };
+    if r.phi_count > 0 {
+        r.mean_depth_over_altitude = r.phi_sum / (3.0 * r.phi_count as f64);
+    }
+    Ok(r)
 }
 
 /// What the section holds besides the model, read before anything is changed.
