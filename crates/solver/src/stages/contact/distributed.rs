@@ -266,7 +266,7 @@ impl ContactStage {
             let tallies =
                 of_pass(&p.merged[TALLIES], WIDTHS[TALLIES], n).map(|e| Tally::decode(&e[1..]));
             let s = ContactStats::tally(nc, tallies);
-            self.book_pass(tp, &s);
+            self.book_pass(tp, &s, true);
             last = Some(s);
         }
         p.passes.clear();

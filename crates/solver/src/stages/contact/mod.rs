@@ -50,7 +50,8 @@ pub struct ContactReport {
     /// Largest overlap depth over the run relative to the altitude of the triangle, `phi/3`.
     pub max_depth_over_altitude: f64,
     /// The mean overlap depth relative to the altitude of the triangle over the run: the mean
-    /// of each loaded couple's largest `phi / 3` over every loaded couple of every force pass.
+    /// of each loaded couple's largest `phi / 3` over every loaded couple of every force pass
+    /// of a step (looks at the state for output are not counted).
     pub mean_depth_over_altitude: f64,
     /// The sum behind the mean: each loaded couple's largest `phi`, over the passes.
     #[serde(skip)]
@@ -315,15 +316,16 @@ impl ContactStage {
     }
 
     /// Books a force pass's statistics at time `t`: the deepest overlap, the first error,
-    /// the active couples.
-    fn book_pass(&mut self, t: f64, stats: &fdem_contact::ContactStats) {
+    /// the active couples; with `step`, the pass of a step (not a look at the state, nor a
+    /// distributed run's whole evaluation), the mean overlap too.
+    fn book_pass(&mut self, t: f64, stats: &fdem_contact::ContactStats, step: bool) {
         let r = &mut self.report;
         if stats.max_phi > r.max_phi {
             r.max_phi = stats.max_phi;
             r.max_depth_over_altitude = stats.max_phi / 3.0;
         }
         let loaded = (stats.n_active + stats.n_wall_active) as u64;
-        if loaded > 0 {
+        if step && loaded > 0 {
             r.phi_sum += stats.sum_phi_loaded;
             r.phi_count += loaded;
             r.mean_depth_over_altitude = r.phi_sum / (3.0 * r.phi_count as f64);
@@ -436,7 +438,7 @@ impl ForceTerm for ContactStage {
             // the first evaluation, at the initial state: the power the dissipation starts from
             self.damping_power = Some((t, self.contact.damping_power(&self.tris, v)));
         }
-        self.book_pass(t, &stats);
+        self.book_pass(t, &stats, !(self.looking || whole));
     }
 
     /// The commit and the step's books (the same whether or not the last evaluation was at `x`).
