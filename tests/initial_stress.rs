@@ -571,7 +571,7 @@ fn kinetic_relaxation_reaches_the_static_excavation() {
     let (st, _) = common::run(&write(&dir, "static.json", &scene));
     scene["analysis"] = json!("relaxation");
     scene["duration"] = json!(0.2);
-    scene["integrator"] = json!({"relaxation_tolerance": 1e-6});
+    scene["integrator"] = json!({"relaxation_tolerance": 1e-6, "relaxation": "kinetic"});
     scene["histories"] = json!({"probes": ["energy"]});
     let (rl, _) = common::run(&write(&dir, "relax.json", &scene));
     let sm = &rl.summary;

@@ -22,10 +22,12 @@ fn cg(v: &mut serde_json::Value) {
     v["integrator"]["relaxation"] = "conjugate-gradient".into();
 }
 
-/// The 25 920-triangle cantilever to 1e-7 of a 1 N tip load in at most 20 000 steps.
+/// The 25 920-triangle cantilever to 1e-7 of a 1 N tip load in at most 20 000 steps, by
+/// default: the scene names no method, and an elastic body under a dead load is
+/// conservative, so it relaxes by conjugate gradient.
 #[test]
 fn cg_relaxation_of_the_25k_triangle_cantilever() {
-    let scene = cantilever("cg-cant-360", (360, 36), "relaxation", 1.0, cg);
+    let scene = cantilever("cg-cant-360", (360, 36), "relaxation", 1.0, |_| {});
     let t = std::time::Instant::now();
     let (o, out) = common::run(&scene);
     let wall = t.elapsed().as_secs_f64();
@@ -48,6 +50,11 @@ fn cg_relaxation_of_the_25k_triangle_cantilever() {
     );
     assert_eq!(s.converged, Some(true));
     assert_eq!(s.relaxation.as_deref(), Some("conjugate-gradient"));
+    let why = s.relaxation_reason.as_deref().unwrap();
+    assert!(
+        why.contains("the default for a conservative scene"),
+        "{why}"
+    );
     assert!(s.triangles >= 25_000);
     // measured 4 800 iterations (the residual checked every 100), 9 600 force evaluations
     assert!(s.steps <= 20_000, "{} steps", s.steps);
@@ -78,6 +85,60 @@ fn cg_relaxation_of_the_25k_triangle_cantilever() {
             s.residual_floor.unwrap()
         ),
     );
+}
+
+/// The default method where the energy is not a potential: kinetic damping, saying what
+/// rules the potential out (friction, contact damping, viscosity, joints); viscous with a
+/// mass-proportional damping; the one the scene names otherwise.
+#[test]
+fn the_default_relaxation_is_conjugate_gradient_only_for_a_conservative_scene() {
+    use fdem_solver::input::scene::RelaxationMethod::{ConjugateGradient, Kinetic, Viscous};
+    let choice = |tag: &str, edit: &dyn Fn(&mut serde_json::Value)| {
+        let scene = crate::common::edited_example("disc-collision.json", tag, |v| {
+            v["analysis"] = "relaxation".into();
+            edit(v);
+        });
+        fdem_solver::driver::load(&scene)
+            .unwrap()
+            .scene
+            .relaxation_choice()
+    };
+    let (m, why) = choice("rc-plain", &|_| {});
+    assert_eq!(m, ConjugateGradient, "{why}");
+    let (m, why) = choice("rc-friction", &|v| {
+        v["contact"] = serde_json::json!({"default": {"friction": 0.3}});
+    });
+    assert_eq!(m, Kinetic);
+    assert!(why.contains("contact.default.friction > 0"), "{why}");
+    let (m, why) = choice("rc-damped", &|v| {
+        v["contact"] = serde_json::json!({"default": {"damping": 0.1}});
+    });
+    assert_eq!(m, Kinetic);
+    assert!(why.contains("contact.default.damping > 0"), "{why}");
+    let (m, why) = choice("rc-viscous", &|v| {
+        v["damping"] = serde_json::json!({"viscosity_ratio": 0.05});
+    });
+    assert_eq!(m, Kinetic);
+    assert!(why.contains("viscosity_ratio"), "{why}");
+    let (m, _) = choice("rc-alpha", &|v| {
+        v["damping"] = serde_json::json!({"mass_proportional": 100.0});
+    });
+    assert_eq!(m, Viscous);
+    let (m, why) = choice("rc-named", &|v| {
+        v["integrator"]["relaxation"] = "kinetic".into();
+    });
+    assert_eq!(m, Kinetic);
+    assert!(why.contains("named"), "{why}");
+    // joints that soften: the fracturing disc, relaxed
+    let scene = crate::common::edited_example("brazilian-disc-fracture.json", "rc-joints", |v| {
+        v["analysis"] = "relaxation".into();
+    });
+    let (m, why) = fdem_solver::driver::load(&scene)
+        .unwrap()
+        .scene
+        .relaxation_choice();
+    assert_eq!(m, Kinetic);
+    assert!(why.contains("joints"), "{why}");
 }
 
 /// 120 x 12 cells: converges, bit-identical on 1 and 2 threads, and the +-P extrapolation

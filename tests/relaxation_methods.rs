@@ -88,7 +88,9 @@ pub(crate) fn run_on(threads: usize, scene: &Path) -> (fdem_solver::driver::Outc
 
 #[test]
 fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
-    let scene = cantilever("kdr-cant", (120, 12), "relaxation", 1.0, |_| {});
+    let scene = cantilever("kdr-cant", (120, 12), "relaxation", 1.0, |v| {
+        v["integrator"]["relaxation"] = "kinetic".into();
+    });
     let (o1, _) = run_on(1, &scene);
     let s = &o1.summary;
     eprintln!(
@@ -138,7 +140,9 @@ fn kinetic_relaxation_of_the_cantilever_is_fast_and_thread_independent() {
 /// omega_1` (a coarser mesh) or a preconditioned solver.
 #[test]
 fn kinetic_relaxation_of_the_25k_triangle_cantilever() {
-    let scene = cantilever("kdr-cant-360", (360, 36), "relaxation", 1.0, |_| {});
+    let scene = cantilever("kdr-cant-360", (360, 36), "relaxation", 1.0, |v| {
+        v["integrator"]["relaxation"] = "kinetic".into();
+    });
     let (o, out) = common::run(&scene);
     let st = cantilever("kdr-cant-360-static", (360, 36), "static", 1.0, |_| {});
     let (_, out_st) = common::run(&st);

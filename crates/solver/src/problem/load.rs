@@ -153,7 +153,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
             message: format!("unknown scheme '{}'", scene.integrator.scheme),
             fix: format!("use one of {}", SchemeKind::valid_names()),
         })?;
-    if (scene.integrator).equal_step_masses(scene.analysis, &scene.damping) {
+    if (scene.integrator).equal_step_masses(scene.analysis, scene.relaxation_choice().0) {
         model.equal_step_masses();
     }
     let ms = scene.mass_scaling.clone();

@@ -219,13 +219,13 @@ pub fn not_converged(scene: &Scene, summary: &Summary) -> Option<RunError> {
     let alpha = scene.damping.mass_proportional;
     let duration = scene.duration.unwrap_or(0.0);
     let tol = scene.integrator.relaxation_tolerance;
-    let damp = match scene.integrator.relaxation_method(&scene.damping) {
+    let damp = match scene.relaxation_choice().0 {
         crate::input::scene::RelaxationMethod::Viscous => format!(
-            "damp near critically (`damping.mass_proportional`, now {alpha:e} 1/s: about twice the lowest natural frequency), or remove it for kinetic damping (`integrator.relaxation`: \"kinetic\", the default)"
+            "damp near critically (`damping.mass_proportional`, now {alpha:e} 1/s: about twice the lowest natural frequency), or remove it for kinetic damping (`integrator.relaxation`: \"kinetic\")"
         ),
-        crate::input::scene::RelaxationMethod::Kinetic => "kinetic damping (the default) needs about (omega_max / omega_1) ln(1/tol) / 4 steps, omega_1 the lowest natural frequency: a finer mesh or a slender body needs more".into(),
-        crate::input::scene::RelaxationMethod::Adaptive => "try kinetic damping (`integrator.relaxation`: \"kinetic\", the default), which needed half the steps of adaptive damping on the cantilever".into(),
-        crate::input::scene::RelaxationMethod::ConjugateGradient => "the conjugate-gradient relaxation took 4 800 iterations on a 25 920-triangle cantilever, more under loads that rotate the body far (finite strain); where damage grows during the relaxation its energy is not a potential: try kinetic damping (`integrator.relaxation`: \"kinetic\", the default)".into(),
+        crate::input::scene::RelaxationMethod::Kinetic => "kinetic damping needs about (omega_max / omega_1) ln(1/tol) / 4 steps, omega_1 the lowest natural frequency: a finer mesh or a slender body needs more".into(),
+        crate::input::scene::RelaxationMethod::Adaptive => "try kinetic damping (`integrator.relaxation`: \"kinetic\"), which needed half the steps of adaptive damping on the cantilever".into(),
+        crate::input::scene::RelaxationMethod::ConjugateGradient => "the conjugate-gradient relaxation took 4 800 iterations on a 25 920-triangle cantilever, more under loads that rotate the body far (finite strain); where damage grows during the relaxation its energy is not a potential: try kinetic damping (`integrator.relaxation`: \"kinetic\")".into(),
     };
     Some(RunError::NotConverged {
         residual: summary.relative_residual.unwrap_or(f64::NAN),

@@ -580,7 +580,7 @@ pub fn expected_steps(l: &Problem) -> (u64, String) {
             l.n_steps,
             format!(
                 "relaxation ({}): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
-                match l.scene.integrator.relaxation_method(&l.scene.damping) {
+                match l.scene.relaxation_choice().0 {
                     RelaxationMethod::ConjugateGradient => "conjugate gradient".to_string(),
                     m => format!("{} damping", m.name()),
                 },

@@ -247,11 +247,7 @@ fn dynamic_run(
     resume: Option<&Checkpoint>,
 ) -> Result<Outcome, RunError> {
     let mut histories = Histories::new(l, &sys.model, &options.out_dir);
-    let method = l
-        .scene
-        .integrator
-        .relaxation_method(&l.scene.damping)
-        .name();
+    let method = l.scene.relaxation_choice().0.name();
     let mut relaxation = (l.scene.analysis == Analysis::Relaxation)
         .then(|| Relaxation::new(l.scene.integrator.relaxation_tolerance, method));
     let mut guard = StabilityGuard::new();

@@ -123,11 +123,12 @@ impl Observer for Relaxation {
         let scene = &run.loaded.scene;
         let equal = scene
             .integrator
-            .equal_step_masses(scene.analysis, &scene.damping);
+            .equal_step_masses(scene.analysis, scene.relaxation_choice().0);
         summary.relaxation_masses = Some(if equal { "equal-step" } else { "true" }.into());
         summary.converged = Some(self.converged);
         summary.relative_residual = self.residual;
         summary.relaxation = Some(self.method.into());
+        summary.relaxation_reason = Some(scene.relaxation_choice().1);
         summary.residual_floor = self.floor;
         let e = &summary.energy;
         let elastic = e.strain + e.stored;

@@ -245,6 +245,7 @@ fn static_summary(l: &Problem, solve_time: f64, energy: Energies, max_u: f64) ->
         converged: None,
         relative_residual: None,
         relaxation: None,
+        relaxation_reason: None,
         relaxation_masses: None,
         residual_floor: None,
         kinetic_to_strain: None,

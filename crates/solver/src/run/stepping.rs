@@ -460,6 +460,7 @@ impl<'a> Run<'a> {
             converged: None,
             relative_residual: None,
             relaxation: None,
+            relaxation_reason: None,
             relaxation_masses: None,
             residual_floor: None,
             kinetic_to_strain: None,
@@ -515,7 +516,7 @@ pub fn history_interval(l: &Problem) -> u64 {
 /// The relaxation method of `l` (`None`: not a relaxation).
 pub fn relaxation_method(l: &Problem) -> Option<RelaxationMethod> {
     (l.scene.analysis == crate::input::scene::Analysis::Relaxation)
-        .then(|| l.scene.integrator.relaxation_method(&l.scene.damping))
+        .then(|| l.scene.relaxation_choice().0)
 }
 
 /// The residuals of the element law and the contact potential are booked when the run records

@@ -53,6 +53,9 @@ pub struct Summary {
     /// `"conjugate-gradient"`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relaxation: Option<String>,
+    /// Relaxation: why that method (named in the scene, or the default and what decided it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relaxation_reason: Option<String>,
     /// Relaxation: the masses of its pseudo-dynamics (`"equal-step"` or `"true"`,
     /// `integrator.relaxation_masses`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -202,6 +205,9 @@ impl Summary {
         );
         if let (Some(c), Some(r)) = (self.converged, self.relative_residual) {
             let _ = write!(s, "\nrelaxation converged: {c} (relative residual {r:.3e})");
+            if let (Some(m), Some(why)) = (&self.relaxation, &self.relaxation_reason) {
+                let _ = write!(s, "; {m}: {why}");
+            }
         }
         if let Some(r) = &self.resumed {
             let _ = write!(

@@ -146,6 +146,35 @@ impl ContactSection {
     /// Refuses a law with friction (a conjugate-gradient relaxation minimises a potential
     /// energy, and Coulomb friction has none: its slip depends on the path), naming the
     /// first such law's `friction`; `file` names the scene.
+    /// The first law (its JSON path and the law) that makes contact non-conservative:
+    /// friction or damping; `None` when contact is off or every law is frictionless and
+    /// undamped.
+    pub fn dissipative_law(&self) -> Option<(String, &LawSpec)> {
+        if !self.enabled {
+            return None;
+        }
+        self.laws()
+            .find(|(_, l)| l.friction > 0.0 || l.damping > 0.0)
+    }
+
+    /// Every law in force: the default, the enabled pairs', the walls' (with JSON paths).
+    fn laws(&self) -> impl Iterator<Item = (String, &LawSpec)> {
+        std::iter::once(("contact.default".to_string(), &self.default))
+            .chain(
+                self.pairs
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| p.enabled)
+                    .map(|(i, p)| (format!("contact.pairs[{i}].law"), &p.law)),
+            )
+            .chain(
+                self.walls
+                    .iter()
+                    .enumerate()
+                    .map(|(i, w)| (format!("contact.walls[{i}].law"), &w.law)),
+            )
+    }
+
     pub(crate) fn refuse_friction(&self, file: &Path) -> Result<(), SceneError> {
         let laws = std::iter::once(("contact.default".to_string(), &self.default))
             .chain(

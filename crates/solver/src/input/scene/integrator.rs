@@ -205,25 +205,28 @@ pub struct Damping {
 }
 
 impl Integrator {
-    /// The relaxation method of a scene with damping `damping`: the one named, else viscous
-    /// when the scene gives a mass-proportional damping, else kinetic.
-    pub fn relaxation_method(&self, damping: &Damping) -> RelaxationMethod {
+    /// The relaxation method of a scene with damping `damping`, `conservative` when its
+    /// energy is a potential ([`crate::input::scene::Scene::relaxation_choice`]): the one
+    /// named, else viscous when the scene gives a mass-proportional damping, else conjugate
+    /// gradient for a conservative scene and kinetic damping for any other.
+    pub fn relaxation_method(&self, damping: &Damping, conservative: bool) -> RelaxationMethod {
         self.relaxation
             .unwrap_or(if damping.mass_proportional > 0.0 {
                 RelaxationMethod::Viscous
+            } else if conservative {
+                RelaxationMethod::ConjugateGradient
             } else {
                 RelaxationMethod::Kinetic
             })
     }
 
-    /// Whether a scene of kind `analysis` with damping `damping` relaxes with the
-    /// equal-step masses: the ones named, else for the kinetic, adaptive and
-    /// conjugate-gradient methods.
-    pub fn equal_step_masses(&self, analysis: Analysis, damping: &Damping) -> bool {
+    /// Whether a scene of kind `analysis` relaxing by `method` does so with the equal-step
+    /// masses: the ones named, else for the kinetic, adaptive and conjugate-gradient methods.
+    pub fn equal_step_masses(&self, analysis: Analysis, method: RelaxationMethod) -> bool {
         analysis == Analysis::Relaxation
             && match self.relaxation_masses {
                 Some(m) => m == RelaxationMasses::EqualStep,
-                None => self.relaxation_method(damping) != RelaxationMethod::Viscous,
+                None => method != RelaxationMethod::Viscous,
             }
     }
 
@@ -237,7 +240,7 @@ impl Integrator {
     ) -> Result<(), SceneError> {
         let alpha = damping.mass_proportional;
         if self.relaxation_masses == Some(RelaxationMasses::EqualStep)
-            && self.relaxation_method(damping) == RelaxationMethod::Viscous
+            && self.relaxation_method(damping, false) == RelaxationMethod::Viscous
         {
             return Err(SceneError::invalid(
                 file,

@@ -92,6 +92,48 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A relaxation's method and why: the one `integrator.relaxation` names; else viscous
+    /// with a mass-proportional damping; else conjugate gradient when the scene's energy is a
+    /// potential (no friction or damping in contact, no element viscosity, no joints that
+    /// soften), the fastest there; else kinetic damping, with what rules the potential out.
+    pub fn relaxation_choice(&self) -> (integrator::RelaxationMethod, String) {
+        let why_not = self.not_conservative();
+        let m = self
+            .integrator
+            .relaxation_method(&self.damping, why_not.is_none());
+        let why = if self.integrator.relaxation.is_some() {
+            "named by integrator.relaxation".to_string()
+        } else if self.damping.mass_proportional > 0.0 {
+            "the default with damping.mass_proportional > 0".to_string()
+        } else if let Some(w) = why_not {
+            format!(
+                "the default where the energy is not a potential ({w}): conjugate gradient \
+                 minimises a potential"
+            )
+        } else {
+            "the default for a conservative scene (no friction, damping or softening \
+             joints): the fewest iterations"
+                .to_string()
+        };
+        (m, why)
+    }
+
+    /// What makes the scene's energy not a potential, in words; `None` when it is one.
+    fn not_conservative(&self) -> Option<String> {
+        if self.damping.viscosity_ratio > 0.0 {
+            return Some("damping.viscosity_ratio > 0".into());
+        }
+        if self.fracture.is_some() {
+            return Some("joints that soften (fracture)".into());
+        }
+        let (path, law) = self.contact.as_ref()?.dissipative_law()?;
+        Some(if law.friction > 0.0 {
+            format!("{path}.friction > 0")
+        } else {
+            format!("{path}.damping > 0")
+        })
+    }
+
     /// Parses a scene from JSON text; `file` names the source in errors.
     ///
     /// Every byte of the text is consumed or refused: a UTF-8 byte-order mark is refused as
@@ -195,8 +237,7 @@ impl Scene {
         self.damping.validate(file)?;
         if self.analysis == Analysis::Relaxation {
             self.integrator.validate_relaxation(&self.damping, file)?;
-            if self.integrator.relaxation_method(&self.damping)
-                == integrator::RelaxationMethod::ConjugateGradient
+            if self.relaxation_choice().0 == integrator::RelaxationMethod::ConjugateGradient
                 && let Some(c) = self.contact.as_ref().filter(|c| c.enabled)
             {
                 c.refuse_friction(file)?;
