@@ -119,7 +119,11 @@ pub(crate) fn relax_hertz(tag: &str, edit: impl FnOnce(&mut serde_json::Value)) 
 
 #[test]
 fn hertz_disc_relaxed_through_the_solver_with_equal_step_masses() {
-    let m = relax_hertz("hertz-relax", |_| {});
+    // kinetic damping named: frictionless contact is conservative, so the default would be
+    // conjugate gradient (tests/relaxation_cg.rs relaxes the same disc that way)
+    let m = relax_hertz("hertz-relax", |v| {
+        v["integrator"]["relaxation"] = "kinetic".into();
+    });
     eprintln!(
         "hertz disc, equal-step masses: {} steps (h_limit {:.3e} s), a/a_H - 1 = {:+.3} %, p0/p0_H - 1 = {:+.3} %, sum F/P - 1 = {:+.1e}",
         m.steps,
