@@ -576,17 +576,23 @@ pub fn expected_steps(l: &Problem) -> (u64, String) {
     let alpha = l.scene.damping.mass_proportional;
     let tol = l.scene.integrator.relaxation_tolerance;
     if l.scene.analysis == Analysis::Relaxation && alpha == 0.0 {
+        let (method, why) = l.scene.relaxation_choice();
+        let (name, took) = match method {
+            RelaxationMethod::ConjugateGradient => (
+                "conjugate gradient".to_string(),
+                "it took 4 800 iterations on a 25 920-triangle cantilever where kinetic damping took 53 200 steps",
+            ),
+            m => (
+                format!("{} damping", m.name()),
+                "kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
+            ),
+        };
         return (
             l.n_steps,
             format!(
-                "relaxation ({}): stops when converged, at most {} steps; kinetic damping took about (omega_max / omega_1) ln(1/tol) / 4 steps on the cantilevers (omega_1 the lowest natural frequency)",
-                match l.scene.relaxation_choice().0 {
-                    RelaxationMethod::ConjugateGradient => "conjugate gradient".to_string(),
-                    m => format!("{} damping", m.name()),
-                },
+                "relaxation by {name}, {why}; stops when converged, at most {} steps; {took}",
                 l.n_steps
-            )
-            .to_lowercase(),
+            ),
         );
     }
     if l.scene.analysis == Analysis::Relaxation

@@ -106,13 +106,10 @@ impl Scene {
         } else if self.damping.mass_proportional > 0.0 {
             "the default with damping.mass_proportional > 0".to_string()
         } else if let Some(w) = why_not {
-            format!(
-                "the default where the energy is not a potential ({w}): conjugate gradient \
-                 minimises a potential"
-            )
+            format!("the default where the energy is not a potential: {w}")
         } else {
-            "the default for a conservative scene (no friction, damping or softening \
-             joints): the fewest iterations"
+            "the default for a conservative scene, the fewest iterations (no friction, damping \
+             or softening joints)"
                 .to_string()
         };
         (m, why)
