@@ -364,6 +364,56 @@ mod tests {
     }
 
     #[test]
+    fn a_specimen_between_platens_gets_its_nominal_stress_strain_curve() {
+        let d = folder(
+            "stress",
+            &[
+                (
+                    "walls.csv",
+                    "time,u_x[top],u_y[top],force_x[top],force_y[top],u_x[bottom],u_y[bottom],force_x[bottom],force_y[bottom]\n\
+                     0,0,0,0,0,0,0,0,0\n\
+                     1,0,-1e-5,0,-2000,0,1e-5,0,2000\n",
+                ),
+                (
+                    "summary.json",
+                    r#"{"result": {"specimen": {"shape": "disc", "width": 0.05, "height": 0.05, "thickness": 0.01}}}"#,
+                ),
+            ],
+        );
+        let files = stress_strain(std::slice::from_ref(&d), None, None).unwrap();
+        assert_eq!(
+            files,
+            [d.join("stress_strain.png"), d.join("stress_strain.svg")]
+        );
+        let texts = svg_texts(&files[1]);
+        assert!(
+            texts.iter().any(|t| t.starts_with("Brazilian stress 2P/")),
+            "{texts:?}"
+        );
+        assert!(
+            texts
+                .iter()
+                .any(|t| t.starts_with("strain: platen closure / height"))
+        );
+        // a rectangle: P / (W t); a folder without a specimen: refused, naming the fix
+        std::fs::write(
+            d.join("summary.json"),
+            r#"{"result": {"specimen": {"shape": "rectangle", "width": 0.05, "height": 0.1, "thickness": 0.05}}}"#,
+        )
+        .unwrap();
+        let (to_stress, to_strain, label) = specimen_scale(&d).unwrap();
+        assert_eq!((to_stress, to_strain), (1.0 / (0.05 * 0.05), 1.0 / 0.1));
+        assert_eq!(label, "stress P/(Wt) [MPa]");
+        std::fs::write(d.join("summary.json"), r#"{"result": {}}"#).unwrap();
+        let e = format!(
+            "{}",
+            stress_strain(std::slice::from_ref(&d), None, None).unwrap_err()
+        );
+        assert!(e.contains("fdem plot load-displacement"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
     fn a_title_is_cut_at_a_clause_else_a_word_else_a_character() {
         // 10 px a character
         let w = |s: &str| Ok(10 * s.chars().count() as u32);
