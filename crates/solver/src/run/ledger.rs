@@ -241,33 +241,6 @@ impl Energies {
         l.close();
         l
     }
-
-    /// Four lines for the terminal, every term with its ledger name.
-    pub fn describe(&self) -> String {
-        let c = self.columns();
-        let group = |title: &str, range: std::ops::Range<usize>| {
-            let terms: Vec<String> = c[range]
-                .iter()
-                .map(|(n, v)| format!("{n} {v:.4e}"))
-                .collect();
-            format!("energy {title} [J]: {}", terms.join(", "))
-        };
-        format!(
-            "{}\n{}\n{}\n{}\nenergy error [J]: error {:.3e} = initial + supplied - present - dissipated ({:.2e} of the in_play {:.4e}: {})",
-            group("initial", 0..4),
-            group("supplied", 4..9),
-            group("present", 9..13),
-            group("dissipated", 13..22),
-            self.error,
-            self.relative_error(),
-            self.in_play,
-            if self.residuals_booked {
-                "integration error"
-            } else {
-                "integration error and the residuals of the element law and contact potential, not booked apart without the energy probe"
-            }
-        )
-    }
 }
 
 /// The running books of a dynamic or relaxation run: the time integrals of the ledger
@@ -755,11 +728,5 @@ mod tests {
         assert_eq!(e.dissipated, 6.25);
         assert_eq!(e.error, 11.0 + 5.0 - 8.5 - 6.25);
         assert_eq!(e.in_play, 11.0 + 3.0 + 2.0 + 4.0);
-        let d = e.describe();
-        for n in Energies::column_names() {
-            if n != "in_play" && n != "error" {
-                assert!(d.contains(&format!("{n} ")), "{n} missing from {d}");
-            }
-        }
     }
 }
