@@ -132,9 +132,7 @@ pub fn load_displacement(
     let mut labels = None;
     for d in dirs {
         let c = curve(d, load, disp)?;
-        let name = d
-            .file_name()
-            .map_or_else(|| d.display().to_string(), |n| n.to_string_lossy().into());
+        let name = run_name(d);
         series.push(Series {
             name,
             points: c.points.iter().map(|(u, p)| (1e3 * u, 1e-3 * p)).collect(),
@@ -143,6 +141,30 @@ pub fn load_displacement(
     }
     let (x_label, y_label) = labels.unwrap_or_default();
     let stem = out.map_or_else(|| dirs[0].join("load_displacement"), Path::to_path_buf);
+    draw(
+        &stem,
+        title.unwrap_or_else(|| default_title(&dirs[0])),
+        x_label,
+        y_label,
+        series,
+    )
+}
+
+/// A run folder's name, for a chart's legend.
+fn run_name(d: &Path) -> String {
+    d.file_name()
+        .map_or_else(|| d.display().to_string(), |n| n.to_string_lossy().into())
+}
+
+/// Draws `series` into `stem` (.png and .svg, making its folder when missing): returns the
+/// files written.
+fn draw(
+    stem: &Path,
+    title: String,
+    x_label: String,
+    y_label: String,
+    series: Vec<Series>,
+) -> Result<Vec<PathBuf>> {
     if let Some(parent) = stem.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).with_context(|| {
             format!(
@@ -153,7 +175,7 @@ pub fn load_displacement(
         })?;
     }
     let plot = Plot {
-        title: title.unwrap_or_else(|| default_title(&dirs[0])),
+        title,
         x_label,
         y_label,
         x_scale: Scale::Linear,
@@ -162,7 +184,7 @@ pub fn load_displacement(
         y_range: None,
         lines: true,
     };
-    plot.write(&stem)
+    plot.write(stem)
 }
 
 /// The specimen of run folder `dir` (`summary.json`'s `result.specimen`): the factors from
@@ -214,9 +236,7 @@ pub fn stress_strain(
     for d in dirs {
         let (to_stress, to_strain, label) = specimen_scale(d)?;
         let c = curve(d, None, None)?;
-        let name = d
-            .file_name()
-            .map_or_else(|| d.display().to_string(), |n| n.to_string_lossy().into());
+        let name = run_name(d);
         series.push(Series {
             name,
             points: c
@@ -228,21 +248,13 @@ pub fn stress_strain(
         y_label.get_or_insert(label);
     }
     let stem = out.map_or_else(|| dirs[0].join("stress_strain"), Path::to_path_buf);
-    if let Some(parent) = stem.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .with_context(|| format!("making the folder {}", parent.display()))?;
-    }
-    let plot = Plot {
-        title: title.unwrap_or_else(|| default_title(&dirs[0])),
-        x_label: "strain: platen closure / height [10\u{207b}\u{b3}]".into(),
-        y_label: y_label.unwrap_or_default(),
-        x_scale: Scale::Linear,
-        y_scale: Scale::Linear,
+    draw(
+        &stem,
+        title.unwrap_or_else(|| default_title(&dirs[0])),
+        "strain: platen closure / height [10\u{207b}\u{b3}]".into(),
+        y_label.unwrap_or_default(),
         series,
-        y_range: None,
-        lines: true,
-    };
-    plot.write(&stem)
+    )
 }
 
 #[cfg(test)]

@@ -176,21 +176,7 @@ impl ContactSection {
     }
 
     pub(crate) fn refuse_friction(&self, file: &Path) -> Result<(), SceneError> {
-        let laws = std::iter::once(("contact.default".to_string(), &self.default))
-            .chain(
-                self.pairs
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, p)| p.enabled)
-                    .map(|(i, p)| (format!("contact.pairs[{i}].law"), &p.law)),
-            )
-            .chain(
-                self.walls
-                    .iter()
-                    .enumerate()
-                    .map(|(i, w)| (format!("contact.walls[{i}].law"), &w.law)),
-            );
-        for (path, law) in laws {
+        for (path, law) in self.laws() {
             if law.friction > 0.0 {
                 return Err(SceneError::invalid(
                     file,
