@@ -49,11 +49,8 @@ pub struct ContactReport {
     pub max_phi: f64,
     /// Largest overlap depth over the run relative to the altitude of the triangle, `phi/3`.
     pub max_depth_over_altitude: f64,
-    /// The mean overlap depth relative to the altitude of the triangle over the run: the mean
-    /// of each loaded couple's largest `phi / 3` over every loaded couple of every force pass
-    /// of a step (looks at the state for output are not counted).
-    pub mean_depth_over_altitude: f64,
-    /// The sum behind the mean: each loaded couple's largest `phi`, over the passes.
+    /// The sum behind [`ContactReport::mean_depth_over_altitude`]: each loaded couple's
+    /// largest `phi`, over the passes of steps.
     #[serde(skip)]
     pub phi_sum: f64,
     /// The loaded couples behind the mean, over the passes.
@@ -77,6 +74,19 @@ pub struct ContactReport {
     pub omega_active_max: f64,
     /// Time of that largest bound [s].
     pub omega_active_max_time: f64,
+}
+
+impl ContactReport {
+    /// The mean overlap depth relative to the altitude of the triangle over the run: the mean
+    /// of each loaded couple's largest `phi / 3` over every loaded couple of every force pass
+    /// of a step (looks at the state for output are not counted); 0 before any contact.
+    pub fn mean_depth_over_altitude(&self) -> f64 {
+        if self.phi_count > 0 {
+            self.phi_sum / (3.0 * self.phi_count as f64)
+        } else {
+            0.0
+        }
+    }
 }
 
 struct WallMotion {
@@ -328,7 +338,6 @@ impl ContactStage {
         if step && loaded > 0 {
             r.phi_sum += stats.sum_phi_loaded;
             r.phi_count += loaded;
-            r.mean_depth_over_altitude = r.phi_sum / (3.0 * r.phi_count as f64);
         }
         if r.error.is_none()
             && let Err(e) = stats.check(self.contact.settings.max_phi)

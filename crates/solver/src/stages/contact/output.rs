@@ -66,7 +66,7 @@ impl StageOutput for ContactStage {
                 "switch_jump": self.switch_jump,
                 "max_phi": r.max_phi,
                 "max_depth_over_altitude": r.max_depth_over_altitude,
-                "mean_depth_over_altitude": r.mean_depth_over_altitude,
+                "mean_depth_over_altitude": r.mean_depth_over_altitude(),
                 "detections": r.detections,
                 "released_couples": self.contact.n_released_couples(),
                 "release_s": self.release_s,

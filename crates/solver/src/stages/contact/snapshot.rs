@@ -174,10 +174,9 @@ fn put_report(e: &mut Enc, r: &ContactReport) {
 
 /// The report of a stage with `nw` walls.
 fn get_report(d: &mut Dec, nw: usize) -> Result<ContactReport, DecodeError> {
-    let mut r = ContactReport {
+    Ok(ContactReport {
         max_phi: d.get()?,
         max_depth_over_altitude: d.get()?,
-        mean_depth_over_altitude: 0.0,
         phi_sum: d.get()?,
         phi_count: d.get()?,
         detections: d.get()?,
@@ -188,11 +187,7 @@ fn get_report(d: &mut Dec, nw: usize) -> Result<ContactReport, DecodeError> {
         error: d.get()?,
         omega_active_max: d.get()?,
         omega_active_max_time: d.get()?,
-    };
-    if r.phi_count > 0 {
-        r.mean_depth_over_altitude = r.phi_sum / (3.0 * r.phi_count as f64);
-    }
-    Ok(r)
+    })
 }
 
 /// What the section holds besides the model, read before anything is changed.
