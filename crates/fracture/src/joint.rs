@@ -42,7 +42,7 @@
 //! and `s` are invariant under rigid motions. The nodal power then equals
 //! `sum_k A (sigma_k do_k/dt + tau_k ds_k/dt)`, which the energy accounting integrates.
 
-use crate::material::{JointConsts, JointMaterial};
+use crate::material::{JointConsts, JointMaterial, SofteningConsts};
 use crate::softening::{Z_INTEGRAL, pre_peak, pre_peak_energy, z};
 
 /// Geometry of a joint in its current position.
@@ -124,13 +124,14 @@ pub struct PointTraction {
 pub fn point_traction(
     mat: &JointMaterial,
     k: &JointConsts,
+    soft: &SofteningConsts,
     o: f64,
     s: f64,
     damage_old: f64,
     mix_old: f64,
     shear_secant_old: f64,
 ) -> PointTraction {
-    law::<true>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
+    law::<true>(mat, k, soft, o, s, damage_old, mix_old, shear_secant_old)
 }
 
 /// The law; with `FULL = false` the mode indicator is not computed. An undamaged point
@@ -140,6 +141,7 @@ pub fn point_traction(
 fn law<const FULL: bool>(
     mat: &JointMaterial,
     k: &JointConsts,
+    soft: &SofteningConsts,
     o: f64,
     s: f64,
     damage_old: f64,
@@ -151,7 +153,7 @@ fn law<const FULL: bool>(
     {
         return pt;
     }
-    law_any::<FULL>(mat, k, o, s, damage_old, mix_old, shear_secant_old)
+    law_any::<FULL>(mat, k, soft, o, s, damage_old, mix_old, shear_secant_old)
 }
 
 /// The law at an undamaged point, if it stays undamaged: `None` when the opening passes
@@ -205,6 +207,7 @@ fn pre_peak_point(
 fn law_any<const FULL: bool>(
     mat: &JointMaterial,
     k: &JointConsts,
+    soft: &SofteningConsts,
     o: f64,
     s: f64,
     damage_old: f64,
@@ -228,10 +231,10 @@ fn law_any<const FULL: bool>(
         (sigma_compr, fs, s_p, 1.0 / s_p, s_soft, d_ii)
     } else {
         // no compression: fs = c and the slip constants are the joint's precomputed ones
-        let d_ii = (abs_s - k.s_p0).max(0.0) * k.inv_s_soft0;
-        (0.0, mat.cohesion, k.s_p0, k.inv_s_p0, k.s_soft0, d_ii)
+        let d_ii = (abs_s - k.s_p0).max(0.0) * soft.inv_s_soft0;
+        (0.0, mat.cohesion, k.s_p0, k.inv_s_p0, soft.s_soft0, d_ii)
     };
-    let d_i = (o - k.o_p).max(0.0) * k.inv_o_soft;
+    let d_i = (o - k.o_p).max(0.0) * soft.inv_o_soft;
     let d_kin = if d_ii == 0.0 {
         d_i
     } else {
@@ -262,7 +265,7 @@ fn law_any<const FULL: bool>(
         let sigma = if o < 0.0 {
             sigma_compr
         } else {
-            mat.ft * zd * o / (k.o_p + damage * k.o_soft)
+            mat.ft * zd * o / (k.o_p + damage * soft.o_soft)
         };
         (sigma, 0.5 * sigma * o, zd)
     };
@@ -327,6 +330,7 @@ impl PointHistory {
 pub fn evaluate(
     mat: &JointMaterial,
     consts: &JointConsts,
+    soft: &SofteningConsts,
     x: &JointNodes,
     hist: &PointHistory,
     t: f64,
@@ -334,6 +338,7 @@ pub fn evaluate(
     evaluate_impl::<true>(
         mat,
         consts,
+        soft,
         x,
         hist.damage,
         hist.mode_mix,
@@ -347,18 +352,30 @@ pub fn evaluate(
 pub fn evaluate_forces(
     mat: &JointMaterial,
     consts: &JointConsts,
+    soft: &SofteningConsts,
     x: &JointNodes,
     damage_old: [f64; 2],
     shear_secant_old: [f64; 2],
     t: f64,
 ) -> [[f64; 2]; 4] {
-    evaluate_impl::<false>(mat, consts, x, damage_old, [0.0; 2], shear_secant_old, t).forces
+    evaluate_impl::<false>(
+        mat,
+        consts,
+        soft,
+        x,
+        damage_old,
+        [0.0; 2],
+        shear_secant_old,
+        t,
+    )
+    .forces
 }
 
 #[inline(always)]
 pub(crate) fn evaluate_impl<const FULL: bool>(
     mat: &JointMaterial,
     consts: &JointConsts,
+    soft: &SofteningConsts,
     x: &JointNodes,
     damage_old: [f64; 2],
     mix_old: [f64; 2],
@@ -369,6 +386,7 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
     out.stored = evaluate_into::<FULL, false>(
         mat,
         consts,
+        soft,
         x,
         [damage_old, mix_old, shear_secant_old],
         t,
@@ -392,6 +410,7 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
 pub fn evaluate_offset(
     mat: &JointMaterial,
     consts: &JointConsts,
+    soft: &SofteningConsts,
     x: &JointNodes,
     hist: &PointHistory,
     t: f64,
@@ -401,6 +420,7 @@ pub fn evaluate_offset(
     out.stored = evaluate_into::<true, true>(
         mat,
         consts,
+        soft,
         x,
         [hist.damage, hist.mode_mix, hist.shear_secant],
         t,
@@ -433,6 +453,7 @@ pub(crate) struct EvalOut<'a> {
 pub(crate) fn evaluate_into<const FULL: bool, const OFF: bool>(
     mat: &JointMaterial,
     consts: &JointConsts,
+    soft: &SofteningConsts,
     x: &JointNodes,
     old: [[f64; 2]; 3],
     t: f64,
@@ -457,6 +478,7 @@ pub(crate) fn evaluate_into<const FULL: bool, const OFF: bool>(
         let pt = law::<FULL>(
             mat,
             consts,
+            soft,
             o,
             sl,
             damage_old[i],
@@ -532,6 +554,7 @@ mod tests {
         let e = evaluate(
             &m,
             &m.consts(h),
+            &m.softening_consts(h),
             &x,
             &PointHistory {
                 damage: [0.2, 0.3],
@@ -576,7 +599,7 @@ mod tests {
         // compression, s_p growing with compression), fresh and softened shear secants: where
         // the fast path answers, every field equals the general law's bit for bit
         let m = mat();
-        let k = m.consts(0.02);
+        let (k, soft) = (m.consts(0.02), m.softening_consts(0.02));
         let bits = |p: &PointTraction| {
             [
                 p.sigma,
@@ -608,7 +631,7 @@ mod tests {
             match pre_peak_point(&m, &k, o, s, mix, secant) {
                 Some(fast) => {
                     taken += 1;
-                    let any = law_any::<true>(&m, &k, o, s, 0.0, mix, secant);
+                    let any = law_any::<true>(&m, &k, &soft, o, s, 0.0, mix, secant);
                     assert_eq!(bits(&fast), bits(&any), "o = {o:e}, s = {s:e}");
                 }
                 None => declined += 1,
@@ -625,7 +648,14 @@ mod tests {
     fn rigid_motion_of_the_reference_joint_gives_no_force() {
         let m = mat();
         let x = config(0.0);
-        let e = evaluate(&m, &m.consts(0.02), &x, &PointHistory::FRESH, 1.0);
+        let e = evaluate(
+            &m,
+            &m.consts(0.02),
+            &m.softening_consts(0.02),
+            &x,
+            &PointHistory::FRESH,
+            1.0,
+        );
         let fmax = e
             .forces
             .iter()
@@ -639,7 +669,14 @@ mod tests {
     fn degenerate_joint_stays_finite() {
         let m = mat();
         let x = [[0.0, 0.0]; 4];
-        let e = evaluate(&m, &m.consts(0.02), &x, &PointHistory::FRESH, 1.0);
+        let e = evaluate(
+            &m,
+            &m.consts(0.02),
+            &m.softening_consts(0.02),
+            &x,
+            &PointHistory::FRESH,
+            1.0,
+        );
         assert!(e.forces.iter().flatten().all(|v| v.is_finite()));
         assert!(e.stored.is_finite());
     }

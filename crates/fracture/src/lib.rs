@@ -72,7 +72,7 @@ pub use joint::{
     JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces,
     evaluate_offset, kinematics, point_traction,
 };
-pub use material::{JointConsts, JointMaterial, JointMaterialInput};
+pub use material::{JointConsts, JointMaterial, JointMaterialInput, SofteningConsts};
 pub use pass::{
     JointScratch, accumulate_joint_forces, accumulate_joint_forces_committing, commit_joints,
     commit_joints_at_last_pass,

@@ -43,7 +43,10 @@ pub struct JointMaterialInput {
     pub penalty_tangential: f64,
 }
 
-/// Constants of one joint derived from its material and reference length `h`.
+/// Constants of one joint derived from its material and reference length `h`: those every
+/// evaluation reads (the pre-peak law). The softening branch also reads the joint's
+/// [`SofteningConsts`], kept in an array of their own so that a pass over joints before their
+/// peaks does not move them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointConsts {
     /// Reference edge length `h` (m).
@@ -54,16 +57,21 @@ pub struct JointConsts {
     pub o_p: f64,
     /// `1/o_p`.
     pub inv_o_p: f64,
-    /// Softening width `o_c - o_p` (m).
-    pub o_soft: f64,
-    /// `1/(o_c - o_p)`.
-    pub inv_o_soft: f64,
     /// `2 h/p_t`: the peak slip per unit shear strength (m/Pa).
     pub slip_per_fs: f64,
     /// Peak slip without compression, `s_p0 = 2 h c/p_t` (m).
     pub s_p0: f64,
     /// `1/s_p0`.
     pub inv_s_p0: f64,
+}
+
+/// The constants of one joint that only its softening branch reads (see [`JointConsts`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SofteningConsts {
+    /// Softening width `o_c - o_p` (m).
+    pub o_soft: f64,
+    /// `1/(o_c - o_p)`.
+    pub inv_o_soft: f64,
     /// Shear softening width without compression (m), > 0 for a validated joint.
     pub s_soft0: f64,
     /// `1/s_soft0`.
@@ -213,21 +221,27 @@ impl JointMaterial {
     /// The per-joint constants of an edge of reference length `h` (divisions done once).
     pub fn consts(&self, h: f64) -> JointConsts {
         let o_p = self.peak_opening(h);
-        let o_soft = self.critical_opening(h) - o_p;
         let s_p0 = self.peak_slip(h, self.cohesion);
-        let s_soft0 = self.slip_softening_width(h, self.cohesion);
         JointConsts {
             s_p0,
             inv_s_p0: 1.0 / s_p0,
-            s_soft0,
-            inv_s_soft0: 1.0 / s_soft0,
             h,
             kn: self.p / h,
             o_p,
             inv_o_p: 1.0 / o_p,
+            slip_per_fs: 2.0 * h / self.p_t,
+        }
+    }
+
+    /// The softening constants of an edge of reference length `h` (divisions done once).
+    pub fn softening_consts(&self, h: f64) -> SofteningConsts {
+        let o_soft = self.critical_opening(h) - self.peak_opening(h);
+        let s_soft0 = self.slip_softening_width(h, self.cohesion);
+        SofteningConsts {
+            s_soft0,
+            inv_s_soft0: 1.0 / s_soft0,
             o_soft,
             inv_o_soft: 1.0 / o_soft,
-            slip_per_fs: 2.0 * h / self.p_t,
         }
     }
 

@@ -287,9 +287,10 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     let r = j0..j0 + n;
     let pos = &inp.slot_pos[4 * j0..4 * (j0 + n)];
     let intact = &inp.intact[r.clone()];
-    let (nodes, consts, material) = (
+    let (nodes, consts, softening, material) = (
         &set.nodes[r.clone()],
         &set.consts[r.clone()],
+        &set.softening[r.clone()],
         &set.material[r.clone()],
     );
     let offsets = if OFF {
@@ -322,6 +323,7 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         let stored = evaluate_into::<true, OFF>(
             &set.materials[material[i] as usize],
             &consts[i],
+            &softening[i],
             &xs,
             [ho.damage, ho.mode_mix, ho.shear_secant],
             th,

@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use crate::error::FractureError;
-use crate::material::{JointConsts, JointMaterial, JointMaterialInput};
+use crate::material::{JointConsts, JointMaterial, JointMaterialInput, SofteningConsts};
 
 /// Joints per rayon task in [`JointSet::new`] (its columns are collected in joint order: the
 /// set does not depend on the number of threads).
@@ -71,8 +71,10 @@ pub struct JointSet {
     pub ref_length: Vec<f64>,
     /// Material index per joint.
     pub material: Vec<u32>,
-    /// Derived constants per joint (stiffness, peak opening, softening width, ...).
+    /// Derived constants per joint that every evaluation reads (stiffness, peak opening, ...).
     pub consts: Vec<JointConsts>,
+    /// Derived constants per joint that only the softening branch reads (softening widths).
+    pub softening: Vec<SofteningConsts>,
     /// The validated materials.
     pub materials: Vec<JointMaterial>,
     /// Out-of-plane thickness `t` (m); 1 for plane strain.
@@ -120,12 +122,16 @@ impl JointSet {
         let consts = column()
             .map(|jt| materials[jt.material as usize].consts(jt.ref_length))
             .collect();
+        let softening = column()
+            .map(|jt| materials[jt.material as usize].softening_consts(jt.ref_length))
+            .collect();
         let mut set = JointSet {
             nodes: column().map(|jt| jt.nodes).collect(),
             triangles: column().map(|jt| jt.triangles).collect(),
             ref_length: column().map(|jt| jt.ref_length).collect(),
             material: column().map(|jt| jt.material).collect(),
             consts,
+            softening,
             materials,
             thickness,
             n_nodes,
@@ -155,6 +161,7 @@ impl JointSet {
             ref_length: pick(&self.ref_length, keep),
             material: pick(&self.material, keep),
             consts: pick(&self.consts, keep),
+            softening: pick(&self.softening, keep),
             materials: self.materials.clone(),
             thickness: self.thickness,
             n_nodes: self.n_nodes,
@@ -346,6 +353,7 @@ mod tests {
             let e = evaluate_offset(
                 m,
                 &set.consts[0],
+                &set.softening[0],
                 &x,
                 &PointHistory::FRESH,
                 1.0,

@@ -122,12 +122,12 @@ impl JointState {
             .with_min_len(1024)
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
-                let (k, xs) = (&set.consts[j], set.gather(j, x));
+                let (k, soft, xs) = (&set.consts[j], &set.softening[j], set.gather(j, x));
                 let e = if set.initial_offsets.is_empty() {
-                    evaluate(m, k, &xs, &PointHistory::FRESH, set.thickness)
+                    evaluate(m, k, soft, &xs, &PointHistory::FRESH, set.thickness)
                 } else {
                     let off = set.initial_offsets[j];
-                    evaluate_offset(m, k, &xs, &PointHistory::FRESH, set.thickness, off)
+                    evaluate_offset(m, k, soft, &xs, &PointHistory::FRESH, set.thickness, off)
                 };
                 JointHistory {
                     damage: e.damage,

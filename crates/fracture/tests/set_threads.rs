@@ -55,20 +55,20 @@ fn bits(set: &JointSet) -> Vec<u64> {
         b.extend(set.triangles[j].map(u64::from));
         b.push(set.ref_length[j].to_bits());
         b.push(u64::from(set.material[j]));
-        let k = &set.consts[j];
+        let (k, c) = (&set.consts[j], &set.softening[j]);
         b.extend(
             [
                 k.h,
                 k.kn,
                 k.o_p,
                 k.inv_o_p,
-                k.o_soft,
-                k.inv_o_soft,
+                c.o_soft,
+                c.inv_o_soft,
                 k.slip_per_fs,
                 k.s_p0,
                 k.inv_s_p0,
-                k.s_soft0,
-                k.inv_s_soft0,
+                c.s_soft0,
+                c.inv_s_soft0,
             ]
             .map(f64::to_bits),
         );
@@ -97,6 +97,7 @@ fn serial_reference(
     set.ref_length.clear();
     set.material.clear();
     set.consts.clear();
+    set.softening.clear();
     for jt in joints {
         let m = &materials[jt.material as usize];
         set.nodes.push(jt.nodes);
@@ -104,6 +105,7 @@ fn serial_reference(
         set.ref_length.push(jt.ref_length);
         set.material.push(jt.material);
         set.consts.push(m.consts(jt.ref_length));
+        set.softening.push(m.softening_consts(jt.ref_length));
     }
     let mut offsets = vec![0u32; n_nodes + 1];
     for nodes in &set.nodes {

@@ -112,6 +112,7 @@ fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
             point_traction(
                 m,
                 &set.consts[j],
+                &set.softening[j],
                 o,
                 sl,
                 h.damage[i],
