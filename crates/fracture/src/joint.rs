@@ -644,18 +644,24 @@ mod tests {
         );
     }
 
+    /// A fresh joint of length 0.02 m and unit thickness evaluated at `x`.
+    fn fresh(m: &JointMaterial, x: &JointNodes) -> JointEval {
+        let h = 0.02;
+        evaluate(
+            m,
+            &m.consts(h),
+            &m.softening_consts(h),
+            x,
+            &PointHistory::FRESH,
+            1.0,
+        )
+    }
+
     #[test]
     fn rigid_motion_of_the_reference_joint_gives_no_force() {
         let m = mat();
         let x = config(0.0);
-        let e = evaluate(
-            &m,
-            &m.consts(0.02),
-            &m.softening_consts(0.02),
-            &x,
-            &PointHistory::FRESH,
-            1.0,
-        );
+        let e = fresh(&m, &x);
         let fmax = e
             .forces
             .iter()
@@ -669,14 +675,7 @@ mod tests {
     fn degenerate_joint_stays_finite() {
         let m = mat();
         let x = [[0.0, 0.0]; 4];
-        let e = evaluate(
-            &m,
-            &m.consts(0.02),
-            &m.softening_consts(0.02),
-            &x,
-            &PointHistory::FRESH,
-            1.0,
-        );
+        let e = fresh(&m, &x);
         assert!(e.forces.iter().flatten().all(|v| v.is_finite()));
         assert!(e.stored.is_finite());
     }
