@@ -27,12 +27,7 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(set.len() as u64));
     g.sample_size(20);
     for (name, amp) in [("prepeak", 0.2 * o_p), ("softening", 3.0 * o_p)] {
-        let mut rng = common::Lcg(7);
-        let x: Vec<[f64; 2]> = mesh
-            .x
-            .iter()
-            .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
-            .collect();
+        let x = common::perturbed(&mesh, amp, 7);
         let mut state = JointState::new(&set, &x);
         let mut scratch = JointScratch::new(set.len());
         let mut f = vec![[0.0; 2]; x.len()];
@@ -59,14 +54,8 @@ fn bench(c: &mut Criterion) {
             }
             // the fastest of many single-thread passes: on a shared machine, other jobs only
             // ever slow a repetition down, so the minimum is the steadiest figure
-            let fastest = pool.install(|| {
-                (0..3 * reps)
-                    .map(|_| {
-                        let t = std::time::Instant::now();
-                        accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
-                        t.elapsed().as_secs_f64()
-                    })
-                    .fold(f64::INFINITY, f64::min)
+            let fastest = fastest(&pool, 3 * reps, 1, || {
+                accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f)
             });
             println!(
                 "{name}: fastest of {} passes: {:.1} ns per joint on 1 thread",
@@ -126,29 +115,38 @@ fn bench(c: &mut Criterion) {
 fn in_cache(name: &str, amp: f64, pool: &rayon::ThreadPool) {
     let mesh = common::exploded_grid(25, 20, 0.005, 0.005);
     let set = JointSet::new(&mesh.joints, &[material()], mesh.x.len(), 1.0).unwrap();
-    let mut rng = common::Lcg(7);
-    let x: Vec<[f64; 2]> = (mesh.x.iter())
-        .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
-        .collect();
+    let x = common::perturbed(&mesh, amp, 7);
     let state = JointState::new(&set, &x);
     let mut scratch = JointScratch::new(set.len());
     let mut f = vec![[0.0; 2]; x.len()];
-    let fastest = pool.install(|| {
-        (0..20)
-            .map(|_| {
-                let t = std::time::Instant::now();
-                for _ in 0..100 {
-                    accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
-                }
-                t.elapsed().as_secs_f64() / 100.0
-            })
-            .fold(f64::INFINITY, f64::min)
+    let fastest = fastest(pool, 20, 100, || {
+        accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f)
     });
     println!(
         "{name}: in cache ({} joints): {:.1} ns per joint on 1 thread",
         set.len(),
         fastest * 1e9 / set.len() as f64
     );
+}
+
+/// Seconds per call of `op` on `pool`: the fastest of `samples` timings of `per` calls each.
+fn fastest(
+    pool: &rayon::ThreadPool,
+    samples: usize,
+    per: usize,
+    mut op: impl FnMut() + Send,
+) -> f64 {
+    pool.install(|| {
+        (0..samples)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                for _ in 0..per {
+                    op();
+                }
+                t.elapsed().as_secs_f64() / per as f64
+            })
+            .fold(f64::INFINITY, f64::min)
+    })
 }
 
 fn material() -> JointMaterialInput {

@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use common::{Exploded, Lcg, exploded_grid};
+use common::{Exploded, Lcg, exploded_grid, perturbed};
 use fdem_fracture::*;
 
 fn material(p: f64) -> JointMaterialInput {
@@ -16,15 +16,6 @@ fn material(p: f64) -> JointMaterialInput {
         penalty_normal: p,
         penalty_tangential: p,
     }
-}
-
-/// Perturbs every node by up to `amp` in each direction.
-fn perturbed(mesh: &Exploded, amp: f64, seed: u64) -> Vec<[f64; 2]> {
-    let mut rng = Lcg(seed);
-    mesh.x
-        .iter()
-        .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
-        .collect()
 }
 
 #[test]

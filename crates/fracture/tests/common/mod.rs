@@ -73,6 +73,15 @@ pub fn exploded_grid(nx: usize, ny: usize, dx: f64, dy: f64) -> Exploded {
     Exploded { x, tris, joints }
 }
 
+/// Perturbs every node by up to `amp` in each direction.
+pub fn perturbed(mesh: &Exploded, amp: f64, seed: u64) -> Vec<[f64; 2]> {
+    let mut rng = Lcg(seed);
+    mesh.x
+        .iter()
+        .map(|p| [p[0] + amp * rng.next(), p[1] + amp * rng.next()])
+        .collect()
+}
+
 /// A small deterministic generator (64-bit LCG), uniform in [-1, 1).
 pub struct Lcg(pub u64);
 
