@@ -129,12 +129,13 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
     );
     let damage_diff = jf
         .history
+        .damage
         .iter()
-        .zip(&js2.history)
+        .zip(&js2.history.damage)
         .map(|(a, b)| {
-            (a.damage[0] - b.damage[0])
+            (a[0] - b[0])
                 .abs()
-                .max((a.damage[1] - b.damage[1]).abs())
+                .max((a[1] - b[1]).abs())
         })
         .fold(0.0, f64::max);
     eprintln!(

@@ -312,7 +312,7 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
     let (first, _) = common::run(&dynamic);
     let js = first.joint_state.clone().expect("the joints' state");
     let damaged =
-        |h: &[fdem_fracture::JointHistory]| h.iter().filter(|j| j.damage[0] > 0.0).count();
+        |h: &fdem_fracture::Histories| h.damage.iter().filter(|d| d[0] > 0.0).count();
     let unload = common::edited_example("notched-beam-fracture.json", "kdr-notch-unload", |v| {
         v["duration"] = 0.6e-3.into();
         v["output"]["frames"] = 0.into();
@@ -353,11 +353,9 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         let o = run_from(&relax, &u, &vec![[0.0; 2]; u.len()], &js2);
         let s = &o.summary;
         let js3 = o.joint_state.as_ref().unwrap();
-        let changed = js2
-            .history
-            .iter()
-            .zip(&js3.history)
-            .filter(|(a, b)| a.damage != b.damage)
+        let (h2, h3) = (&js2.history, &js3.history);
+        let changed = (0..h2.len())
+            .filter(|&j| h2.damage[j] != h3.damage[j])
             .count();
         // The whole history (damage, shear secant, mode indicator) bit for bit. A joint
         // dissipates only in a step that changes its history (with the history frozen the law
@@ -365,12 +363,11 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         // history is monotone (damage never falls, the shear secant never rises, the mode
         // indicator moves only with the damage): equal at both ends means unchanged in every
         // step, so the energy the relaxation dissipated by fracture is exactly 0.
-        let history_changed = js2
-            .history
-            .iter()
-            .zip(&js3.history)
-            .filter(|(a, b)| {
-                a.damage != b.damage || a.shear_secant != b.shear_secant || a.mode_mix != b.mode_mix
+        let history_changed = (0..h2.len())
+            .filter(|&j| {
+                h2.damage[j] != h3.damage[j]
+                    || h2.shear_secant[j] != h3.shear_secant[j]
+                    || h2.mode_mix[j] != h3.mode_mix[j]
             })
             .count();
 
@@ -384,12 +381,9 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         );
         // what the joints whose history changed dissipated meanwhile (their books: the
         // trapezoid's work less the change of their stored energy), relative
-        let d_history = js2
-            .history
-            .iter()
-            .zip(&js3.history)
-            .filter(|(a, b)| a.shear_secant != b.shear_secant || a.mode_mix != b.mode_mix)
-            .map(|(a, b)| (b.dissipated - a.dissipated).abs())
+        let d_history = (0..h2.len())
+            .filter(|&j| h2.shear_secant[j] != h3.shear_secant[j] || h2.mode_mix[j] != h3.mode_mix[j])
+            .map(|j| (h3.dissipated[j] - h2.dissipated[j]).abs())
             .sum::<f64>()
             / fracture0;
         eprintln!(

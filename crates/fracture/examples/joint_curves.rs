@@ -42,8 +42,19 @@ fn drive(path: &[(f64, f64)]) -> Vec<[f64; 4]> {
         let mut f = [[0.0; 2]; 4];
         accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
         commit_joints(&set, &mut state, &x, k as f64, &mut scratch, &mut events);
-        let e = state.history[0].last;
-        out.push([o, s, e[0] / (0.5 * H), e[1] / (0.5 * H)]);
+        // the committed tractions at point P/S
+        let (h, u) = (&state.history, state.history.local[0]);
+        let t = point_traction(
+            &set.materials[0],
+            &set.consts[0],
+            &set.softening[0],
+            u[0],
+            u[1],
+            h.damage[0][0],
+            h.mode_mix[0][0],
+            h.shear_secant[0][0],
+        );
+        out.push([o, s, t.sigma, t.tau]);
     }
     out
 }

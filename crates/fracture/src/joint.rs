@@ -286,6 +286,87 @@ fn law_any<const FULL: bool>(
     }
 }
 
+/// The law at a committed point: opening `o` and sliding `s` of the last commit with the
+/// history that commit left. The evaluation is idempotent (the history it computes is the
+/// one it was given), so this gives the committed tractions and stored energy bit for bit.
+#[inline]
+pub(crate) fn committed_point(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    soft: &SofteningConsts,
+    o: f64,
+    s: f64,
+    damage: f64,
+    mix: f64,
+    shear_secant: f64,
+) -> PointTraction {
+    law::<false>(mat, k, soft, o, s, damage, mix, shear_secant)
+}
+
+/// The normal part of the law at a committed point: `(sigma, psi_n)` at opening `o` with the
+/// committed damage `damage` (no damage growth), the operations of [`law_any`] and
+/// [`pre_peak_point`] (so bit for bit their `sigma` and normal energy at a committed point).
+#[inline(always)]
+pub(crate) fn committed_normal(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    soft: &SofteningConsts,
+    o: f64,
+    damage: f64,
+) -> (f64, f64) {
+    if o < 0.0 {
+        let sigma = k.kn * o;
+        (sigma, 0.5 * sigma * o)
+    } else if damage == 0.0 {
+        let x = o * k.inv_o_p;
+        (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
+    } else {
+        committed_normal_damaged(mat, k, soft, o, damage)
+    }
+}
+
+/// [`committed_normal`] of a damaged point in tension (out of line: few points take it).
+#[inline(never)]
+fn committed_normal_damaged(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    soft: &SofteningConsts,
+    o: f64,
+    damage: f64,
+) -> (f64, f64) {
+    let sigma = mat.ft * z(damage) * o / (k.o_p + damage * soft.o_soft);
+    (sigma, 0.5 * sigma * o)
+}
+
+/// Energy stored in a joint (J) at the committed opening and sliding `local = [o_0, s_0, o_1,
+/// s_1]` with the committed history `hist`, thickness `t`: the stored energy the evaluation
+/// that committed them returned, bit for bit.
+pub fn stored_energy(
+    mat: &JointMaterial,
+    consts: &JointConsts,
+    soft: &SofteningConsts,
+    local: [f64; 4],
+    hist: &PointHistory,
+    t: f64,
+) -> f64 {
+    let area = 0.5 * consts.h * t;
+    let mut stored = 0.0;
+    for i in 0..2 {
+        let pt = committed_point(
+            mat,
+            consts,
+            soft,
+            local[2 * i],
+            local[2 * i + 1],
+            hist.damage[i],
+            hist.mode_mix[i],
+            hist.shear_secant[i],
+        );
+        stored += area * pt.stored;
+    }
+    stored
+}
+
 /// Everything one evaluation of a joint produces.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointEval {

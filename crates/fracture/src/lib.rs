@@ -16,8 +16,8 @@
 //!   has no potential: without the history a joint can create energy), nodal forces on the
 //!   reference area `h t/2` that conserve linear and angular momentum exactly.
 //! - [`pass`]: the parallel force pass ([`accumulate_joint_forces`], read-only on the
-//!   committed history; it writes the forces and the whole trial history, the energy books
-//!   advanced by the trapezoidal rule included, into the caller's scratch) and the end-of-step
+//!   committed history; it writes the forces and the trial history, with the dissipation of
+//!   a step whose history changes, into the caller's scratch) and the end-of-step
 //!   [`commit_joints`] (damage, energy books, breaking when fully damaged and open (or slid by
 //!   `h/10`), events); at the positions of the last pass the commit swaps the trial arrays
 //!   in (structure of arrays, [`state`]) instead of evaluating again.
@@ -70,7 +70,7 @@ pub use events::{FractureEvent, FractureMode};
 pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
     JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces,
-    evaluate_offset, kinematics, point_traction,
+    evaluate_offset, kinematics, point_traction, stored_energy,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput, SofteningConsts};
 pub use pass::{
@@ -79,5 +79,5 @@ pub use pass::{
 };
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};
-pub use state::{JointEnergy, JointHistory, JointState, JointStateSnapshot};
+pub use state::{Histories, JointBooks, JointEnergy, JointState, JointStateSnapshot};
 pub use timestep::{joint_omega_sq_bound, joint_omega_sq_bound_intact};

@@ -3,13 +3,13 @@
 //! One fused pass ([`accumulate_joint_forces`]) evaluates every intact joint at the given
 //! positions with the committed history: its four nodal forces go to their slots in the
 //! node-to-joint list (a buffer in the list's order, so the gather below reads it in order
-//! instead of jumping between joints), and everything the commit needs (trial damage, mode indicator and shear secant, the work
-//! conjugates `[A sigma, A tau, o, s]`, the stored energy, and the work and dissipation books
-//! advanced by the trapezoidal rule) goes into the trial arrays of the caller's
-//! [`JointScratch`], one array per field. The pass runs in parallel over fixed chunks of
-//! [`CHUNK`] joints; each chunk also records whether one of its joints softened for the
-//! first time or may break. Then each node sums its joint slots in a fixed order (CSR list of
-//! the [`JointSet`], increasing joint order) and adds the sum to the node force.
+//! instead of jumping between joints), and everything the commit needs (trial damage, mode
+//! indicator and shear secant, the opening and sliding, and the dissipation of a step whose
+//! history changes) goes into the trial arrays of the caller's [`JointScratch`], one array
+//! per field. The pass runs in parallel over fixed chunks of [`CHUNK`] joints; each chunk also
+//! records whether one of its joints softened for the first time or may break. Then each node
+//! sums its joint slots in a fixed order (CSR list of the [`JointSet`], increasing joint
+//! order) and adds the sum to the node force.
 //!
 //! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
 //! central-difference step) swaps the trial arrays with the committed ones (no copy, no
@@ -20,9 +20,17 @@
 //! caller that knows, before a pass, that the commit at its positions follows with no other
 //! pass in between (central difference, told by the time crate) calls
 //! [`accumulate_joint_forces_committing`]: the pass then writes each joint's new history over
-//! its committed one (no trial array to fill and swap: a third less memory traffic for the
-//! histories) and marks the joints that soften. Breaking and the list of newly softened
-//! joints then visit only the flagged chunks, in joint order.
+//! its committed one, field by field and only where it changed (the opening and sliding
+//! always), and marks the joints that soften. An undamaged joint then reads its damage,
+//! shear secants, opening and sliding (64 bytes) and writes its opening and sliding (32
+//! bytes), and its secants and dissipation when they change. Breaking and the list of newly
+//! softened joints then visit only the flagged chunks, in joint order.
+//!
+//! Dissipation ([`crate::state`]): at a step where a joint's damage grows, the trapezoidal
+//! work on `(A sigma, o)` and `(A tau, s)` less the change of stored energy, with the
+//! committed tractions and energy recomputed from the committed opening and sliding (the law
+//! is idempotent there); at a step where only shear secants fall, `A s_a s_b (k_a - k_b)/2`
+//! per point; otherwise nothing.
 //!
 //! Results are bit-identical whatever the number of threads (each joint's values depend on
 //! that joint only, the chunks are fixed, and the node sums run in a fixed order), and nothing
@@ -34,9 +42,9 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, evaluate_into};
+use crate::joint::{EvalOut, committed_normal, evaluate_into};
 use crate::set::{JointId, JointSet};
-use crate::state::{JointHistory, JointState};
+use crate::state::{Histories, JointState};
 
 /// A fully damaged joint closed in compression breaks once it has slid by this fraction of its
 /// reference length.
@@ -69,7 +77,7 @@ pub struct JointScratch {
     /// permutation of [`JointSet::node_slots`]).
     slot_pos: Vec<u32>,
     /// Trial history of the last pass (the committed one after a commit swapped them).
-    trial: Vec<JointHistory>,
+    trial: Histories,
     /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
     flags: Vec<u8>,
     /// Positions of the last pass (not kept after [`JointScratch::set_position_check`]
@@ -103,12 +111,7 @@ impl JointScratch {
 
     /// Sizes the buffers for `n` joints (no-op when they already are).
     fn fit(&mut self, n: usize) {
-        if self.trial.is_empty() {
-            // first sizing: filled in parallel (the pages are touched by both threads)
-            self.trial
-                .par_extend(rayon::iter::repeat_n(JointHistory::FRESH, n));
-        }
-        self.trial.resize(n, JointHistory::FRESH);
+        self.trial.resize(n);
         self.slot_forces.fit(4 * n);
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
@@ -195,17 +198,37 @@ fn trial_pass_impl<const OFF: bool>(
         &scratch.slot_pos,
         &scratch.slot_forces,
     );
+    let t = &mut scratch.trial;
+    let old = &state.history;
     (
-        scratch.trial.par_chunks_mut(CHUNK),
+        t.damage.par_chunks_mut(CHUNK),
+        t.shear_secant.par_chunks_mut(CHUNK),
+        t.mode_mix.par_chunks_mut(CHUNK),
+        t.local.par_chunks_mut(CHUNK),
+        t.dissipated.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(|(c, (h, flag))| {
+        .for_each(|(c, (damage, shear_secant, mode_mix, local, dissipated, flag))| {
             let j0 = c * CHUNK;
-            let old = &state.history[j0..j0 + h.len()];
-            *flag = chunk_pass::<OFF, false>(&inp, j0, old, h, &mut []);
+            let r = j0..j0 + damage.len();
+            let old = HistIn {
+                damage: &old.damage[r.clone()],
+                shear_secant: &old.shear_secant[r.clone()],
+                mode_mix: &old.mode_mix[r.clone()],
+                local: &old.local[r.clone()],
+                dissipated: &old.dissipated[r],
+            };
+            let new = HistOut {
+                damage,
+                shear_secant,
+                mode_mix,
+                local,
+                dissipated,
+            };
+            *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
         });
 }
 
@@ -229,17 +252,31 @@ fn in_place_pass<const OFF: bool>(
         &scratch.slot_pos,
         &scratch.slot_forces,
     );
+    let h = &mut state.history;
     (
-        state.history.par_chunks_mut(CHUNK),
+        h.damage.par_chunks_mut(CHUNK),
+        h.shear_secant.par_chunks_mut(CHUNK),
+        h.mode_mix.par_chunks_mut(CHUNK),
+        h.local.par_chunks_mut(CHUNK),
+        h.dissipated.par_chunks_mut(CHUNK),
         scratch.marks.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(|(c, (h, marks, flag))| {
-            *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, &[], h, marks);
-        });
+        .for_each(
+            |(c, (damage, shear_secant, mode_mix, local, dissipated, marks, flag))| {
+                let new = HistOut {
+                    damage,
+                    shear_secant,
+                    mode_mix,
+                    local,
+                    dissipated,
+                };
+                *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks);
+            },
+        );
 }
 
 /// What a pass reads besides the histories, and where it puts the forces.
@@ -269,21 +306,40 @@ impl<'a> PassIn<'a> {
     }
 }
 
+/// One chunk of committed histories, field by field.
+struct HistIn<'a> {
+    damage: &'a [[f64; 2]],
+    shear_secant: &'a [[f64; 2]],
+    mode_mix: &'a [[f64; 2]],
+    local: &'a [[f64; 4]],
+    dissipated: &'a [f64],
+}
+
+/// One chunk of histories a pass writes, field by field.
+struct HistOut<'a> {
+    damage: &'a mut [[f64; 2]],
+    shear_secant: &'a mut [[f64; 2]],
+    mode_mix: &'a mut [[f64; 2]],
+    local: &'a mut [[f64; 4]],
+    dissipated: &'a mut [f64],
+}
+
 /// One chunk of a pass, joints `j0..j0 + h.len()`: each joint's forces to its slots and its new
 /// history to `h`, from its committed history in `old` (or, `IN_PLACE`, in `h` itself, where
-/// the new one replaces it and a joint that softens gets a mark in `marks`). With `OFF` the
-/// law sees the joints' initial offsets. Returns the chunk's flags.
+/// the new one replaces it, each field only where it changed, and a joint that softens gets a
+/// mark in `marks`). With `OFF` the law sees the joints' initial offsets. Returns the chunk's
+/// flags.
 #[inline(always)]
 fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     inp: &PassIn<'_>,
     j0: usize,
-    old: &[JointHistory],
-    h: &mut [JointHistory],
+    old: Option<HistIn<'_>>,
+    h: HistOut<'_>,
     marks: &mut [u8],
 ) -> u8 {
     let (set, x, out) = (inp.set, inp.x, inp.out);
     let th = set.thickness;
-    let n = h.len();
+    let n = h.damage.len();
     let r = j0..j0 + n;
     let pos = &inp.slot_pos[4 * j0..4 * (j0 + n)];
     let intact = &inp.intact[r.clone()];
@@ -298,20 +354,44 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     } else {
         &[][..]
     };
+    // the committed history (in place: the output arrays themselves)
+    let old = old.unwrap_or(HistIn {
+        damage: &[],
+        shear_secant: &[],
+        mode_mix: &[],
+        local: &[],
+        dissipated: &[],
+    });
     let mut fl = 0u8;
     for i in 0..n {
         let slots = [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
-        // the committed history: a copy when it is about to be overwritten
-        let ho = if IN_PLACE { h[i] } else { old[i] };
-        let hn = &mut h[i];
+        // the committed damage and secants (copies: in place they are about to be overwritten)
+        let (d_a, k_a) = if IN_PLACE {
+            (h.damage[i], h.shear_secant[i])
+        } else {
+            (old.damage[i], old.shear_secant[i])
+        };
         if !intact[i] {
             // a broken joint keeps its books (in place: untouched); no force
             out.put(slots, [[0.0; 2]; 4]);
             if !IN_PLACE {
-                *hn = ho;
+                h.damage[i] = d_a;
+                h.shear_secant[i] = k_a;
+                h.mode_mix[i] = old.mode_mix[i];
+                h.local[i] = old.local[i];
+                h.dissipated[i] = old.dissipated[i];
             }
             continue;
         }
+        // an undamaged joint's mode indicators are 0: not read
+        let fresh = d_a == [0.0; 2];
+        let mix_a = if fresh {
+            [0.0; 2]
+        } else if IN_PLACE {
+            h.mode_mix[i]
+        } else {
+            old.mode_mix[i]
+        };
         let [np, nq, nr, ns] = nodes[i];
         let xs = [
             x[np as usize],
@@ -320,41 +400,65 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
             x[ns as usize],
         ];
         let mut fj = [[0.0; 2]; 4];
+        let (mut d_b, mut mix_b, mut k_b, mut loc) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
+        let mat = &set.materials[material[i] as usize];
         let stored = evaluate_into::<true, OFF>(
-            &set.materials[material[i] as usize],
+            mat,
             &consts[i],
             &softening[i],
             &xs,
-            [ho.damage, ho.mode_mix, ho.shear_secant],
+            [d_a, mix_a, k_a],
             th,
             if OFF { offsets[i] } else { [0.0; 2] },
             EvalOut {
                 forces: &mut fj,
-                damage: &mut hn.damage,
-                mode_mix: &mut hn.mode_mix,
-                shear_secant: &mut hn.shear_secant,
-                local: &mut hn.last,
+                damage: &mut d_b,
+                mode_mix: &mut mix_b,
+                shear_secant: &mut k_b,
+                local: &mut loc,
             },
         );
         out.put(slots, fj);
-        // work of the step, trapezoidal rule on (A sigma, o) and (A tau, s)
-        let (a, b) = (&ho.last, &hn.last);
+        let u_b = [loc[2], loc[3], loc[6], loc[7]];
+        // the step's work by the trapezoidal rule on (A sigma, o) and (A tau, s), less the
+        // change of stored energy; the committed tractions and energy from the committed
+        // opening and sliding (normal: the law's normal branch at the committed damage; shear:
+        // tau = k_t s)
+        let (u_a, d_old) = if IN_PLACE {
+            (h.local[i], h.dissipated[i])
+        } else {
+            (old.local[i], old.dissipated[i])
+        };
+        let area = 0.5 * consts[i].h * th;
         let mut dw = 0.0;
+        let mut psi_a = 0.0;
         for p in 0..2 {
+            let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
+            let (sigma_a, psi_n) = committed_normal(mat, &consts[i], &softening[i], o_a, d_a[p]);
+            let tau_a = k_a[p] * s_a;
+            psi_a += area * (psi_n + 0.5 * tau_a * s_a);
             let q = 4 * p;
-            dw += 0.5 * (a[q] + b[q]) * (b[q + 2] - a[q + 2])
-                + 0.5 * (a[q + 1] + b[q + 1]) * (b[q + 3] - a[q + 3]);
+            dw += 0.5 * (area * sigma_a + loc[q]) * (loc[q + 2] - o_a)
+                + 0.5 * (area * tau_a + loc[q + 1]) * (loc[q + 3] - s_a);
         }
-        hn.work = ho.work + dw;
-        hn.dissipated = ho.dissipated + (dw - (stored - ho.stored));
-        hn.stored = stored;
-        if ho.damage == [0.0; 2] && hn.damage != [0.0; 2] {
+        h.dissipated[i] = d_old + (dw - (stored - psi_a));
+        h.local[i] = u_b;
+        if !IN_PLACE || d_b != d_a {
+            h.damage[i] = d_b;
+        }
+        if !IN_PLACE || k_b != k_a {
+            h.shear_secant[i] = k_b;
+        }
+        if !IN_PLACE || mix_b != mix_a {
+            h.mode_mix[i] = mix_b;
+        }
+        if fresh && d_b != [0.0; 2] {
             fl |= SOFTENED;
             if IN_PLACE {
                 marks[i] = 1;
             }
         }
-        if hn.damage[0] >= 1.0 && hn.damage[1] >= 1.0 && breaks(&hn.last, consts[i].h) {
+        if d_b[0] >= 1.0 && d_b[1] >= 1.0 && breaks(&u_b, consts[i].h) {
             fl |= BREAKS;
         }
     }
@@ -418,11 +522,11 @@ impl SlotBuf {
 /// without overlap. A fully damaged joint closed at a point keeps carrying that compression
 /// (frictionless) until it opens, or until it has slid by a tenth of its length (its
 /// kinematics no longer describe the faces well: contact takes over, with the energy jump the
-/// solver measures). `local` is `[A sigma, A tau, o, s]` per point, `h` the reference length.
+/// solver measures). `local` is `[o_0, s_0, o_1, s_1]`, `h` the reference length.
 #[inline]
-fn breaks(local: &[f64; 8], h: f64) -> bool {
-    let open = local[2] >= 0.0 && local[6] >= 0.0;
-    let slid = local[3].abs().max(local[7].abs()) >= SLID * h;
+fn breaks(local: &[f64; 4], h: f64) -> bool {
+    let open = local[0] >= 0.0 && local[2] >= 0.0;
+    let slid = local[1].abs().max(local[3].abs()) >= SLID * h;
     open || slid
 }
 
@@ -610,28 +714,30 @@ fn commit(
             if !state.intact[j] {
                 continue;
             }
-            let h = &mut state.history[j];
+            let h = &state.history;
             // the arrays swapped: the scratch holds the history before the step (in place:
             // the pass marked the joints that softened)
             if fl & SOFTENED != 0 {
                 let softened = if in_place {
                     std::mem::take(&mut scratch.marks[j]) != 0
                 } else {
-                    scratch.trial[j].damage == [0.0; 2] && h.damage != [0.0; 2]
+                    scratch.trial.damage[j] == [0.0; 2] && h.damage[j] != [0.0; 2]
                 };
                 if softened {
                     scratch.softened.push(j as u32);
                 }
             }
             if fl & BREAKS != 0
-                && h.damage[0] >= 1.0
-                && h.damage[1] >= 1.0
-                && breaks(&h.last, set.consts[j].h)
+                && h.damage[j][0] >= 1.0
+                && h.damage[j][1] >= 1.0
+                && breaks(&h.local[j], set.consts[j].h)
             {
+                let stored = state.stored(set, j);
+                let h = &mut state.history;
                 state.intact[j] = false;
                 state.broken_at[j] = Some(time);
                 let p = set.gather(j, x);
-                let mix = h.mode_mix();
+                let mix = h.joint_mode_mix(j);
                 events.push(FractureEvent {
                     joint: JointId(j as u32),
                     triangles: set.triangles[j],
@@ -642,12 +748,12 @@ fn commit(
                     ],
                     mode: FractureMode::from_mix(mix),
                     mode_mix: mix,
-                    energy_released: h.dissipated,
-                    stored_at_break: h.stored,
+                    energy_released: h.dissipated[j],
+                    stored_at_break: stored,
                 });
-                state.released_at_break += h.stored;
-                h.stored = 0.0;
-                h.last = [0.0; 8];
+                state.released_at_break += stored;
+                state.stored_at_break[j] = stored;
+                h.local[j] = [0.0; 4];
                 state.n_broken += 1;
                 n_new += 1;
             }

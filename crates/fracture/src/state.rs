@@ -1,54 +1,111 @@
 //! Joint history and energy books: changed only by [`crate::commit_joints`] at the end of a
 //! step, never by force evaluations (trial stages of multi-stage schemes leave it alone).
 //!
-//! One [`JointHistory`] per joint holds everything a step changes (136 bytes). A force pass
-//! reads the committed array and writes the trial history of every joint into the same array
-//! of its [`crate::JointScratch`]; the commit swaps the two arrays (no copy). One array rather
-//! than one per field: the pass then streams through few arrays, and keeps their pointers in
-//! registers.
+//! The history is held field by field ([`Histories`]): a force pass reads the damage, the
+//! shear secants, the committed openings and slidings and the dissipated energy of every
+//! joint, and the mode indicators of the damaged ones only; it writes the openings, slidings
+//! and dissipated energy of every joint, and the damage, secants and mode indicators only
+//! where they change. An undamaged joint whose secants stay moves 112 bytes of history per
+//! step.
+//!
+//! Energy books: a joint's stored energy is a function of its committed opening, sliding and
+//! history, computed when a report needs it ([`JointState::stored`]), not kept. Its
+//! dissipated energy grows each step by the work of the step (the trapezoidal rule on the
+//! conjugate pairs `(A sigma, o)` and `(A tau, s)`) less the change of its stored energy; the
+//! tractions and stored energy at the start of the step are computed again from the committed
+//! opening and sliding (the law is idempotent there: the same bits as at the commit). The
+//! work done on the joints is then `stored - stored at the start + dissipated + stored at the
+//! breaks`, joint by joint ([`JointState::work`]) and in total ([`JointState::energy`]).
 
 use rayon::prelude::*;
 
 use crate::error::FractureError;
-use crate::joint::{PointHistory, evaluate, evaluate_offset};
+use crate::joint::{PointHistory, evaluate, evaluate_offset, stored_energy};
 use crate::set::JointSet;
 
-/// Committed history and energy books of one joint.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct JointHistory {
+/// The committed history of every joint, one array per field (joint order).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Histories {
     /// Damage at the two points (P/S, Q/R), in `[0, 1]`, never decreasing.
-    pub damage: [f64; 2],
-    /// Secant shear stiffness `tau/s` at the two points (Pa/m), never increasing;
-    /// `f64::INFINITY` for a fresh joint.
-    pub shear_secant: [f64; 2],
-    /// Mode indicator at the two points (0 pure mode I, 1 pure mode II).
-    pub mode_mix: [f64; 2],
-    /// `[A sigma, A tau, o, s]` per point at the last commit (zero once broken).
-    pub last: [f64; 8],
-    /// Work done on the joint since the start (J), trapezoidal rule over committed steps on
-    /// the conjugate pairs (A sigma, o) and (A tau, s).
-    pub work: f64,
-    /// Energy stored in the joint now (J); 0 once broken.
-    pub stored: f64,
-    /// Energy dissipated so far (J): `work - (stored - stored at the start)` until the break.
-    pub dissipated: f64,
+    pub damage: Vec<[f64; 2]>,
+    /// Secant shear stiffness `tau/s` at the two points (Pa/m), never increasing.
+    pub shear_secant: Vec<[f64; 2]>,
+    /// Mode indicator at the two points (0 pure mode I, 1 pure mode II); 0 while undamaged.
+    pub mode_mix: Vec<[f64; 2]>,
+    /// `[o, s]` of the two points at the last commit, `[o_0, s_0, o_1, s_1]` (m), with the
+    /// initial offsets of a prestressed joint included; zero once broken.
+    pub local: Vec<[f64; 4]>,
+    /// Energy dissipated so far (J).
+    pub dissipated: Vec<f64>,
 }
 
-impl JointHistory {
-    /// The history of a fresh joint (no damage, no shear softening, empty books).
-    pub const FRESH: JointHistory = JointHistory {
-        damage: [0.0; 2],
-        shear_secant: [f64::INFINITY; 2],
-        mode_mix: [0.0; 2],
-        last: [0.0; 8],
-        work: 0.0,
-        stored: 0.0,
-        dissipated: 0.0,
-    };
+impl Histories {
+    /// `n` fresh joints (no damage, secants not yet set).
+    pub fn fresh(n: usize) -> Self {
+        Histories {
+            damage: vec![[0.0; 2]; n],
+            shear_secant: vec![[f64::INFINITY; 2]; n],
+            mode_mix: vec![[0.0; 2]; n],
+            local: vec![[0.0; 4]; n],
+            dissipated: vec![0.0; n],
+        }
+    }
 
-    /// Mode indicator of the joint: the mean of its two points.
-    pub fn mode_mix(&self) -> f64 {
-        0.5 * (self.mode_mix[0] + self.mode_mix[1])
+    /// Number of joints.
+    pub fn len(&self) -> usize {
+        self.damage.len()
+    }
+
+    /// True when there are no joints.
+    pub fn is_empty(&self) -> bool {
+        self.damage.is_empty()
+    }
+
+    /// The histories of the joints `keep`, in that order.
+    pub fn subset(&self, keep: &[u32]) -> Histories {
+        fn pick<T: Copy>(v: &[T], keep: &[u32]) -> Vec<T> {
+            keep.iter().map(|&j| v[j as usize]).collect()
+        }
+        Histories {
+            damage: pick(&self.damage, keep),
+            shear_secant: pick(&self.shear_secant, keep),
+            mode_mix: pick(&self.mode_mix, keep),
+            local: pick(&self.local, keep),
+            dissipated: pick(&self.dissipated, keep),
+        }
+    }
+
+    /// Sizes every array for `n` joints, new entries fresh.
+    pub(crate) fn resize(&mut self, n: usize) {
+        self.damage.resize(n, [0.0; 2]);
+        self.shear_secant.resize(n, [f64::INFINITY; 2]);
+        self.mode_mix.resize(n, [0.0; 2]);
+        self.local.resize(n, [0.0; 4]);
+        self.dissipated.resize(n, 0.0);
+    }
+
+    /// Copies joint `from`'s history of `src` into entry `to` of `self`.
+    pub fn copy_joint(&mut self, to: usize, src: &Histories, from: usize) {
+        self.damage[to] = src.damage[from];
+        self.shear_secant[to] = src.shear_secant[from];
+        self.mode_mix[to] = src.mode_mix[from];
+        self.local[to] = src.local[from];
+        self.dissipated[to] = src.dissipated[from];
+    }
+
+    /// What a force evaluation of joint `j` reads.
+    #[inline]
+    pub fn point_history(&self, j: usize) -> PointHistory {
+        PointHistory {
+            damage: self.damage[j],
+            mode_mix: self.mode_mix[j],
+            shear_secant: self.shear_secant[j],
+        }
+    }
+
+    /// Mode indicator of joint `j`: the mean of its two points.
+    pub fn joint_mode_mix(&self, j: usize) -> f64 {
+        0.5 * (self.mode_mix[j][0] + self.mode_mix[j][1])
     }
 }
 
@@ -67,13 +124,28 @@ pub struct JointEnergy {
     pub released_at_break: f64,
 }
 
+/// Each joint's energy books (J), in joint order: for output.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct JointBooks {
+    /// [`JointState::stored`].
+    pub stored: Vec<f64>,
+    /// [`JointState::work`].
+    pub work: Vec<f64>,
+    /// [`Histories::dissipated`].
+    pub dissipated: Vec<f64>,
+}
+
 /// A [`JointState`] as plain data, for checkpoints: its public fields and its
 /// [`JointState::generation`]; [`JointState::from_snapshot`] checks it against the joint set
 /// and gives the state back.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointStateSnapshot {
     /// [`JointState::history`].
-    pub history: Vec<JointHistory>,
+    pub history: Histories,
+    /// [`JointState::stored_at_start`].
+    pub stored_at_start: Vec<f64>,
+    /// [`JointState::stored_at_break`].
+    pub stored_at_break: Vec<f64>,
     /// [`JointState::intact`].
     pub intact: Vec<bool>,
     /// [`JointState::broken_at`].
@@ -91,8 +163,13 @@ pub struct JointStateSnapshot {
 /// The history of every joint of a [`JointSet`].
 #[derive(Debug, Clone)]
 pub struct JointState {
-    /// Damage, shear secant, mode indicator, work conjugates and energy books per joint.
-    pub history: Vec<JointHistory>,
+    /// Damage, shear secant, mode indicator, committed opening and sliding, and dissipated
+    /// energy per joint.
+    pub history: Histories,
+    /// Energy stored in each joint at the start (J).
+    pub stored_at_start: Vec<f64>,
+    /// Energy stored in each joint when it broke (J); 0 while intact.
+    pub stored_at_break: Vec<f64>,
     /// False once a joint has broken.
     pub intact: Vec<bool>,
     /// Time of failure of each joint, if broken.
@@ -107,6 +184,9 @@ pub struct JointState {
     pub(crate) generation: u64,
 }
 
+/// Joints per rayon task when the stored energies are computed.
+const SUM_CHUNK: usize = 4096;
+
 impl JointState {
     /// Fresh history (no damage) at the initial positions `x`.
     pub fn new(set: &JointSet, x: &[[f64; 2]]) -> Self {
@@ -117,35 +197,38 @@ impl JointState {
         );
         let n = set.len();
         // every joint in parallel, then the stored energy summed in joint order
-        let history: Vec<JointHistory> = (0..n)
+        let evals: Vec<_> = (0..n)
             .into_par_iter()
             .with_min_len(1024)
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
                 let (k, soft, xs) = (&set.consts[j], &set.softening[j], set.gather(j, x));
-                let e = if set.initial_offsets.is_empty() {
+                if set.initial_offsets.is_empty() {
                     evaluate(m, k, soft, &xs, &PointHistory::FRESH, set.thickness)
                 } else {
                     let off = set.initial_offsets[j];
                     evaluate_offset(m, k, soft, &xs, &PointHistory::FRESH, set.thickness, off)
-                };
-                JointHistory {
-                    damage: e.damage,
-                    shear_secant: e.shear_secant,
-                    mode_mix: e.mode_mix,
-                    last: e.local,
-                    work: 0.0,
-                    stored: e.stored,
-                    dissipated: 0.0,
                 }
             })
             .collect();
+        let mut history = Histories::fresh(0);
+        let mut stored_at_start = Vec::with_capacity(n);
         let mut stored_initial = 0.0;
-        for h in &history {
-            stored_initial += h.stored;
+        for e in &evals {
+            history.damage.push(e.damage);
+            history.shear_secant.push(e.shear_secant);
+            history.mode_mix.push(e.mode_mix);
+            history
+                .local
+                .push([e.local[2], e.local[3], e.local[6], e.local[7]]);
+            history.dissipated.push(0.0);
+            stored_at_start.push(e.stored);
+            stored_initial += e.stored;
         }
         JointState {
             history,
+            stored_at_start,
+            stored_at_break: vec![0.0; n],
             intact: vec![true; n],
             broken_at: vec![None; n],
             stored_initial,
@@ -160,6 +243,21 @@ impl JointState {
         self.generation
     }
 
+    /// The state as plain data (for a checkpoint).
+    pub fn snapshot(&self) -> JointStateSnapshot {
+        JointStateSnapshot {
+            history: self.history.clone(),
+            stored_at_start: self.stored_at_start.clone(),
+            stored_at_break: self.stored_at_break.clone(),
+            intact: self.intact.clone(),
+            broken_at: self.broken_at.clone(),
+            stored_initial: self.stored_initial,
+            released_at_break: self.released_at_break,
+            n_broken: self.n_broken,
+            generation: self.generation,
+        }
+    }
+
     /// The state a [`JointStateSnapshot`] saved (from the public fields of a state and its
     /// [`JointState::generation`]), for `set`: every array must have one entry per joint of
     /// `set`, an intact joint has no time of failure, `n_broken` counts the broken joints and
@@ -167,8 +265,15 @@ impl JointState {
     /// state left off.
     pub fn from_snapshot(set: &JointSet, s: JointStateSnapshot) -> Result<Self, FractureError> {
         let n = set.len();
+        let h = &s.history;
         for (what, got) in [
-            ("history", s.history.len()),
+            ("damage", h.damage.len()),
+            ("shear_secant", h.shear_secant.len()),
+            ("mode_mix", h.mode_mix.len()),
+            ("local", h.local.len()),
+            ("dissipated", h.dissipated.len()),
+            ("stored_at_start", s.stored_at_start.len()),
+            ("stored_at_break", s.stored_at_break.len()),
             ("intact", s.intact.len()),
             ("broken_at", s.broken_at.len()),
         ] {
@@ -192,18 +297,20 @@ impl JointState {
                 s.n_broken
             ));
         }
-        if let Some(j) = s
-            .history
+        if let Some(j) = h
+            .damage
             .iter()
-            .position(|h| !h.damage.iter().all(|d| (0.0..=1.0).contains(d)))
+            .position(|d| !d.iter().all(|d| (0.0..=1.0).contains(d)))
         {
             return bad(format!(
                 "joint {j} has damage {:?} outside [0, 1]",
-                s.history[j].damage
+                h.damage[j]
             ));
         }
         Ok(JointState {
             history: s.history,
+            stored_at_start: s.stored_at_start,
+            stored_at_break: s.stored_at_break,
             intact: s.intact,
             broken_at: s.broken_at,
             stored_initial: s.stored_initial,
@@ -215,37 +322,72 @@ impl JointState {
 
     /// Number of joints.
     pub fn len(&self) -> usize {
-        self.history.len()
+        self.intact.len()
     }
 
     /// True when there are no joints.
     pub fn is_empty(&self) -> bool {
-        self.history.is_empty()
+        self.intact.is_empty()
     }
 
     /// The committed history of joint `j` that a force evaluation reads.
     #[inline]
     pub fn point_history(&self, j: usize) -> PointHistory {
-        let h = &self.history[j];
-        PointHistory {
-            damage: h.damage,
-            mode_mix: h.mode_mix,
-            shear_secant: h.shear_secant,
-        }
+        self.history.point_history(j)
     }
 
     /// Damage of joint `j`: the mean of its two points; the joint breaks when it reaches 1.
     pub fn joint_damage(&self, j: usize) -> f64 {
-        let d = self.history[j].damage;
+        let d = self.history.damage[j];
         0.5 * (d[0] + d[1])
+    }
+
+    /// Energy stored in joint `j` of `set` now (J): its law at the committed opening and
+    /// sliding with its committed history; 0 once broken.
+    pub fn stored(&self, set: &JointSet, j: usize) -> f64 {
+        if !self.intact[j] {
+            return 0.0;
+        }
+        stored_energy(
+            &set.materials[set.material[j] as usize],
+            &set.consts[j],
+            &set.softening[j],
+            self.history.local[j],
+            &self.history.point_history(j),
+            set.thickness,
+        )
+    }
+
+    /// Work done on joint `j` since the start (J): stored energy now (at its break, once
+    /// broken) less that at the start, plus the energy it dissipated.
+    pub fn work(&self, set: &JointSet, j: usize) -> f64 {
+        let now = if self.intact[j] {
+            self.stored(set, j)
+        } else {
+            self.stored_at_break[j]
+        };
+        now - self.stored_at_start[j] + self.history.dissipated[j]
+    }
+
+    /// Every joint's energy books.
+    pub fn books(&self, set: &JointSet) -> JointBooks {
+        let n = self.len();
+        JointBooks {
+            stored: (0..n).into_par_iter().map(|j| self.stored(set, j)).collect(),
+            work: (0..n).into_par_iter().map(|j| self.work(set, j)).collect(),
+            dissipated: self.history.dissipated.clone(),
+        }
     }
 
     /// The state of the joints `keep` (increasing ids, as [`crate::JointSet::subset`]): their
     /// histories, intact flags and break times, generation 0; the totals (initial stored
     /// energy, energy released at breaks, broken count) are those of `self`.
     pub fn subset(&self, keep: &[u32]) -> JointState {
+        let pick = |v: &[f64]| keep.iter().map(|&j| v[j as usize]).collect();
         JointState {
-            history: keep.iter().map(|&j| self.history[j as usize]).collect(),
+            history: self.history.subset(keep),
+            stored_at_start: pick(&self.stored_at_start),
+            stored_at_break: pick(&self.stored_at_break),
             intact: keep.iter().map(|&j| self.intact[j as usize]).collect(),
             broken_at: keep.iter().map(|&j| self.broken_at[j as usize]).collect(),
             stored_initial: self.stored_initial,
@@ -255,19 +397,24 @@ impl JointState {
         }
     }
 
-    /// Totals over all joints, summed in joint order.
-    pub fn energy(&self) -> JointEnergy {
-        let mut e = JointEnergy {
+    /// Totals over all joints of `set`, summed in joint order (each joint's stored energy
+    /// computed in parallel first: the same bits on any number of threads).
+    pub fn energy(&self, set: &JointSet) -> JointEnergy {
+        assert_eq!(self.len(), set.len(), "state belongs to another joint set");
+        let stored_each: Vec<f64> = (0..self.len())
+            .into_par_iter()
+            .with_min_len(SUM_CHUNK)
+            .map(|j| self.stored(set, j))
+            .collect();
+        let stored = stored_each.iter().fold(0.0, |a, b| a + b);
+        let dissipated = self.history.dissipated.iter().fold(0.0, |a, b| a + b);
+        JointEnergy {
+            work: stored - self.stored_initial + dissipated + self.released_at_break,
+            stored,
             stored_initial: self.stored_initial,
+            dissipated,
             released_at_break: self.released_at_break,
-            ..Default::default()
-        };
-        for h in &self.history {
-            e.work += h.work;
-            e.stored += h.stored;
-            e.dissipated += h.dissipated;
         }
-        e
     }
 }
 
@@ -301,15 +448,7 @@ mod tests {
     }
 
     fn snapshot(s: &JointState) -> JointStateSnapshot {
-        JointStateSnapshot {
-            history: s.history.clone(),
-            intact: s.intact.clone(),
-            broken_at: s.broken_at.clone(),
-            stored_initial: s.stored_initial,
-            released_at_break: s.released_at_break,
-            n_broken: s.n_broken,
-            generation: s.generation(),
-        }
+        s.snapshot()
     }
 
     /// A snapshot gives the state back field for field (the commit count included); one of
@@ -318,7 +457,7 @@ mod tests {
     #[test]
     fn a_snapshot_restores_the_state_and_a_damaged_one_is_refused() {
         let (set, mut state) = two();
-        state.history[1].damage = [0.25, 1.0];
+        state.history.damage[1] = [0.25, 1.0];
         state.intact[1] = false;
         state.broken_at[1] = Some(2e-6);
         state.n_broken = 1;
@@ -334,7 +473,9 @@ mod tests {
             edit(&mut s);
             JointState::from_snapshot(&set, s).unwrap_err().to_string()
         };
-        assert!(err(&|s| s.history.truncate(1)).contains("`history` has 1 entries"));
+        assert!(err(&|s| s.history.damage.truncate(1)).contains("`damage` has 1 entries"));
+        assert!(err(&|s| s.history.local.truncate(1)).contains("`local` has 1 entries"));
+        assert!(err(&|s| s.stored_at_break.push(0.0)).contains("`stored_at_break` has 3"));
         assert!(err(&|s| s.intact.push(true)).contains("`intact` has 3"));
         assert!(err(&|s| s.broken_at[0] = Some(0.0)).contains("joint 0 is intact"));
         // a joint broken before the run has no time of failure
@@ -342,7 +483,7 @@ mod tests {
         pre.broken_at[1] = None;
         assert!(JointState::from_snapshot(&set, pre).is_ok());
         assert!(err(&|s| s.n_broken = 2).contains("2 broken joints counted, 1 flagged"));
-        assert!(err(&|s| s.history[0].damage[1] = f64::NAN).contains("outside [0, 1]"));
-        assert!(err(&|s| s.history[0].damage[0] = -1e-300).contains("joint 0 has damage"));
+        assert!(err(&|s| s.history.damage[0][1] = f64::NAN).contains("outside [0, 1]"));
+        assert!(err(&|s| s.history.damage[0][0] = -1e-300).contains("joint 0 has damage"));
     }
 }

@@ -55,7 +55,6 @@ impl Rig {
         let mut f = [[0.0; 2]; 4];
         accumulate_joint_forces(&self.set, &self.state, &x, &mut self.scratch, &mut f);
         let trial_forces = self.scratch.joint_forces(&self.set, 0);
-        let area = 0.5 * H * T;
         self.time += 1.0;
         commit_joints(
             &self.set,
@@ -69,14 +68,39 @@ impl Rig {
             f, trial_forces,
             "one joint: the scattered forces are the joint's"
         );
-        // the committed work conjugates [A sigma, A tau, o, s] per point
-        let e = self.state.history[0].last;
-        [(e[0] / area, e[1] / area), (e[4] / area, e[5] / area)]
+        // the committed tractions: the law at the committed opening and sliding
+        let (h, u) = (&self.state.history, self.state.history.local[0]);
+        let t: [(f64, f64); 2] = std::array::from_fn(|p| {
+            let pt = point_traction(
+                &self.set.materials[0],
+                &self.set.consts[0],
+                &self.set.softening[0],
+                u[2 * p],
+                u[2 * p + 1],
+                h.damage[0][p],
+                h.mode_mix[0][p],
+                h.shear_secant[0][p],
+            );
+            (pt.sigma, pt.tau)
+        });
+        t
     }
 
-    fn hist(&self) -> JointHistory {
-        self.state.history[0]
+    /// The joint's energy books: work, stored and dissipated (J).
+    fn hist(&self) -> Books {
+        Books {
+            work: self.state.work(&self.set, 0),
+            stored: self.state.stored(&self.set, 0),
+            dissipated: self.state.history.dissipated[0],
+        }
     }
+}
+
+/// One joint's energy books (J).
+struct Books {
+    work: f64,
+    stored: f64,
+    dissipated: f64,
 }
 
 fn positions(o: f64, s: f64) -> Vec<[f64; 2]> {
@@ -213,7 +237,7 @@ fn shear_peak_under_compression_is_c_plus_sigma_tan_phi() {
             "normal stress held: {s0}"
         );
         assert_eq!(
-            rig.state.history[0].damage[0] > 0.0,
+            rig.state.history.damage[0][0] > 0.0,
             s > s_p,
             "no damage before the shear peak"
         );
@@ -226,7 +250,7 @@ fn shear_peak_under_compression_is_c_plus_sigma_tan_phi() {
     // branch has dissipated G_II A
     let g_area = m.g_ii * H * T;
     assert!(rig.events.is_empty(), "a closed joint does not break");
-    assert_eq!(rig.state.history[0].damage, [1.0, 1.0]);
+    assert_eq!(rig.state.history.damage[0], [1.0, 1.0]);
     let [(s0, t0), _] = rig.go(o, 1.2 * s_c);
     assert!((s0 + sigma_c).abs() < 1e-6 * sigma_c && t0 == 0.0);
     assert!(
@@ -341,7 +365,7 @@ fn unloading_and_reloading_follow_the_damaged_secant_and_create_no_energy() {
     for i in 1..=n {
         rig.go(o_d * i as f64 / n as f64, 0.0);
     }
-    let d = rig.state.history[0].damage;
+    let d = rig.state.history.damage[0];
     assert!(
         (d[0] - 0.4).abs() < 1e-12 && (d[1] - 0.4).abs() < 1e-12,
         "damage {d:?}"
@@ -367,7 +391,7 @@ fn unloading_and_reloading_follow_the_damaged_secant_and_create_no_energy() {
             "o {o}: {s0} vs {law}"
         );
         assert_eq!(
-            rig.state.history[0].damage, d,
+            rig.state.history.damage[0], d,
             "damage must not change on the secant"
         );
     }
@@ -393,7 +417,7 @@ fn compression_causes_no_damage_and_returns_its_energy() {
         let o = -100.0 * o_p * i as f64 / 1000.0;
         let [(s0, _), _] = rig.go(o, 0.0);
         assert!((s0 - m.p / H * o).abs() < 1e-9 * m.ft, "sigma {s0}");
-        assert_eq!(rig.state.history[0].damage, [0.0, 0.0]);
+        assert_eq!(rig.state.history.damage[0], [0.0, 0.0]);
     }
     assert!(
         rig.hist().work.abs() < 1e-12 * g_area,
@@ -416,7 +440,7 @@ fn compression_causes_no_damage_and_returns_its_energy() {
         let s = s_max * i as f64 / 1000.0;
         let [(s0, t0), _] = rig.go(o, s);
         assert!((s0 - m.p / H * o).abs() < 1e-9 * m.ft, "sigma {s0}");
-        assert_eq!(rig.state.history[0].damage, [0.0, 0.0]);
+        assert_eq!(rig.state.history.damage[0], [0.0, 0.0]);
         if i > 0 && s > s_prev {
             let fs = m.cohesion + m.p / H * o.abs() * tan_phi;
             let y = s / m.peak_slip(H, fs);
@@ -485,7 +509,7 @@ fn slip_compress_and_slide_back_cycle_dissipates_and_never_creates_energy() {
         "slip-compress-slide back cycle: work {:.6e} J, dissipated {:.6e} J, expected {expected:.6e} J",
         h.work, h.dissipated
     );
-    assert_eq!(rig.state.history[0].damage, [0.0, 0.0]);
+    assert_eq!(rig.state.history.damage[0], [0.0, 0.0]);
     // trapezoid error of the loading branch with 20 000 steps: below 1e-7 relative
     assert!(
         (h.work - expected).abs() < 1e-7 * expected,

@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use fdem_fracture::state::{JointHistory, JointState};
+use fdem_fracture::state::{JointBooks, JointState};
 use fdem_solver::output::{FrameData, JointFrame};
 
 /// `v` as a numpy array of shape `(len, K)`.
@@ -117,19 +117,21 @@ pub fn joints<'py>(py: Python<'py>, j: &JointFrame) -> PyResult<Bound<'py, PyDic
 /// `point_damage` and `point_mode_mix` (`(n, 2)`: the joint's two integration points),
 /// `broken` (bool), `broken_at` (the time of the break [s], NaN while intact), `work`,
 /// `stored`, `dissipated` [J].
-pub fn joint_state<'py>(py: Python<'py>, s: &JointState) -> PyResult<Bound<'py, PyDict>> {
+pub fn joint_state<'py>(
+    py: Python<'py>,
+    s: &JointState,
+    b: &JointBooks,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let damage: Vec<[f64; 2]> = s.history.iter().map(|h| h.damage).collect();
-    let mix: Vec<[f64; 2]> = s.history.iter().map(|h| h.mode_mix).collect();
+    let (damage, mix) = (&s.history.damage, &s.history.mode_mix);
     let broken: Vec<bool> = s.intact.iter().map(|i| !i).collect();
     let broken_at: Vec<f64> = s.broken_at.iter().map(|t| t.unwrap_or(f64::NAN)).collect();
-    let of = |f: fn(&JointHistory) -> f64| -> Vec<f64> { s.history.iter().map(f).collect() };
-    d.set_item("point_damage", rows(py, &damage)?)?;
-    d.set_item("point_mode_mix", rows(py, &mix)?)?;
+    d.set_item("point_damage", rows(py, damage)?)?;
+    d.set_item("point_mode_mix", rows(py, mix)?)?;
     d.set_item("broken", column(py, &broken))?;
     d.set_item("broken_at", column(py, &broken_at))?;
-    d.set_item("work", column(py, &of(|h| h.work)))?;
-    d.set_item("stored", column(py, &of(|h| h.stored)))?;
-    d.set_item("dissipated", column(py, &of(|h| h.dissipated)))?;
+    d.set_item("work", column(py, &b.work))?;
+    d.set_item("stored", column(py, &b.stored))?;
+    d.set_item("dissipated", column(py, &b.dissipated))?;
     Ok(d)
 }

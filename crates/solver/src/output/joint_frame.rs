@@ -98,7 +98,7 @@ fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
     let xs = set.gather(j, x);
     let [p, q, r, s] = xs;
     let k = kinematics(&xs, set.consts[j].h);
-    let h = &state.history[j];
+    let h = state.point_history(j);
     let intact = state.intact[j];
     let (sigma, tau) = if intact {
         let m = &set.materials[set.material[j] as usize];
@@ -129,7 +129,7 @@ fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
     } else {
         1.0
     };
-    let mix = h.mode_mix().clamp(0.0, 1.0);
+    let mix = state.history.joint_mode_mix(j).clamp(0.0, 1.0);
     Row {
         points: [
             [0.5 * (p[0] + s[0]), 0.5 * (p[1] + s[1])],

@@ -16,7 +16,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use fdem_fracture::{Joint, JointHistory, JointState};
+use fdem_fracture::{Joint, JointState};
 use fdem_mesh::Mesh;
 
 use crate::error::SceneError;
@@ -198,12 +198,14 @@ fn break_at_start(state: &mut JointState, j: usize) {
     if !state.intact[j] {
         return;
     }
-    state.stored_initial -= state.history[j].stored;
-    state.history[j] = JointHistory {
-        damage: [1.0; 2],
-        stored: 0.0,
-        ..JointHistory::FRESH
-    };
+    state.stored_initial -= state.stored_at_start[j];
+    state.stored_at_start[j] = 0.0;
+    let h = &mut state.history;
+    h.damage[j] = [1.0; 2];
+    h.shear_secant[j] = [f64::INFINITY; 2];
+    h.mode_mix[j] = [0.0; 2];
+    h.local[j] = [0.0; 4];
+    h.dissipated[j] = 0.0;
     state.intact[j] = false;
     state.broken_at[j] = None;
     state.n_broken += 1;

@@ -208,6 +208,7 @@ fn static_run(
         summary,
         last_frame: frame,
         joint_state: None,
+        joint_books: None,
         checkpoints: Default::default(),
     })
 }

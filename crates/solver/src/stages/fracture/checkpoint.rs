@@ -1,39 +1,29 @@
 //! The fracture stage in a checkpoint ([`StageCheckpoint`]): section `fracture` (module docs of
 //! [`crate::stages::fracture`]).
 
-use fdem_fracture::{JointHistory, JointState, JointStateSnapshot};
+use fdem_fracture::{Histories, JointState, JointStateSnapshot};
 
 use super::{FractureReport, FractureStage};
 use crate::checkpoint::pack::PackSlice;
 use crate::checkpoint::{Dec, DecodeError, Enc, Pack};
 use crate::stages::system::{StageCheckpoint, StepEvents};
 
-impl Pack for JointHistory {
+/// The joints' histories, field by field.
+impl Pack for Histories {
     fn pack(&self, e: &mut Enc) {
         e.put(&self.damage);
         e.put(&self.shear_secant);
         e.put(&self.mode_mix);
-        e.put(&self.last);
-        e.put(&self.work);
-        e.put(&self.stored);
+        e.put(&self.local);
         e.put(&self.dissipated);
     }
 
     fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
-        fn arr<const N: usize>(d: &mut Dec) -> Result<[f64; N], DecodeError> {
-            let mut a = [0.0; N];
-            for v in &mut a {
-                *v = d.get()?;
-            }
-            Ok(a)
-        }
-        Ok(JointHistory {
-            damage: arr(d)?,
-            shear_secant: arr(d)?,
-            mode_mix: arr(d)?,
-            last: arr(d)?,
-            work: d.get()?,
-            stored: d.get()?,
+        Ok(Histories {
+            damage: d.get()?,
+            shear_secant: d.get()?,
+            mode_mix: d.get()?,
+            local: d.get()?,
             dissipated: d.get()?,
         })
     }
@@ -66,7 +56,10 @@ impl FractureStage {
             return Err(d.error(format!("{nj} joints where the scene has {n}")));
         }
         let snapshot = JointStateSnapshot {
-            history: d.vec_of_len(n, "joint histories")?,
+            // the lengths are checked against the joint set by `from_snapshot`
+            history: d.get()?,
+            stored_at_start: d.vec_of_len(n, "joints' stored energies at the start")?,
+            stored_at_break: d.vec_of_len(n, "joints' stored energies at their breaks")?,
             intact: d.vec_of_len(n, "joint intact flags")?,
             broken_at: d.vec_of_len(n, "joint times of failure")?,
             stored_initial: d.get()?,
@@ -85,7 +78,7 @@ impl FractureStage {
         // damaged (after the first scan), else 0
         for j in 0..n {
             let (b, released, intact) = (bond_state[j], joint_released[j], state.intact[j]);
-            let damaged = state.history[j].damage != [0.0; 2];
+            let damaged = state.history.damage[j] != [0.0; 2];
             let want = match (released, stars_scanned && damaged) {
                 (true, _) => 2,
                 (false, true) => 1,
@@ -153,14 +146,17 @@ impl StageCheckpoint for FractureStage {
         };
         let report = &self.report;
         let (n, s) = (self.set.len(), &self.state);
-        // the section's size, to grow the buffer once: 136 bytes of history and 4 flags per
-        // joint, a flag per star, 8 bytes per time of failure, released pair and event field
+        // the section's size, to grow the buffer once: 104 bytes of history, 16 of stored
+        // energies and 4 flags per joint, a flag per star, 8 bytes per time of failure,
+        // released pair and event field
         let n_events = report.events.len();
-        let size = 140 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
+        let size = 124 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
         e.buf.reserve(size + 48 * n_events + 256);
         e.section("fracture", |e| {
             e.put(&n);
             e.put(&s.history);
+            e.put(&s.stored_at_start);
+            e.put(&s.stored_at_break);
             e.put(&s.intact);
             e.put(&s.broken_at);
             e.put(&s.stored_initial);
@@ -238,5 +234,9 @@ impl StageCheckpoint for FractureStage {
 
     fn joint_state(&self) -> Option<&JointState> {
         Some(&self.state)
+    }
+
+    fn joint_books(&self) -> Option<fdem_fracture::JointBooks> {
+        Some(self.state.books(&self.set))
     }
 }

@@ -106,19 +106,27 @@ fn state_diff(
     frames: bool,
 ) -> Option<String> {
     let (sa, sb) = (a.joint_state()?, b.joint_state()?);
-    let bits = |h: &fdem_fracture::JointHistory| {
-        let mut v: Vec<u64> = h.damage.iter().map(|d| d.to_bits()).collect();
+    let bits = |s: &fdem_fracture::JointState, j: usize| {
+        let h = &s.history;
+        let mut v: Vec<u64> = h.damage[j].iter().map(|d| d.to_bits()).collect();
         v.extend(
-            h.shear_secant
+            h.shear_secant[j]
                 .iter()
-                .chain(&h.mode_mix)
+                .chain(&h.mode_mix[j])
+                .chain(&h.local[j])
                 .map(|d| d.to_bits()),
         );
-        v.extend(h.last.iter().map(|d| d.to_bits()));
-        v.extend([h.work, h.stored, h.dissipated].map(f64::to_bits));
+        v.extend(
+            [
+                h.dissipated[j],
+                s.stored_at_start[j],
+                s.stored_at_break[j],
+            ]
+            .map(f64::to_bits),
+        );
         v
     };
-    if let Some(j) = (0..sa.len()).find(|&j| bits(&sa.history[j]) != bits(&sb.history[j])) {
+    if let Some(j) = (0..sa.len()).find(|&j| bits(sa, j) != bits(sb, j)) {
         return Some(format!("joint {j}: history differs"));
     }
     let t = |s: &fdem_fracture::JointState| -> Vec<Option<u64>> {

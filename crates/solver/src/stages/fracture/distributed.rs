@@ -9,14 +9,14 @@
 //! ([`LocalJoints::share_histories`]).
 
 use fdem_fracture::{
-    FractureEvent, FractureMode, JointHistory, JointId, JointScratch, JointSet, JointState,
+    FractureEvent, FractureMode, Histories, JointId, JointScratch, JointSet, JointState,
 };
 
 use crate::distributed::{Comm, Ghosts, Layout};
 use crate::stages::system::{StageDistribution, StepEvents};
 
 /// Values per joint history in a message.
-const HISTORY: usize = 17;
+const HISTORY: usize = 11;
 /// Values per event in a message (the joint id first).
 const EVENT: usize = 9;
 
@@ -179,9 +179,8 @@ impl LocalJoints {
             global.broken_at[j] = Some(e.time);
             global.released_at_break += e.stored_at_break;
             global.n_broken += 1;
-            let h = &mut global.history[j];
-            h.stored = 0.0;
-            h.last = [0.0; 8];
+            global.stored_at_break[j] = e.stored_at_break;
+            global.history.local[j] = [0.0; 4];
         }
     }
 
@@ -191,7 +190,7 @@ impl LocalJoints {
         self.mine.clear();
         for (l, &j) in self.ids.iter().enumerate() {
             if self.owns[l] {
-                pack(&self.state.history[l], &mut self.mine);
+                pack(&self.state.history, l, &mut self.mine);
                 debug_assert!(self.owned_by[self.rank].binary_search(&j).is_ok());
             }
         }
@@ -201,31 +200,29 @@ impl LocalJoints {
         let mut at = 0;
         for ids in &self.owned_by {
             for &j in ids {
-                global.history[j as usize] = unpack(&self.all[at..at + HISTORY]);
+                unpack(&self.all[at..at + HISTORY], &mut global.history, j as usize);
                 at += HISTORY;
             }
         }
     }
 }
 
-fn pack(h: &JointHistory, out: &mut Vec<f64>) {
-    out.extend_from_slice(&h.damage);
-    out.extend_from_slice(&h.shear_secant);
-    out.extend_from_slice(&h.mode_mix);
-    out.extend_from_slice(&h.last);
-    out.extend_from_slice(&[h.work, h.stored, h.dissipated]);
+/// Joint `l`'s history, [`HISTORY`] values.
+fn pack(h: &Histories, l: usize, out: &mut Vec<f64>) {
+    out.extend_from_slice(&h.damage[l]);
+    out.extend_from_slice(&h.shear_secant[l]);
+    out.extend_from_slice(&h.mode_mix[l]);
+    out.extend_from_slice(&h.local[l]);
+    out.push(h.dissipated[l]);
 }
 
-fn unpack(v: &[f64]) -> JointHistory {
-    JointHistory {
-        damage: [v[0], v[1]],
-        shear_secant: [v[2], v[3]],
-        mode_mix: [v[4], v[5]],
-        last: std::array::from_fn(|k| v[6 + k]),
-        work: v[14],
-        stored: v[15],
-        dissipated: v[16],
-    }
+/// [`pack`]'s values into joint `j` of `h`.
+fn unpack(v: &[f64], h: &mut Histories, j: usize) {
+    h.damage[j] = [v[0], v[1]];
+    h.shear_secant[j] = [v[2], v[3]];
+    h.mode_mix[j] = [v[4], v[5]];
+    h.local[j] = [v[6], v[7], v[8], v[9]];
+    h.dissipated[j] = v[10];
 }
 
 impl StageDistribution for super::FractureStage {

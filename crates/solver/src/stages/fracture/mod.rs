@@ -152,7 +152,7 @@ impl FractureStage {
             let mut stars = StarBonds::new(&set.nodes, &set.triangles, model.n_nodes());
             let mut dropped = Vec::new();
             for (j, st) in bond_state.iter_mut().enumerate() {
-                let d = state.history[j].damage;
+                let d = state.history.damage[j];
                 if !state.intact[j] {
                     stars.break_joint(j, &mut dropped);
                     *st = 2;
@@ -271,7 +271,7 @@ impl FractureStage {
             for (j, st) in self.bond_state.iter_mut().enumerate() {
                 // damaged after the commit (in a distributed run the histories here are
                 // those before it, and the newly softened joints say the rest)
-                let d = self.state.history[j].damage;
+                let d = self.state.history.damage[j];
                 if !self.state.intact[j] {
                     self.stars.break_joint(j, released);
                     *st = 2;
