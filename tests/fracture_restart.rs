@@ -132,11 +132,7 @@ fn restart_from_a_saved_fracture_state_continues_the_run() {
         .damage
         .iter()
         .zip(&js2.history.damage)
-        .map(|(a, b)| {
-            (a[0] - b[0])
-                .abs()
-                .max((a[1] - b[1]).abs())
-        })
+        .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
         .fold(0.0, f64::max);
     eprintln!(
         "{} steps ({} + {}), broken joints: full {}, at the restart {}, restarted {}; displacement difference to the full run / max |u| {d:.2e}, damage difference {damage_diff:.2e}; times of the breaks: full {:?}, restarted {:?}, restarted from fresh joints {:?}",

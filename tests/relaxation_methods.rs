@@ -311,8 +311,7 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
     });
     let (first, _) = common::run(&dynamic);
     let js = first.joint_state.clone().expect("the joints' state");
-    let damaged =
-        |h: &fdem_fracture::Histories| h.damage.iter().filter(|d| d[0] > 0.0).count();
+    let damaged = |h: &fdem_fracture::Histories| h.damage.iter().filter(|d| d[0] > 0.0).count();
     let unload = common::edited_example("notched-beam-fracture.json", "kdr-notch-unload", |v| {
         v["duration"] = 0.6e-3.into();
         v["output"]["frames"] = 0.into();
@@ -382,7 +381,9 @@ fn relaxation_of_a_damaged_notched_beam_keeps_its_damage() {
         // what the joints whose history changed dissipated meanwhile (their books: the
         // trapezoid's work less the change of their stored energy), relative
         let d_history = (0..h2.len())
-            .filter(|&j| h2.shear_secant[j] != h3.shear_secant[j] || h2.mode_mix[j] != h3.mode_mix[j])
+            .filter(|&j| {
+                h2.shear_secant[j] != h3.shear_secant[j] || h2.mode_mix[j] != h3.mode_mix[j]
+            })
             .map(|j| (h3.dissipated[j] - h2.dissipated[j]).abs())
             .sum::<f64>()
             / fracture0;

@@ -43,6 +43,7 @@ use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
 use crate::joint::{EvalOut, committed_normal, evaluate_into};
+use crate::material::{JointConsts, JointMaterial, SofteningConsts};
 use crate::set::{JointId, JointSet};
 use crate::state::{Histories, JointState};
 
@@ -211,25 +212,27 @@ fn trial_pass_impl<const OFF: bool>(
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(|(c, (damage, shear_secant, mode_mix, local, dissipated, flag))| {
-            let j0 = c * CHUNK;
-            let r = j0..j0 + damage.len();
-            let old = HistIn {
-                damage: &old.damage[r.clone()],
-                shear_secant: &old.shear_secant[r.clone()],
-                mode_mix: &old.mode_mix[r.clone()],
-                local: &old.local[r.clone()],
-                dissipated: &old.dissipated[r],
-            };
-            let new = HistOut {
-                damage,
-                shear_secant,
-                mode_mix,
-                local,
-                dissipated,
-            };
-            *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
-        });
+        .for_each(
+            |(c, (damage, shear_secant, mode_mix, local, dissipated, flag))| {
+                let j0 = c * CHUNK;
+                let r = j0..j0 + damage.len();
+                let old = HistIn {
+                    damage: &old.damage[r.clone()],
+                    shear_secant: &old.shear_secant[r.clone()],
+                    mode_mix: &old.mode_mix[r.clone()],
+                    local: &old.local[r.clone()],
+                    dissipated: &old.dissipated[r],
+                };
+                let new = HistOut {
+                    damage,
+                    shear_secant,
+                    mode_mix,
+                    local,
+                    dissipated,
+                };
+                *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
+            },
+        );
 }
 
 /// The pass of [`accumulate_joint_forces_committing`]: every joint's new history written over
@@ -315,6 +318,17 @@ struct HistIn<'a> {
     dissipated: &'a [f64],
 }
 
+impl HistIn<'static> {
+    /// No history (an in-place pass reads the arrays it writes).
+    const EMPTY: HistIn<'static> = HistIn {
+        damage: &[],
+        shear_secant: &[],
+        mode_mix: &[],
+        local: &[],
+        dissipated: &[],
+    };
+}
+
 /// One chunk of histories a pass writes, field by field.
 struct HistOut<'a> {
     damage: &'a mut [[f64; 2]],
@@ -322,6 +336,18 @@ struct HistOut<'a> {
     mode_mix: &'a mut [[f64; 2]],
     local: &'a mut [[f64; 4]],
     dissipated: &'a mut [f64],
+}
+
+impl HistOut<'_> {
+    /// Entry `i` of `old` into entry `i`.
+    #[inline(always)]
+    fn copy(&mut self, i: usize, old: &HistIn<'_>) {
+        self.damage[i] = old.damage[i];
+        self.shear_secant[i] = old.shear_secant[i];
+        self.mode_mix[i] = old.mode_mix[i];
+        self.local[i] = old.local[i];
+        self.dissipated[i] = old.dissipated[i];
+    }
 }
 
 /// One chunk of a pass, joints `j0..j0 + h.len()`: each joint's forces to its slots and its new
@@ -334,7 +360,7 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     inp: &PassIn<'_>,
     j0: usize,
     old: Option<HistIn<'_>>,
-    h: HistOut<'_>,
+    mut h: HistOut<'_>,
     marks: &mut [u8],
 ) -> u8 {
     let (set, x, out) = (inp.set, inp.x, inp.out);
@@ -355,13 +381,7 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         &[][..]
     };
     // the committed history (in place: the output arrays themselves)
-    let old = old.unwrap_or(HistIn {
-        damage: &[],
-        shear_secant: &[],
-        mode_mix: &[],
-        local: &[],
-        dissipated: &[],
-    });
+    let old = old.unwrap_or(HistIn::EMPTY);
     let mut fl = 0u8;
     for i in 0..n {
         let slots = [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
@@ -375,11 +395,7 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
             // a broken joint keeps its books (in place: untouched); no force
             out.put(slots, [[0.0; 2]; 4]);
             if !IN_PLACE {
-                h.damage[i] = d_a;
-                h.shear_secant[i] = k_a;
-                h.mode_mix[i] = old.mode_mix[i];
-                h.local[i] = old.local[i];
-                h.dissipated[i] = old.dissipated[i];
+                h.copy(i, &old);
             }
             continue;
         }
@@ -420,28 +436,23 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         );
         out.put(slots, fj);
         let u_b = [loc[2], loc[3], loc[6], loc[7]];
-        // the step's work by the trapezoidal rule on (A sigma, o) and (A tau, s), less the
-        // change of stored energy; the committed tractions and energy from the committed
-        // opening and sliding (normal: the law's normal branch at the committed damage; shear:
-        // tau = k_t s)
         let (u_a, d_old) = if IN_PLACE {
             (h.local[i], h.dissipated[i])
         } else {
             (old.local[i], old.dissipated[i])
         };
         let area = 0.5 * consts[i].h * th;
-        let mut dw = 0.0;
-        let mut psi_a = 0.0;
-        for p in 0..2 {
-            let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
-            let (sigma_a, psi_n) = committed_normal(mat, &consts[i], &softening[i], o_a, d_a[p]);
-            let tau_a = k_a[p] * s_a;
-            psi_a += area * (psi_n + 0.5 * tau_a * s_a);
-            let q = 4 * p;
-            dw += 0.5 * (area * sigma_a + loc[q]) * (loc[q + 2] - o_a)
-                + 0.5 * (area * tau_a + loc[q + 1]) * (loc[q + 3] - s_a);
-        }
-        h.dissipated[i] = d_old + (dw - (stored - psi_a));
+        let committed = (u_a, d_a, k_a);
+        let dd = step_dissipation(
+            mat,
+            &consts[i],
+            &softening[i],
+            committed,
+            &loc,
+            stored,
+            area,
+        );
+        h.dissipated[i] = d_old + dd;
         h.local[i] = u_b;
         if !IN_PLACE || d_b != d_a {
             h.damage[i] = d_b;
@@ -463,6 +474,37 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         }
     }
     fl
+}
+
+/// A joint's dissipation in a step: the step's work by the trapezoidal rule on `(A sigma, o)`
+/// and `(A tau, s)`, less the change of stored energy. `committed` is the committed opening
+/// and sliding, damage and shear secants; the committed tractions and energy are computed
+/// again from them (normal: the law's normal branch at the committed damage; shear:
+/// `tau = k_t s`). `new` is the evaluation's `[A sigma, A tau, o, s]` per point, `stored` its
+/// stored energy, `area` the points' area `A`.
+#[inline(always)]
+fn step_dissipation(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    soft: &SofteningConsts,
+    committed: ([f64; 4], [f64; 2], [f64; 2]),
+    new: &[f64; 8],
+    stored: f64,
+    area: f64,
+) -> f64 {
+    let (u_a, d_a, k_a) = committed;
+    let mut dw = 0.0;
+    let mut psi_a = 0.0;
+    for p in 0..2 {
+        let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
+        let (sigma_a, psi_n) = committed_normal(mat, k, soft, o_a, d_a[p]);
+        let tau_a = k_a[p] * s_a;
+        psi_a += area * (psi_n + 0.5 * tau_a * s_a);
+        let q = 4 * p;
+        dw += 0.5 * (area * sigma_a + new[q]) * (new[q + 2] - o_a)
+            + 0.5 * (area * tau_a + new[q + 1]) * (new[q + 3] - s_a);
+    }
+    dw - (stored - psi_a)
 }
 
 /// The nodal forces of a pass by node slot, written by the parallel pass: each joint writes

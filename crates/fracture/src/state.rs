@@ -373,7 +373,10 @@ impl JointState {
     pub fn books(&self, set: &JointSet) -> JointBooks {
         let n = self.len();
         JointBooks {
-            stored: (0..n).into_par_iter().map(|j| self.stored(set, j)).collect(),
+            stored: (0..n)
+                .into_par_iter()
+                .map(|j| self.stored(set, j))
+                .collect(),
             work: (0..n).into_par_iter().map(|j| self.work(set, j)).collect(),
             dissipated: self.history.dissipated.clone(),
         }

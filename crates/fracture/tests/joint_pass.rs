@@ -71,12 +71,7 @@ fn loaded(mesh: &Exploded, dx: &[[f64; 2]], s: f64) -> Vec<[f64; 2]> {
 }
 
 /// Forces, damage, histories and events after a run.
-type Outcome = (
-    Vec<[f64; 2]>,
-    Vec<[f64; 2]>,
-    Histories,
-    Vec<FractureEvent>,
-);
+type Outcome = (Vec<[f64; 2]>, Vec<[f64; 2]>, Histories, Vec<FractureEvent>);
 
 /// Runs 30 load steps (forces + commit) and returns the forces, histories and events.
 fn run(threads: usize) -> Outcome {

@@ -408,11 +408,7 @@ impl<'a> Run<'a> {
             .contributions
             .iter()
             .find_map(|c| c.joint_state().cloned());
-        let joint_books = self
-            .sys
-            .contributions
-            .iter()
-            .find_map(|c| c.joint_books());
+        let joint_books = self.sys.contributions.iter().find_map(|c| c.joint_books());
         Ok(Outcome {
             summary,
             last_frame,
