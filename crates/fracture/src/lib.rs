@@ -70,7 +70,7 @@ pub use events::{FractureEvent, FractureMode};
 pub use heterogeneity::{Distribution, Heterogeneity};
 pub use joint::{
     JointEval, JointKinematics, PointHistory, PointTraction, evaluate, evaluate_forces,
-    evaluate_offset, kinematics, point_traction, stored_energy,
+    evaluate_offset, kinematics, point_traction,
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput, SofteningConsts};
 pub use pass::{

@@ -20,17 +20,13 @@
 //! caller that knows, before a pass, that the commit at its positions follows with no other
 //! pass in between (central difference, told by the time crate) calls
 //! [`accumulate_joint_forces_committing`]: the pass then writes each joint's new history over
-//! its committed one, field by field and only where it changed (the opening and sliding
-//! always), and marks the joints that soften. An undamaged joint then reads its damage,
-//! shear secants, opening and sliding (64 bytes) and writes its opening and sliding (32
-//! bytes), and its secants and dissipation when they change. Breaking and the list of newly
-//! softened joints then visit only the flagged chunks, in joint order.
+//! its committed one, field by field, the damage and mode indicators only where they changed,
+//! and marks the joints that soften. Breaking and the list of newly softened joints then visit
+//! only the flagged chunks, in joint order.
 //!
-//! Dissipation ([`crate::state`]): at a step where a joint's damage grows, the trapezoidal
-//! work on `(A sigma, o)` and `(A tau, s)` less the change of stored energy, with the
-//! committed tractions and energy recomputed from the committed opening and sliding (the law
-//! is idempotent there); at a step where only shear secants fall, `A s_a s_b (k_a - k_b)/2`
-//! per point; otherwise nothing.
+//! Dissipation ([`crate::state`]): the trapezoidal work of the step on `(A sigma, o)` and
+//! `(A tau, s)` less the change of stored energy, with the committed shear force computed
+//! again as `A k_t s`.
 //!
 //! Results are bit-identical whatever the number of threads (each joint's values depend on
 //! that joint only, the chunks are fixed, and the node sums run in a fixed order), and nothing
@@ -42,8 +38,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, committed_normal, evaluate_into};
-use crate::material::{JointConsts, JointMaterial, SofteningConsts};
+use crate::joint::{EvalOut, evaluate_into};
 use crate::set::{JointId, JointSet};
 use crate::state::{Histories, JointState};
 
@@ -206,6 +201,8 @@ fn trial_pass_impl<const OFF: bool>(
         t.shear_secant.par_chunks_mut(CHUNK),
         t.mode_mix.par_chunks_mut(CHUNK),
         t.local.par_chunks_mut(CHUNK),
+        t.normal.par_chunks_mut(CHUNK),
+        t.stored.par_chunks_mut(CHUNK),
         t.dissipated.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
@@ -213,7 +210,7 @@ fn trial_pass_impl<const OFF: bool>(
         .with_min_len(min_chunks(n))
         .enumerate()
         .for_each(
-            |(c, (damage, shear_secant, mode_mix, local, dissipated, flag))| {
+            |(c, (damage, shear_secant, mode_mix, local, normal, stored, dissipated, flag))| {
                 let j0 = c * CHUNK;
                 let r = j0..j0 + damage.len();
                 let old = HistIn {
@@ -221,6 +218,8 @@ fn trial_pass_impl<const OFF: bool>(
                     shear_secant: &old.shear_secant[r.clone()],
                     mode_mix: &old.mode_mix[r.clone()],
                     local: &old.local[r.clone()],
+                    normal: &old.normal[r.clone()],
+                    stored: &old.stored[r.clone()],
                     dissipated: &old.dissipated[r],
                 };
                 let new = HistOut {
@@ -228,6 +227,8 @@ fn trial_pass_impl<const OFF: bool>(
                     shear_secant,
                     mode_mix,
                     local,
+                    normal,
+                    stored,
                     dissipated,
                 };
                 *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
@@ -261,6 +262,8 @@ fn in_place_pass<const OFF: bool>(
         h.shear_secant.par_chunks_mut(CHUNK),
         h.mode_mix.par_chunks_mut(CHUNK),
         h.local.par_chunks_mut(CHUNK),
+        h.normal.par_chunks_mut(CHUNK),
+        h.stored.par_chunks_mut(CHUNK),
         h.dissipated.par_chunks_mut(CHUNK),
         scratch.marks.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
@@ -269,12 +272,17 @@ fn in_place_pass<const OFF: bool>(
         .with_min_len(min_chunks(n))
         .enumerate()
         .for_each(
-            |(c, (damage, shear_secant, mode_mix, local, dissipated, marks, flag))| {
+            |(
+                c,
+                (damage, shear_secant, mode_mix, local, normal, stored, dissipated, marks, flag),
+            )| {
                 let new = HistOut {
                     damage,
                     shear_secant,
                     mode_mix,
                     local,
+                    normal,
+                    stored,
                     dissipated,
                 };
                 *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks);
@@ -310,11 +318,14 @@ impl<'a> PassIn<'a> {
 }
 
 /// One chunk of committed histories, field by field.
+#[derive(Clone, Copy)]
 struct HistIn<'a> {
     damage: &'a [[f64; 2]],
     shear_secant: &'a [[f64; 2]],
     mode_mix: &'a [[f64; 2]],
     local: &'a [[f64; 4]],
+    normal: &'a [[f64; 2]],
+    stored: &'a [f64],
     dissipated: &'a [f64],
 }
 
@@ -325,6 +336,8 @@ impl HistIn<'static> {
         shear_secant: &[],
         mode_mix: &[],
         local: &[],
+        normal: &[],
+        stored: &[],
         dissipated: &[],
     };
 }
@@ -335,6 +348,8 @@ struct HistOut<'a> {
     shear_secant: &'a mut [[f64; 2]],
     mode_mix: &'a mut [[f64; 2]],
     local: &'a mut [[f64; 4]],
+    normal: &'a mut [[f64; 2]],
+    stored: &'a mut [f64],
     dissipated: &'a mut [f64],
 }
 
@@ -346,7 +361,23 @@ impl HistOut<'_> {
         self.shear_secant[i] = old.shear_secant[i];
         self.mode_mix[i] = old.mode_mix[i];
         self.local[i] = old.local[i];
+        self.normal[i] = old.normal[i];
+        self.stored[i] = old.stored[i];
         self.dissipated[i] = old.dissipated[i];
+    }
+
+    /// The arrays as read-only slices.
+    #[inline(always)]
+    fn view(&self) -> HistIn<'_> {
+        HistIn {
+            damage: self.damage,
+            shear_secant: self.shear_secant,
+            mode_mix: self.mode_mix,
+            local: self.local,
+            normal: self.normal,
+            stored: self.stored,
+            dissipated: self.dissipated,
+        }
     }
 }
 
@@ -436,24 +467,14 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         );
         out.put(slots, fj);
         let u_b = [loc[2], loc[3], loc[6], loc[7]];
-        let (u_a, d_old) = if IN_PLACE {
-            (h.local[i], h.dissipated[i])
-        } else {
-            (old.local[i], old.dissipated[i])
-        };
+        let src = if IN_PLACE { h.view() } else { old };
+        let committed = (src.local[i], src.normal[i], k_a, src.stored[i]);
+        let d_old = src.dissipated[i];
         let area = 0.5 * consts[i].h * th;
-        let committed = (u_a, d_a, k_a);
-        let dd = step_dissipation(
-            mat,
-            &consts[i],
-            &softening[i],
-            committed,
-            &loc,
-            stored,
-            area,
-        );
-        h.dissipated[i] = d_old + dd;
+        h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
         h.local[i] = u_b;
+        h.normal[i] = [loc[0], loc[4]];
+        h.stored[i] = stored;
         if !IN_PLACE || d_b != d_a {
             h.damage[i] = d_b;
         }
@@ -478,33 +499,26 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
 
 /// A joint's dissipation in a step: the step's work by the trapezoidal rule on `(A sigma, o)`
 /// and `(A tau, s)`, less the change of stored energy. `committed` is the committed opening
-/// and sliding, damage and shear secants; the committed tractions and energy are computed
-/// again from them (normal: the law's normal branch at the committed damage; shear:
-/// `tau = k_t s`). `new` is the evaluation's `[A sigma, A tau, o, s]` per point, `stored` its
-/// stored energy, `area` the points' area `A`.
+/// and sliding, `A sigma`, shear secants and stored energy (`A tau = A k_t s` is computed
+/// again: the same bits as the law's); `new` is the evaluation's `[A sigma, A tau, o, s]` per
+/// point, `stored` its stored energy, `area` the points' area `A`.
 #[inline(always)]
 fn step_dissipation(
-    mat: &JointMaterial,
-    k: &JointConsts,
-    soft: &SofteningConsts,
-    committed: ([f64; 4], [f64; 2], [f64; 2]),
+    committed: ([f64; 4], [f64; 2], [f64; 2], f64),
     new: &[f64; 8],
     stored: f64,
     area: f64,
 ) -> f64 {
-    let (u_a, d_a, k_a) = committed;
+    let (u_a, normal_a, k_a, stored_a) = committed;
     let mut dw = 0.0;
-    let mut psi_a = 0.0;
     for p in 0..2 {
         let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
-        let (sigma_a, psi_n) = committed_normal(mat, k, soft, o_a, d_a[p]);
-        let tau_a = k_a[p] * s_a;
-        psi_a += area * (psi_n + 0.5 * tau_a * s_a);
+        let tau_a = area * (k_a[p] * s_a);
         let q = 4 * p;
-        dw += 0.5 * (area * sigma_a + new[q]) * (new[q + 2] - o_a)
-            + 0.5 * (area * tau_a + new[q + 1]) * (new[q + 3] - s_a);
+        dw += 0.5 * (normal_a[p] + new[q]) * (new[q + 2] - o_a)
+            + 0.5 * (tau_a + new[q + 1]) * (new[q + 3] - s_a);
     }
-    dw - (stored - psi_a)
+    dw - (stored - stored_a)
 }
 
 /// The nodal forces of a pass by node slot, written by the parallel pass: each joint writes
@@ -774,8 +788,8 @@ fn commit(
                 && h.damage[j][1] >= 1.0
                 && breaks(&h.local[j], set.consts[j].h)
             {
-                let stored = state.stored(set, j);
                 let h = &mut state.history;
+                let stored = h.stored[j];
                 state.intact[j] = false;
                 state.broken_at[j] = Some(time);
                 let p = set.gather(j, x);
@@ -796,6 +810,8 @@ fn commit(
                 state.released_at_break += stored;
                 state.stored_at_break[j] = stored;
                 h.local[j] = [0.0; 4];
+                h.normal[j] = [0.0; 2];
+                h.stored[j] = 0.0;
                 state.n_broken += 1;
                 n_new += 1;
             }

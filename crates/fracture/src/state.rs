@@ -2,25 +2,24 @@
 //! step, never by force evaluations (trial stages of multi-stage schemes leave it alone).
 //!
 //! The history is held field by field ([`Histories`]): a force pass reads the damage, the
-//! shear secants, the committed openings and slidings and the dissipated energy of every
-//! joint, and the mode indicators of the damaged ones only; it writes the openings, slidings
-//! and dissipated energy of every joint, and the damage, secants and mode indicators only
-//! where they change. An undamaged joint whose secants stay moves 112 bytes of history per
-//! step.
+//! shear secants, the committed openings and slidings, normal forces `A sigma`, stored and
+//! dissipated energy of every joint, and the mode indicators of the damaged ones only; it
+//! writes the openings, slidings, normal forces and energies of every joint, and the damage,
+//! secants and mode indicators only where they change. An undamaged joint whose secants stay
+//! moves 160 bytes of history per step.
 //!
-//! Energy books: a joint's stored energy is a function of its committed opening, sliding and
-//! history, computed when a report needs it ([`JointState::stored`]), not kept. Its
-//! dissipated energy grows each step by the work of the step (the trapezoidal rule on the
-//! conjugate pairs `(A sigma, o)` and `(A tau, s)`) less the change of its stored energy; the
-//! tractions and stored energy at the start of the step are computed again from the committed
-//! opening and sliding (the law is idempotent there: the same bits as at the commit). The
-//! work done on the joints is then `stored - stored at the start + dissipated + stored at the
-//! breaks`, joint by joint ([`JointState::work`]) and in total ([`JointState::energy`]).
+//! Energy books: each step a joint's dissipated energy grows by the work of the step (the
+//! trapezoidal rule on the conjugate pairs `(A sigma, o)` and `(A tau, s)`) less the change of
+//! its stored energy. The shear force at the start of the step is computed again as
+//! `A k_t s` from the committed secant and sliding (the law's own operations: the same bits),
+//! so it is not kept. The work done on the joints is `stored - stored at the start +
+//! dissipated + stored at the breaks`, joint by joint ([`JointState::work`]) and in total
+//! ([`JointState::energy`]).
 
 use rayon::prelude::*;
 
 use crate::error::FractureError;
-use crate::joint::{PointHistory, evaluate, evaluate_offset, stored_energy};
+use crate::joint::{PointHistory, evaluate, evaluate_offset};
 use crate::set::JointSet;
 
 /// The committed history of every joint, one array per field (joint order).
@@ -35,6 +34,10 @@ pub struct Histories {
     /// `[o, s]` of the two points at the last commit, `[o_0, s_0, o_1, s_1]` (m), with the
     /// initial offsets of a prestressed joint included; zero once broken.
     pub local: Vec<[f64; 4]>,
+    /// `A sigma` of the two points at the last commit (N); zero once broken.
+    pub normal: Vec<[f64; 2]>,
+    /// Energy stored in the joint at the last commit (J); zero once broken.
+    pub stored: Vec<f64>,
     /// Energy dissipated so far (J).
     pub dissipated: Vec<f64>,
 }
@@ -47,6 +50,8 @@ impl Histories {
             shear_secant: vec![[f64::INFINITY; 2]; n],
             mode_mix: vec![[0.0; 2]; n],
             local: vec![[0.0; 4]; n],
+            normal: vec![[0.0; 2]; n],
+            stored: vec![0.0; n],
             dissipated: vec![0.0; n],
         }
     }
@@ -71,6 +76,8 @@ impl Histories {
             shear_secant: pick(&self.shear_secant, keep),
             mode_mix: pick(&self.mode_mix, keep),
             local: pick(&self.local, keep),
+            normal: pick(&self.normal, keep),
+            stored: pick(&self.stored, keep),
             dissipated: pick(&self.dissipated, keep),
         }
     }
@@ -81,6 +88,8 @@ impl Histories {
         self.shear_secant.resize(n, [f64::INFINITY; 2]);
         self.mode_mix.resize(n, [0.0; 2]);
         self.local.resize(n, [0.0; 4]);
+        self.normal.resize(n, [0.0; 2]);
+        self.stored.resize(n, 0.0);
         self.dissipated.resize(n, 0.0);
     }
 
@@ -90,6 +99,8 @@ impl Histories {
         self.shear_secant[to] = src.shear_secant[from];
         self.mode_mix[to] = src.mode_mix[from];
         self.local[to] = src.local[from];
+        self.normal[to] = src.normal[from];
+        self.stored[to] = src.stored[from];
         self.dissipated[to] = src.dissipated[from];
     }
 
@@ -184,9 +195,6 @@ pub struct JointState {
     pub(crate) generation: u64,
 }
 
-/// Joints per rayon task when the stored energies are computed.
-const SUM_CHUNK: usize = 4096;
-
 impl JointState {
     /// Fresh history (no damage) at the initial positions `x`.
     pub fn new(set: &JointSet, x: &[[f64; 2]]) -> Self {
@@ -221,6 +229,8 @@ impl JointState {
             history
                 .local
                 .push([e.local[2], e.local[3], e.local[6], e.local[7]]);
+            history.normal.push([e.local[0], e.local[4]]);
+            history.stored.push(e.stored);
             history.dissipated.push(0.0);
             stored_at_start.push(e.stored);
             stored_initial += e.stored;
@@ -271,6 +281,8 @@ impl JointState {
             ("shear_secant", h.shear_secant.len()),
             ("mode_mix", h.mode_mix.len()),
             ("local", h.local.len()),
+            ("normal", h.normal.len()),
+            ("stored", h.stored.len()),
             ("dissipated", h.dissipated.len()),
             ("stored_at_start", s.stored_at_start.len()),
             ("stored_at_break", s.stored_at_break.len()),
@@ -342,27 +354,16 @@ impl JointState {
         0.5 * (d[0] + d[1])
     }
 
-    /// Energy stored in joint `j` of `set` now (J): its law at the committed opening and
-    /// sliding with its committed history; 0 once broken.
-    pub fn stored(&self, set: &JointSet, j: usize) -> f64 {
-        if !self.intact[j] {
-            return 0.0;
-        }
-        stored_energy(
-            &set.materials[set.material[j] as usize],
-            &set.consts[j],
-            &set.softening[j],
-            self.history.local[j],
-            &self.history.point_history(j),
-            set.thickness,
-        )
+    /// Energy stored in joint `j` now (J); 0 once broken.
+    pub fn stored(&self, j: usize) -> f64 {
+        self.history.stored[j]
     }
 
     /// Work done on joint `j` since the start (J): stored energy now (at its break, once
     /// broken) less that at the start, plus the energy it dissipated.
-    pub fn work(&self, set: &JointSet, j: usize) -> f64 {
+    pub fn work(&self, j: usize) -> f64 {
         let now = if self.intact[j] {
-            self.stored(set, j)
+            self.history.stored[j]
         } else {
             self.stored_at_break[j]
         };
@@ -370,14 +371,10 @@ impl JointState {
     }
 
     /// Every joint's energy books.
-    pub fn books(&self, set: &JointSet) -> JointBooks {
-        let n = self.len();
+    pub fn books(&self) -> JointBooks {
         JointBooks {
-            stored: (0..n)
-                .into_par_iter()
-                .map(|j| self.stored(set, j))
-                .collect(),
-            work: (0..n).into_par_iter().map(|j| self.work(set, j)).collect(),
+            stored: self.history.stored.clone(),
+            work: (0..self.len()).map(|j| self.work(j)).collect(),
             dissipated: self.history.dissipated.clone(),
         }
     }
@@ -400,16 +397,9 @@ impl JointState {
         }
     }
 
-    /// Totals over all joints of `set`, summed in joint order (each joint's stored energy
-    /// computed in parallel first: the same bits on any number of threads).
-    pub fn energy(&self, set: &JointSet) -> JointEnergy {
-        assert_eq!(self.len(), set.len(), "state belongs to another joint set");
-        let stored_each: Vec<f64> = (0..self.len())
-            .into_par_iter()
-            .with_min_len(SUM_CHUNK)
-            .map(|j| self.stored(set, j))
-            .collect();
-        let stored = stored_each.iter().fold(0.0, |a, b| a + b);
+    /// Totals over all joints, summed in joint order.
+    pub fn energy(&self) -> JointEnergy {
+        let stored = self.history.stored.iter().fold(0.0, |a, b| a + b);
         let dissipated = self.history.dissipated.iter().fold(0.0, |a, b| a + b);
         JointEnergy {
             work: stored - self.stored_initial + dissipated + self.released_at_break,

@@ -130,7 +130,7 @@ fn pull(speed: f64, duration: f64, safety: f64, penalty: f64) -> Outcome {
         w_ext,
         kinetic,
         strain: elastic.energy(&x0, &x),
-        joints: state.energy(&set),
+        joints: state.energy(),
         events,
         steps,
         dt,

@@ -142,7 +142,7 @@ fn stiff_penalty_and_sudden_large_motion_stay_finite() {
             "non-finite force at step {step}"
         );
         commit_joints(&set, &mut state, &x, step as f64, &mut scratch, &mut events);
-        let e = state.energy(&set);
+        let e = state.energy();
         assert!(e.work.is_finite() && e.stored.is_finite() && e.dissipated.is_finite());
     }
     // damage stays in [0, 1]; broken joints are exactly those with D = 1 at both points that
@@ -267,7 +267,7 @@ fn commit_at_last_pass_without_position_copy_matches_the_checked_commit() {
                 commit_joints(&set, &mut state, &x_final, 1.0, &mut scratch, &mut events);
             }
         }
-        let e = state.energy(&set);
+        let e = state.energy();
         (state.history, e, events)
     };
     let (h1, e1, ev1) = run(false);
@@ -343,7 +343,7 @@ fn in_place_pass_matches_the_trial_pass_and_its_commit() {
                     );
                     softened.push(scratch.newly_softened().to_vec());
                 }
-                (forces, softened, state.energy(&set), state.history, events)
+                (forces, softened, state.energy(), state.history, events)
             })
         };
         let (f1, s1, e1, h1, ev1) = run(false);

@@ -89,8 +89,8 @@ impl Rig {
     /// The joint's energy books: work, stored and dissipated (J).
     fn hist(&self) -> Books {
         Books {
-            work: self.state.work(&self.set, 0),
-            stored: self.state.stored(&self.set, 0),
+            work: self.state.work(0),
+            stored: self.state.stored(0),
             dissipated: self.state.history.dissipated[0],
         }
     }

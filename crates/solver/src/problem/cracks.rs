@@ -205,6 +205,8 @@ fn break_at_start(state: &mut JointState, j: usize) {
     h.shear_secant[j] = [f64::INFINITY; 2];
     h.mode_mix[j] = [0.0; 2];
     h.local[j] = [0.0; 4];
+    h.normal[j] = [0.0; 2];
+    h.stored[j] = 0.0;
     h.dissipated[j] = 0.0;
     state.intact[j] = false;
     state.broken_at[j] = None;

@@ -15,6 +15,8 @@ impl Pack for Histories {
         e.put(&self.shear_secant);
         e.put(&self.mode_mix);
         e.put(&self.local);
+        e.put(&self.normal);
+        e.put(&self.stored);
         e.put(&self.dissipated);
     }
 
@@ -24,6 +26,8 @@ impl Pack for Histories {
             shear_secant: d.get()?,
             mode_mix: d.get()?,
             local: d.get()?,
+            normal: d.get()?,
+            stored: d.get()?,
             dissipated: d.get()?,
         })
     }
@@ -146,11 +150,11 @@ impl StageCheckpoint for FractureStage {
         };
         let report = &self.report;
         let (n, s) = (self.set.len(), &self.state);
-        // the section's size, to grow the buffer once: 104 bytes of history, 16 of stored
+        // the section's size, to grow the buffer once: 128 bytes of history, 16 of stored
         // energies and 4 flags per joint, a flag per star, 8 bytes per time of failure,
         // released pair and event field
         let n_events = report.events.len();
-        let size = 124 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
+        let size = 148 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
         e.buf.reserve(size + 48 * n_events + 256);
         e.section("fracture", |e| {
             e.put(&n);
@@ -237,6 +241,6 @@ impl StageCheckpoint for FractureStage {
     }
 
     fn joint_books(&self) -> Option<fdem_fracture::JointBooks> {
-        Some(self.state.books(&self.set))
+        Some(self.state.books())
     }
 }

@@ -114,9 +114,18 @@ fn state_diff(
                 .iter()
                 .chain(&h.mode_mix[j])
                 .chain(&h.local[j])
+                .chain(&h.normal[j])
                 .map(|d| d.to_bits()),
         );
-        v.extend([h.dissipated[j], s.stored_at_start[j], s.stored_at_break[j]].map(f64::to_bits));
+        v.extend(
+            [
+                h.dissipated[j],
+                h.stored[j],
+                s.stored_at_start[j],
+                s.stored_at_break[j],
+            ]
+            .map(f64::to_bits),
+        );
         v
     };
     if let Some(j) = (0..sa.len()).find(|&j| bits(sa, j) != bits(sb, j)) {
@@ -586,12 +595,13 @@ fn a_cut_or_foreign_fracture_checkpoint_is_an_error() {
     }
     // flags that disagree: joint 0 broken (not counted); joint 0's bond state 1
     // (softened) while it is undamaged (offsets in a fresh stage's checkpoint: section name
-    // and length, joint count, the histories' five arrays (damage, shear secants, mode
-    // indicators: 16 bytes per joint; opening and sliding 32; dissipated 8), the stored
-    // energies at the start and at the breaks (8 each), intact flags, times of failure (all
-    // `None`), three numbers, then the bond states; each array after its length)
+    // and length, joint count, the histories' seven arrays (damage, shear secants, mode
+    // indicators: 16 bytes per joint; opening and sliding 32; A sigma 16; stored and
+    // dissipated 8 each), the stored energies at the start and at the breaks (8 each), intact
+    // flags, times of failure (all `None`), three numbers, then the bond states; each array
+    // after its length)
     let nj = c_joints(&small, &e);
-    let intact = 24 + 8 + (7 * 8 + (3 * 16 + 32 + 8 + 2 * 8) * nj) + 8;
+    let intact = 24 + 8 + (9 * 8 + (3 * 16 + 32 + 16 + 2 * 8 + 2 * 8) * nj) + 8;
     let bond = intact + nj + (8 + nj) + 32 + 8;
     for (at, value, what) in [
         (intact, 0u8, "0 broken joints counted, 1 flagged"),

@@ -16,7 +16,7 @@ use crate::distributed::{Comm, Ghosts, Layout};
 use crate::stages::system::{StageDistribution, StepEvents};
 
 /// Values per joint history in a message.
-const HISTORY: usize = 11;
+const HISTORY: usize = 14;
 /// Values per event in a message (the joint id first).
 const EVENT: usize = 9;
 
@@ -181,6 +181,8 @@ impl LocalJoints {
             global.n_broken += 1;
             global.stored_at_break[j] = e.stored_at_break;
             global.history.local[j] = [0.0; 4];
+            global.history.normal[j] = [0.0; 2];
+            global.history.stored[j] = 0.0;
         }
     }
 
@@ -213,6 +215,8 @@ fn pack(h: &Histories, l: usize, out: &mut Vec<f64>) {
     out.extend_from_slice(&h.shear_secant[l]);
     out.extend_from_slice(&h.mode_mix[l]);
     out.extend_from_slice(&h.local[l]);
+    out.extend_from_slice(&h.normal[l]);
+    out.push(h.stored[l]);
     out.push(h.dissipated[l]);
 }
 
@@ -222,7 +226,9 @@ fn unpack(v: &[f64], h: &mut Histories, j: usize) {
     h.shear_secant[j] = [v[2], v[3]];
     h.mode_mix[j] = [v[4], v[5]];
     h.local[j] = [v[6], v[7], v[8], v[9]];
-    h.dissipated[j] = v[10];
+    h.normal[j] = [v[10], v[11]];
+    h.stored[j] = v[12];
+    h.dissipated[j] = v[13];
 }
 
 impl StageDistribution for super::FractureStage {

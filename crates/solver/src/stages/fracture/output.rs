@@ -50,7 +50,7 @@ impl FractureStage {
 
 impl StageOutput for FractureStage {
     fn report(&self, _x: &[[f64; 2]]) -> StageReport {
-        let e = self.state.energy(&self.set);
+        let e = self.state.energy();
         StageReport {
             stored: e.stored - e.stored_initial,
             fracture: e.dissipated,
