@@ -93,17 +93,6 @@ impl Histories {
         self.dissipated.resize(n, 0.0);
     }
 
-    /// Copies joint `from`'s history of `src` into entry `to` of `self`.
-    pub fn copy_joint(&mut self, to: usize, src: &Histories, from: usize) {
-        self.damage[to] = src.damage[from];
-        self.shear_secant[to] = src.shear_secant[from];
-        self.mode_mix[to] = src.mode_mix[from];
-        self.local[to] = src.local[from];
-        self.normal[to] = src.normal[from];
-        self.stored[to] = src.stored[from];
-        self.dissipated[to] = src.dissipated[from];
-    }
-
     /// What a force evaluation of joint `j` reads.
     #[inline]
     pub fn point_history(&self, j: usize) -> PointHistory {
