@@ -194,46 +194,54 @@ fn trial_pass_impl<const OFF: bool>(
         &scratch.slot_pos,
         &scratch.slot_forces,
     );
-    let t = &mut scratch.trial;
     let old = &state.history;
-    (
-        t.damage.par_chunks_mut(CHUNK),
-        t.shear_secant.par_chunks_mut(CHUNK),
-        t.mode_mix.par_chunks_mut(CHUNK),
-        t.local.par_chunks_mut(CHUNK),
-        t.normal.par_chunks_mut(CHUNK),
-        t.stored.par_chunks_mut(CHUNK),
-        t.dissipated.par_chunks_mut(CHUNK),
-        scratch.flags.par_iter_mut(),
-    )
+    (out_chunks(&mut scratch.trial), scratch.flags.par_iter_mut())
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(
-            |(c, (damage, shear_secant, mode_mix, local, normal, stored, dissipated, flag))| {
-                let j0 = c * CHUNK;
-                let r = j0..j0 + damage.len();
-                let old = HistIn {
-                    damage: &old.damage[r.clone()],
-                    shear_secant: &old.shear_secant[r.clone()],
-                    mode_mix: &old.mode_mix[r.clone()],
-                    local: &old.local[r.clone()],
-                    normal: &old.normal[r.clone()],
-                    stored: &old.stored[r.clone()],
-                    dissipated: &old.dissipated[r],
-                };
-                let new = HistOut {
-                    damage,
-                    shear_secant,
-                    mode_mix,
-                    local,
-                    normal,
-                    stored,
-                    dissipated,
-                };
-                *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
+        .for_each(|(c, (new, flag))| {
+            let j0 = c * CHUNK;
+            let old = in_chunk(old, j0..j0 + new.damage.len());
+            *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
+        });
+}
+
+/// The histories `h` in chunks of [`CHUNK`] joints, to write.
+fn out_chunks(h: &mut Histories) -> impl IndexedParallelIterator<Item = HistOut<'_>> {
+    (
+        h.damage.par_chunks_mut(CHUNK),
+        h.shear_secant.par_chunks_mut(CHUNK),
+        h.mode_mix.par_chunks_mut(CHUNK),
+        h.local.par_chunks_mut(CHUNK),
+        h.normal.par_chunks_mut(CHUNK),
+        h.stored.par_chunks_mut(CHUNK),
+        h.dissipated.par_chunks_mut(CHUNK),
+    )
+        .into_par_iter()
+        .map(
+            |(damage, shear_secant, mode_mix, local, normal, stored, dissipated)| HistOut {
+                damage,
+                shear_secant,
+                mode_mix,
+                local,
+                normal,
+                stored,
+                dissipated,
             },
-        );
+        )
+}
+
+/// The joints `r` of the histories `h`, to read.
+fn in_chunk(h: &Histories, r: std::ops::Range<usize>) -> HistIn<'_> {
+    HistIn {
+        damage: &h.damage[r.clone()],
+        shear_secant: &h.shear_secant[r.clone()],
+        mode_mix: &h.mode_mix[r.clone()],
+        local: &h.local[r.clone()],
+        normal: &h.normal[r.clone()],
+        stored: &h.stored[r.clone()],
+        dissipated: &h.dissipated[r],
+    }
 }
 
 /// The pass of [`accumulate_joint_forces_committing`]: every joint's new history written over
@@ -256,38 +264,17 @@ fn in_place_pass<const OFF: bool>(
         &scratch.slot_pos,
         &scratch.slot_forces,
     );
-    let h = &mut state.history;
     (
-        h.damage.par_chunks_mut(CHUNK),
-        h.shear_secant.par_chunks_mut(CHUNK),
-        h.mode_mix.par_chunks_mut(CHUNK),
-        h.local.par_chunks_mut(CHUNK),
-        h.normal.par_chunks_mut(CHUNK),
-        h.stored.par_chunks_mut(CHUNK),
-        h.dissipated.par_chunks_mut(CHUNK),
+        out_chunks(&mut state.history),
         scratch.marks.par_chunks_mut(CHUNK),
         scratch.flags.par_iter_mut(),
     )
         .into_par_iter()
         .with_min_len(min_chunks(n))
         .enumerate()
-        .for_each(
-            |(
-                c,
-                (damage, shear_secant, mode_mix, local, normal, stored, dissipated, marks, flag),
-            )| {
-                let new = HistOut {
-                    damage,
-                    shear_secant,
-                    mode_mix,
-                    local,
-                    normal,
-                    stored,
-                    dissipated,
-                };
-                *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks);
-            },
-        );
+        .for_each(|(c, (new, marks, flag))| {
+            *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks);
+        });
 }
 
 /// What a pass reads besides the histories, and where it puts the forces.

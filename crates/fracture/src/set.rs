@@ -42,6 +42,11 @@ fn check_joint(
     mat.check_edge(joint, jt.material, h)
 }
 
+/// The entries `keep` of `v`, in that order.
+pub(crate) fn pick<T: Clone>(v: &[T], keep: &[u32]) -> Vec<T> {
+    keep.iter().map(|&j| v[j as usize].clone()).collect()
+}
+
 /// Index of a joint in its [`JointSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct JointId(pub u32);
@@ -152,9 +157,6 @@ impl JointSet {
             keep.windows(2).all(|w| w[0] < w[1]),
             "joints in increasing order"
         );
-        fn pick<T: Clone>(v: &[T], keep: &[u32]) -> Vec<T> {
-            keep.iter().map(|&j| v[j as usize].clone()).collect()
-        }
         let mut set = JointSet {
             nodes: pick(&self.nodes, keep),
             triangles: pick(&self.triangles, keep),

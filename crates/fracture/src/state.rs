@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 use crate::error::FractureError;
 use crate::joint::{PointHistory, evaluate, evaluate_offset};
-use crate::set::JointSet;
+use crate::set::{JointSet, pick};
 
 /// The committed history of every joint, one array per field (joint order).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -68,9 +68,6 @@ impl Histories {
 
     /// The histories of the joints `keep`, in that order.
     pub fn subset(&self, keep: &[u32]) -> Histories {
-        fn pick<T: Copy>(v: &[T], keep: &[u32]) -> Vec<T> {
-            keep.iter().map(|&j| v[j as usize]).collect()
-        }
         Histories {
             damage: pick(&self.damage, keep),
             shear_secant: pick(&self.shear_secant, keep),
@@ -372,11 +369,10 @@ impl JointState {
     /// histories, intact flags and break times, generation 0; the totals (initial stored
     /// energy, energy released at breaks, broken count) are those of `self`.
     pub fn subset(&self, keep: &[u32]) -> JointState {
-        let pick = |v: &[f64]| keep.iter().map(|&j| v[j as usize]).collect();
         JointState {
             history: self.history.subset(keep),
-            stored_at_start: pick(&self.stored_at_start),
-            stored_at_break: pick(&self.stored_at_break),
+            stored_at_start: pick(&self.stored_at_start, keep),
+            stored_at_break: pick(&self.stored_at_break, keep),
             intact: keep.iter().map(|&j| self.intact[j as usize]).collect(),
             broken_at: keep.iter().map(|&j| self.broken_at[j as usize]).collect(),
             stored_initial: self.stored_initial,
