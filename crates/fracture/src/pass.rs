@@ -4,8 +4,8 @@
 //! positions with the committed history: its four nodal forces go to their slots in the
 //! node-to-joint list (a buffer in the list's order, so the gather below reads it in order
 //! instead of jumping between joints), and everything the commit needs (trial damage, mode
-//! indicator and shear secant, the opening and sliding, and the dissipation of a step whose
-//! history changes) goes into the trial arrays of the caller's [`JointScratch`], one array
+//! indicator and shear secant, the opening and sliding, the normal forces, the stored energy
+//! and the dissipation) goes into the trial arrays of the caller's [`JointScratch`], one array
 //! per field. The pass runs in parallel over fixed chunks of [`CHUNK`] joints; each chunk also
 //! records whether one of its joints softened for the first time or may break. Then each node
 //! sums its joint slots in a fixed order (CSR list of the [`JointSet`], increasing joint
@@ -403,12 +403,9 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     let mut fl = 0u8;
     for i in 0..n {
         let slots = [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
-        // the committed damage and secants (copies: in place they are about to be overwritten)
-        let (d_a, k_a) = if IN_PLACE {
-            (h.damage[i], h.shear_secant[i])
-        } else {
-            (old.damage[i], old.shear_secant[i])
-        };
+        // the committed history (in place: the arrays about to be overwritten, read first)
+        let src = if IN_PLACE { h.view() } else { old };
+        let (d_a, k_a) = (src.damage[i], src.shear_secant[i]);
         if !intact[i] {
             // a broken joint keeps its books (in place: untouched); no force
             out.put(slots, [[0.0; 2]; 4]);
@@ -419,13 +416,9 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         }
         // an undamaged joint's mode indicators are 0: not read
         let fresh = d_a == [0.0; 2];
-        let mix_a = if fresh {
-            [0.0; 2]
-        } else if IN_PLACE {
-            h.mode_mix[i]
-        } else {
-            old.mode_mix[i]
-        };
+        let mix_a = if fresh { [0.0; 2] } else { src.mode_mix[i] };
+        let committed = (src.local[i], src.normal[i], k_a, src.stored[i]);
+        let d_old = src.dissipated[i];
         let [np, nq, nr, ns] = nodes[i];
         let xs = [
             x[np as usize],
@@ -454,9 +447,6 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
         );
         out.put(slots, fj);
         let u_b = [loc[2], loc[3], loc[6], loc[7]];
-        let src = if IN_PLACE { h.view() } else { old };
-        let committed = (src.local[i], src.normal[i], k_a, src.stored[i]);
-        let d_old = src.dissipated[i];
         let area = 0.5 * consts[i].h * th;
         h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
         h.local[i] = u_b;
@@ -775,10 +765,7 @@ fn commit(
                 && h.damage[j][1] >= 1.0
                 && breaks(&h.local[j], set.consts[j].h)
             {
-                let h = &mut state.history;
                 let stored = h.stored[j];
-                state.intact[j] = false;
-                state.broken_at[j] = Some(time);
                 let p = set.gather(j, x);
                 let mix = h.joint_mode_mix(j);
                 events.push(FractureEvent {
@@ -794,12 +781,7 @@ fn commit(
                     energy_released: h.dissipated[j],
                     stored_at_break: stored,
                 });
-                state.released_at_break += stored;
-                state.stored_at_break[j] = stored;
-                h.local[j] = [0.0; 4];
-                h.normal[j] = [0.0; 2];
-                h.stored[j] = 0.0;
-                state.n_broken += 1;
+                state.record_break(j, time, stored);
                 n_new += 1;
             }
         }

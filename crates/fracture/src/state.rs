@@ -43,19 +43,6 @@ pub struct Histories {
 }
 
 impl Histories {
-    /// `n` fresh joints (no damage, secants not yet set).
-    pub fn fresh(n: usize) -> Self {
-        Histories {
-            damage: vec![[0.0; 2]; n],
-            shear_secant: vec![[f64::INFINITY; 2]; n],
-            mode_mix: vec![[0.0; 2]; n],
-            local: vec![[0.0; 4]; n],
-            normal: vec![[0.0; 2]; n],
-            stored: vec![0.0; n],
-            dissipated: vec![0.0; n],
-        }
-    }
-
     /// Number of joints.
     pub fn len(&self) -> usize {
         self.damage.len()
@@ -205,7 +192,7 @@ impl JointState {
                 }
             })
             .collect();
-        let mut history = Histories::fresh(0);
+        let mut history = Histories::default();
         let mut stored_at_start = Vec::with_capacity(n);
         let mut stored_initial = 0.0;
         for e in &evals {
@@ -354,6 +341,21 @@ impl JointState {
             self.stored_at_break[j]
         };
         now - self.stored_at_start[j] + self.history.dissipated[j]
+    }
+
+    /// Books the break of joint `j` at `time`, with the energy `stored` it held then: no longer
+    /// intact, the energy handed over to the totals, its opening, sliding, normal forces and
+    /// stored energy zeroed (its damage, secants, mode indicators and dissipation stay).
+    pub fn record_break(&mut self, j: usize, time: f64, stored: f64) {
+        self.intact[j] = false;
+        self.broken_at[j] = Some(time);
+        self.released_at_break += stored;
+        self.stored_at_break[j] = stored;
+        self.n_broken += 1;
+        let h = &mut self.history;
+        h.local[j] = [0.0; 4];
+        h.normal[j] = [0.0; 2];
+        h.stored[j] = 0.0;
     }
 
     /// Every joint's energy books.

@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use fdem_fracture::state::{JointBooks, JointState};
+use fdem_fracture::state::JointState;
 use fdem_solver::output::{FrameData, JointFrame};
 
 /// `v` as a numpy array of shape `(len, K)`.
@@ -117,12 +117,9 @@ pub fn joints<'py>(py: Python<'py>, j: &JointFrame) -> PyResult<Bound<'py, PyDic
 /// `point_damage` and `point_mode_mix` (`(n, 2)`: the joint's two integration points),
 /// `broken` (bool), `broken_at` (the time of the break [s], NaN while intact), `work`,
 /// `stored`, `dissipated` [J].
-pub fn joint_state<'py>(
-    py: Python<'py>,
-    s: &JointState,
-    b: &JointBooks,
-) -> PyResult<Bound<'py, PyDict>> {
+pub fn joint_state<'py>(py: Python<'py>, s: &JointState) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
+    let b = s.books();
     let (damage, mix) = (&s.history.damage, &s.history.mode_mix);
     let broken: Vec<bool> = s.intact.iter().map(|i| !i).collect();
     let broken_at: Vec<f64> = s.broken_at.iter().map(|t| t.unwrap_or(f64::NAN)).collect();

@@ -166,7 +166,7 @@ struct Done {
     describe: String,
     summary: String,
     frame: FrameData,
-    joint_state: Option<(fdem_fracture::JointState, fdem_fracture::JointBooks)>,
+    joint_state: Option<fdem_fracture::JointState>,
     not_converged: Option<RunError>,
 }
 
@@ -287,7 +287,7 @@ pub fn run<'py>(
         None => d.set_item("joints", py.None())?,
     }
     match &done.joint_state {
-        Some((j, b)) => d.set_item("joint_state", arrays::joint_state(py, j, b)?)?,
+        Some(j) => d.set_item("joint_state", arrays::joint_state(py, j)?)?,
         None => d.set_item("joint_state", py.None())?,
     }
     match &done.not_converged {
@@ -339,6 +339,6 @@ fn execute(
         not_converged: fdem_solver::run::diagnosis::not_converged(&l.scene, &outcome.summary),
         summary,
         frame: outcome.last_frame,
-        joint_state: outcome.joint_state.zip(outcome.joint_books),
+        joint_state: outcome.joint_state,
     })
 }

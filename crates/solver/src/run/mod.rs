@@ -208,7 +208,6 @@ fn static_run(
         summary,
         last_frame: frame,
         joint_state: None,
-        joint_books: None,
         checkpoints: Default::default(),
     })
 }

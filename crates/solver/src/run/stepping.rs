@@ -408,12 +408,10 @@ impl<'a> Run<'a> {
             .contributions
             .iter()
             .find_map(|c| c.joint_state().cloned());
-        let joint_books = self.sys.contributions.iter().find_map(|c| c.joint_books());
         Ok(Outcome {
             summary,
             last_frame,
             joint_state,
-            joint_books,
             checkpoints: self.checkpoints.writer.stats(),
         })
     }

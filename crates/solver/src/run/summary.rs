@@ -242,8 +242,6 @@ pub struct Outcome {
     /// The joints' committed history at the end (scenes with joints): a later run starts
     /// from it through `scene.fracture.initial_state`.
     pub joint_state: Option<fdem_fracture::JointState>,
-    /// Each joint's energy books at the end (scenes with joints).
-    pub joint_books: Option<fdem_fracture::JointBooks>,
     /// What the run's checkpoints cost (none written: zeros).
     pub checkpoints: crate::checkpoint::Stats,
 }

@@ -162,11 +162,6 @@ pub trait StageCheckpoint {
     fn joint_state(&self) -> Option<&fdem_fracture::JointState> {
         None
     }
-    /// Each joint's energy books at the end (stored, work, dissipated), for a term with
-    /// joints (default: none).
-    fn joint_books(&self) -> Option<fdem_fracture::JointBooks> {
-        None
-    }
 }
 
 /// A stage in a distributed run ([`crate::distributed`]), and the modes of its force passes.

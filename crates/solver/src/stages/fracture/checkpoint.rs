@@ -150,11 +150,11 @@ impl StageCheckpoint for FractureStage {
         };
         let report = &self.report;
         let (n, s) = (self.set.len(), &self.state);
-        // the section's size, to grow the buffer once: 128 bytes of history, 16 of stored
+        // the section's size, to grow the buffer once: 112 bytes of history, 16 of stored
         // energies and 4 flags per joint, a flag per star, 8 bytes per time of failure,
         // released pair and event field
         let n_events = report.events.len();
-        let size = 148 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
+        let size = 132 * n + self.stars.n_stars() + 8 * (s.n_broken + events.released.len());
         e.buf.reserve(size + 48 * n_events + 256);
         e.section("fracture", |e| {
             e.put(&n);
@@ -238,9 +238,5 @@ impl StageCheckpoint for FractureStage {
 
     fn joint_state(&self) -> Option<&JointState> {
         Some(&self.state)
-    }
-
-    fn joint_books(&self) -> Option<fdem_fracture::JointBooks> {
-        Some(self.state.books())
     }
 }

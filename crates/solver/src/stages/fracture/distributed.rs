@@ -174,15 +174,7 @@ impl LocalJoints {
         softened.sort_unstable();
         events.sort_by_key(|e| e.joint.0);
         for e in events.iter() {
-            let j = e.joint.0 as usize;
-            global.intact[j] = false;
-            global.broken_at[j] = Some(e.time);
-            global.released_at_break += e.stored_at_break;
-            global.n_broken += 1;
-            global.stored_at_break[j] = e.stored_at_break;
-            global.history.local[j] = [0.0; 4];
-            global.history.normal[j] = [0.0; 2];
-            global.history.stored[j] = 0.0;
+            global.record_break(e.joint.0 as usize, e.time, e.stored_at_break);
         }
     }
 
