@@ -169,6 +169,22 @@ fn pre_peak_point(
     mix_old: f64,
     shear_secant_old: f64,
 ) -> Option<PointTraction> {
+    let (pt, before_peaks) = pre_peak_lane(mat, k, o, s, mix_old, shear_secant_old);
+    before_peaks.then_some(pt)
+}
+
+/// [`pre_peak_point`] without branches (every quantity computed, the branches chosen by
+/// selects, so that a loop over joints vectorises): the pre-peak result and whether the point
+/// stays before both peaks (only then is the result the law's).
+#[inline(always)]
+pub(crate) fn pre_peak_lane(
+    mat: &JointMaterial,
+    k: &JointConsts,
+    o: f64,
+    s: f64,
+    mix_old: f64,
+    shear_secant_old: f64,
+) -> (PointTraction, bool) {
     let abs_s = s.abs();
     let compr = o < 0.0;
     let sigma_compr = k.kn * o;
@@ -178,27 +194,26 @@ fn pre_peak_point(
         mat.cohesion
     };
     let s_p = if compr { k.slip_per_fs * fs } else { k.s_p0 };
-    if o > k.o_p || abs_s > s_p {
-        return None;
-    }
+    let before_peaks = !(o > k.o_p || abs_s > s_p);
     let inv_s_p = if compr { 1.0 / s_p } else { k.inv_s_p0 };
+    let x = o * k.inv_o_p;
     let (sigma, psi_n) = if compr {
         (sigma_compr, 0.5 * sigma_compr * o)
     } else {
-        let x = o * k.inv_o_p;
         (mat.ft * pre_peak(x), mat.ft * k.o_p * pre_peak_energy(x))
     };
     let k_law = fs * (2.0 - abs_s * inv_s_p) * inv_s_p;
     let shear_secant = k_law.min(shear_secant_old);
     let tau = shear_secant * s;
-    Some(PointTraction {
+    let pt = PointTraction {
         sigma,
         tau,
         damage: 0.0,
         mode_mix: mix_old,
         shear_secant,
         stored: psi_n + 0.5 * tau * s,
-    })
+    };
+    (pt, before_peaks)
 }
 
 /// The general law (any damage, any branch). Kept out of line: in a force pass most points
@@ -461,7 +476,33 @@ pub(crate) fn evaluate_into<const FULL: bool, const OFF: bool>(
     out: EvalOut<'_>,
 ) -> f64 {
     let [damage_old, mix_old, shear_secant_old] = old;
-    let h = consts.h;
+    evaluate_with::<OFF>(consts.h, x, t, off, out, |i, o, s| {
+        law::<FULL>(
+            mat,
+            consts,
+            soft,
+            o,
+            s,
+            damage_old[i],
+            mix_old[i],
+            shear_secant_old[i],
+        )
+    })
+}
+
+/// The evaluation of a joint of reference length `h` whose point `i` (0 or 1) at opening `o`
+/// and sliding `s` has the traction `law(i, o, s)`: the kinematics, the forces and the work
+/// conjugates into `out`; returns the stored energy. [`evaluate_into`] with the joint's law;
+/// the vectorised pass of undamaged joints with [`pre_peak_lane`].
+#[inline(always)]
+pub(crate) fn evaluate_with<const OFF: bool>(
+    h: f64,
+    x: &JointNodes,
+    t: f64,
+    off: [f64; 2],
+    out: EvalOut<'_>,
+    mut law: impl FnMut(usize, f64, f64) -> PointTraction,
+) -> f64 {
     let k = kinematics(x, h);
     // Reference area: the forces are then exactly -d(A psi)/dx for a frozen history.
     let area = 0.5 * h * t;
@@ -475,16 +516,7 @@ pub(crate) fn evaluate_into<const FULL: bool, const OFF: bool>(
         } else {
             (k.o[i], k.s[i])
         };
-        let pt = law::<FULL>(
-            mat,
-            consts,
-            soft,
-            o,
-            sl,
-            damage_old[i],
-            mix_old[i],
-            shear_secant_old[i],
-        );
+        let pt = law(i, o, sl);
         out.damage[i] = pt.damage;
         out.mode_mix[i] = pt.mode_mix;
         out.shear_secant[i] = pt.shear_secant;

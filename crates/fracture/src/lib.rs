@@ -58,6 +58,7 @@ pub mod error;
 pub mod events;
 pub mod heterogeneity;
 pub mod joint;
+mod lanes;
 pub mod material;
 pub mod pass;
 pub mod set;

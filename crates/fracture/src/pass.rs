@@ -39,6 +39,8 @@ use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
 use crate::joint::{EvalOut, evaluate_into};
+use crate::lanes::{BlockIn, BlockOut, LANES, pre_peak_block};
+use crate::material::{JointConsts, SofteningConsts};
 use crate::set::{JointId, JointSet};
 use crate::state::{Histories, JointState};
 
@@ -195,6 +197,7 @@ fn trial_pass_impl<const OFF: bool>(
         &scratch.slot_forces,
     );
     let old = &state.history;
+    let arch = pulp::Arch::new();
     (out_chunks(&mut scratch.trial), scratch.flags.par_iter_mut())
         .into_par_iter()
         .with_min_len(min_chunks(n))
@@ -202,7 +205,7 @@ fn trial_pass_impl<const OFF: bool>(
         .for_each(|(c, (new, flag))| {
             let j0 = c * CHUNK;
             let old = in_chunk(old, j0..j0 + new.damage.len());
-            *flag = chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []);
+            *flag = arch.dispatch(|| chunk_pass::<OFF, false>(&inp, j0, Some(old), new, &mut []));
         });
 }
 
@@ -264,6 +267,7 @@ fn in_place_pass<const OFF: bool>(
         &scratch.slot_pos,
         &scratch.slot_forces,
     );
+    let arch = pulp::Arch::new();
     (
         out_chunks(&mut state.history),
         scratch.marks.par_chunks_mut(CHUNK),
@@ -273,7 +277,7 @@ fn in_place_pass<const OFF: bool>(
         .with_min_len(min_chunks(n))
         .enumerate()
         .for_each(|(c, (new, marks, flag))| {
-            *flag = chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks);
+            *flag = arch.dispatch(|| chunk_pass::<OFF, true>(&inp, c * CHUNK, None, new, marks));
         });
 }
 
@@ -371,8 +375,10 @@ impl HistOut<'_> {
 /// One chunk of a pass, joints `j0..j0 + h.len()`: each joint's forces to its slots and its new
 /// history to `h`, from its committed history in `old` (or, `IN_PLACE`, in `h` itself, where
 /// the new one replaces it, each field only where it changed, and a joint that softens gets a
-/// mark in `marks`). With `OFF` the law sees the joints' initial offsets. Returns the chunk's
-/// flags.
+/// mark in `marks`). With `OFF` the law sees the joints' initial offsets. Blocks of
+/// [`LANES`] intact undamaged joints go through the vectorised [`pre_peak_block`] (the same
+/// results); the other joints, and a block where a lane passes a peak, joint by joint.
+/// Returns the chunk's flags.
 #[inline(always)]
 fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     inp: &PassIn<'_>,
@@ -381,95 +387,212 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     mut h: HistOut<'_>,
     marks: &mut [u8],
 ) -> u8 {
-    let (set, x, out) = (inp.set, inp.x, inp.out);
-    let th = set.thickness;
     let n = h.damage.len();
-    let r = j0..j0 + n;
-    let pos = &inp.slot_pos[4 * j0..4 * (j0 + n)];
-    let intact = &inp.intact[r.clone()];
-    let (nodes, consts, softening, material) = (
-        &set.nodes[r.clone()],
-        &set.consts[r.clone()],
-        &set.softening[r.clone()],
-        &set.material[r.clone()],
-    );
-    let offsets = if OFF {
-        &set.initial_offsets[r]
-    } else {
-        &[][..]
-    };
+    let c = Chunk::new(inp, j0, n);
     // the committed history (in place: the output arrays themselves)
     let old = old.unwrap_or(HistIn::EMPTY);
     let mut fl = 0u8;
-    for i in 0..n {
-        let slots = [pos[4 * i], pos[4 * i + 1], pos[4 * i + 2], pos[4 * i + 3]];
-        // the committed history (in place: the arrays about to be overwritten, read first)
-        let src = if IN_PLACE { h.view() } else { old };
-        let (d_a, k_a) = (src.damage[i], src.shear_secant[i]);
-        if !intact[i] {
-            // a broken joint keeps its books (in place: untouched); no force
-            out.put(slots, [[0.0; 2]; 4]);
-            if !IN_PLACE {
-                h.copy(i, &old);
+    let mut b0 = 0;
+    while b0 < n {
+        let b1 = (b0 + LANES).min(n);
+        if OFF || b1 - b0 < LANES || !block_pass::<IN_PLACE>(&c, b0, &old, &mut h) {
+            for i in b0..b1 {
+                fl |= joint_pass::<OFF, IN_PLACE>(&c, i, &old, &mut h, marks);
             }
-            continue;
         }
-        // an undamaged joint's mode indicators are 0: not read
-        let fresh = d_a == [0.0; 2];
-        let mix_a = if fresh { [0.0; 2] } else { src.mode_mix[i] };
-        let committed = (src.local[i], src.normal[i], k_a, src.stored[i]);
-        let d_old = src.dissipated[i];
-        let [np, nq, nr, ns] = nodes[i];
-        let xs = [
-            x[np as usize],
-            x[nq as usize],
-            x[nr as usize],
-            x[ns as usize],
-        ];
-        let mut fj = [[0.0; 2]; 4];
-        let (mut d_b, mut mix_b, mut k_b, mut loc) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
-        let mat = &set.materials[material[i] as usize];
-        let stored = evaluate_into::<true, OFF>(
-            mat,
-            &consts[i],
-            &softening[i],
-            &xs,
-            [d_a, mix_a, k_a],
-            th,
-            if OFF { offsets[i] } else { [0.0; 2] },
-            EvalOut {
-                forces: &mut fj,
-                damage: &mut d_b,
-                mode_mix: &mut mix_b,
-                shear_secant: &mut k_b,
-                local: &mut loc,
+        b0 = b1;
+    }
+    fl
+}
+
+/// What one chunk of a pass reads besides the histories: the set's arrays from the chunk's
+/// first joint on.
+struct Chunk<'a> {
+    set: &'a JointSet,
+    x: &'a [[f64; 2]],
+    out: &'a SlotBuf,
+    pos: &'a [u32],
+    intact: &'a [bool],
+    nodes: &'a [[u32; 4]],
+    consts: &'a [JointConsts],
+    softening: &'a [SofteningConsts],
+    material: &'a [u32],
+    offsets: &'a [[f64; 2]],
+}
+
+impl<'a> Chunk<'a> {
+    #[inline(always)]
+    fn new(inp: &PassIn<'a>, j0: usize, n: usize) -> Self {
+        let (set, r) = (inp.set, j0..j0 + n);
+        Chunk {
+            set,
+            x: inp.x,
+            out: inp.out,
+            pos: &inp.slot_pos[4 * j0..4 * (j0 + n)],
+            intact: &inp.intact[r.clone()],
+            nodes: &set.nodes[r.clone()],
+            consts: &set.consts[r.clone()],
+            softening: &set.softening[r.clone()],
+            material: &set.material[r.clone()],
+            offsets: if set.initial_offsets.is_empty() {
+                &[]
+            } else {
+                &set.initial_offsets[r]
             },
-        );
-        out.put(slots, fj);
-        let u_b = [loc[2], loc[3], loc[6], loc[7]];
-        let area = 0.5 * consts[i].h * th;
-        h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
-        h.local[i] = u_b;
-        h.normal[i] = [loc[0], loc[4]];
-        h.stored[i] = stored;
-        if !IN_PLACE || d_b != d_a {
-            h.damage[i] = d_b;
         }
-        if !IN_PLACE || k_b != k_a {
+    }
+
+    /// The slot places of joint `i`'s four nodes.
+    #[inline(always)]
+    fn slots(&self, i: usize) -> [u32; 4] {
+        let p = &self.pos[4 * i..4 * i + 4];
+        [p[0], p[1], p[2], p[3]]
+    }
+}
+
+/// Joints `b0..b0 + LANES` of the chunk through [`pre_peak_block`], if every one is intact
+/// and undamaged and stays before both peaks: then their forces and new history are written
+/// (as [`joint_pass`] writes them) and the answer is true. Otherwise nothing is written.
+#[inline(always)]
+fn block_pass<const IN_PLACE: bool>(
+    c: &Chunk<'_>,
+    b0: usize,
+    old: &HistIn<'_>,
+    h: &mut HistOut<'_>,
+) -> bool {
+    let r = b0..b0 + LANES;
+    let src = if IN_PLACE { h.view() } else { *old };
+    if !(c.intact[r.clone()].iter().all(|&b| b) && src.damage[r].iter().all(|d| *d == [0.0; 2])) {
+        return false;
+    }
+    let mut b = BlockIn::default();
+    for l in 0..LANES {
+        let i = b0 + l;
+        for (n, &nd) in c.nodes[i].iter().enumerate() {
+            let xn = c.x[nd as usize];
+            b.x[n][0][l] = xn[0];
+            b.x[n][1][l] = xn[1];
+        }
+        let k = &c.consts[i];
+        (b.h[l], b.kn[l], b.o_p[l], b.inv_o_p[l]) = (k.h, k.kn, k.o_p, k.inv_o_p);
+        (b.slip_per_fs[l], b.s_p0[l], b.inv_s_p0[l]) = (k.slip_per_fs, k.s_p0, k.inv_s_p0);
+        let m = &c.set.materials[c.material[i] as usize];
+        (b.ft[l], b.cohesion[l], b.tan_phi[l]) = (m.ft, m.cohesion, m.tan_phi);
+        let (ka, ua, na) = (src.shear_secant[i], src.local[i], src.normal[i]);
+        (b.secant[0][l], b.secant[1][l]) = (ka[0], ka[1]);
+        for (q, u) in ua.iter().enumerate() {
+            b.local[q][l] = *u;
+        }
+        (b.normal[0][l], b.normal[1][l]) = (na[0], na[1]);
+        (b.stored[l], b.dissipated[l]) = (src.stored[i], src.dissipated[i]);
+    }
+    let mut o = BlockOut::default();
+    if !pre_peak_block(&b, c.set.thickness, &mut o) {
+        return false;
+    }
+    for l in 0..LANES {
+        let i = b0 + l;
+        c.out.put(
+            c.slots(i),
+            std::array::from_fn(|n| [o.forces[n][0][l], o.forces[n][1][l]]),
+        );
+        let k_b = [o.secant[0][l], o.secant[1][l]];
+        if !IN_PLACE || k_b != [b.secant[0][l], b.secant[1][l]] {
             h.shear_secant[i] = k_b;
         }
-        if !IN_PLACE || mix_b != mix_a {
-            h.mode_mix[i] = mix_b;
+        if !IN_PLACE {
+            // an undamaged joint's damage and mode indicators stay 0
+            h.damage[i] = [0.0; 2];
+            h.mode_mix[i] = [0.0; 2];
         }
-        if fresh && d_b != [0.0; 2] {
-            fl |= SOFTENED;
-            if IN_PLACE {
-                marks[i] = 1;
-            }
+        h.local[i] = [o.local[0][l], o.local[1][l], o.local[2][l], o.local[3][l]];
+        h.normal[i] = [o.normal[0][l], o.normal[1][l]];
+        h.stored[i] = o.stored[l];
+        h.dissipated[i] = o.dissipated[l];
+    }
+    true
+}
+
+/// Joint `i` of the chunk, on its own: its forces to its slots and its new history to `h`
+/// (see [`chunk_pass`]). Returns its flags.
+#[inline(always)]
+fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
+    c: &Chunk<'_>,
+    i: usize,
+    old: &HistIn<'_>,
+    h: &mut HistOut<'_>,
+    marks: &mut [u8],
+) -> u8 {
+    let slots = c.slots(i);
+    // the committed history (in place: the arrays about to be overwritten, read first)
+    let src = if IN_PLACE { h.view() } else { *old };
+    let (d_a, k_a) = (src.damage[i], src.shear_secant[i]);
+    if !c.intact[i] {
+        // a broken joint keeps its books (in place: untouched); no force
+        c.out.put(slots, [[0.0; 2]; 4]);
+        if !IN_PLACE {
+            h.copy(i, old);
         }
-        if d_b[0] >= 1.0 && d_b[1] >= 1.0 && breaks(&u_b, consts[i].h) {
-            fl |= BREAKS;
+        return 0;
+    }
+    // an undamaged joint's mode indicators are 0: not read
+    let fresh = d_a == [0.0; 2];
+    let mix_a = if fresh { [0.0; 2] } else { src.mode_mix[i] };
+    let committed = (src.local[i], src.normal[i], k_a, src.stored[i]);
+    let d_old = src.dissipated[i];
+    let [np, nq, nr, ns] = c.nodes[i];
+    let x = c.x;
+    let xs = [
+        x[np as usize],
+        x[nq as usize],
+        x[nr as usize],
+        x[ns as usize],
+    ];
+    let mut fj = [[0.0; 2]; 4];
+    let (mut d_b, mut mix_b, mut k_b, mut loc) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
+    let mat = &c.set.materials[c.material[i] as usize];
+    let th = c.set.thickness;
+    let stored = evaluate_into::<true, OFF>(
+        mat,
+        &c.consts[i],
+        &c.softening[i],
+        &xs,
+        [d_a, mix_a, k_a],
+        th,
+        if OFF { c.offsets[i] } else { [0.0; 2] },
+        EvalOut {
+            forces: &mut fj,
+            damage: &mut d_b,
+            mode_mix: &mut mix_b,
+            shear_secant: &mut k_b,
+            local: &mut loc,
+        },
+    );
+    c.out.put(slots, fj);
+    let u_b = [loc[2], loc[3], loc[6], loc[7]];
+    let area = 0.5 * c.consts[i].h * th;
+    h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
+    h.local[i] = u_b;
+    h.normal[i] = [loc[0], loc[4]];
+    h.stored[i] = stored;
+    if !IN_PLACE || d_b != d_a {
+        h.damage[i] = d_b;
+    }
+    if !IN_PLACE || k_b != k_a {
+        h.shear_secant[i] = k_b;
+    }
+    if !IN_PLACE || mix_b != mix_a {
+        h.mode_mix[i] = mix_b;
+    }
+    let mut fl = 0;
+    if fresh && d_b != [0.0; 2] {
+        fl |= SOFTENED;
+        if IN_PLACE {
+            marks[i] = 1;
         }
+    }
+    if d_b[0] >= 1.0 && d_b[1] >= 1.0 && breaks(&u_b, c.consts[i].h) {
+        fl |= BREAKS;
     }
     fl
 }
@@ -480,7 +603,7 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
 /// again: the same bits as the law's); `new` is the evaluation's `[A sigma, A tau, o, s]` per
 /// point, `stored` its stored energy, `area` the points' area `A`.
 #[inline(always)]
-fn step_dissipation(
+pub(crate) fn step_dissipation(
     committed: ([f64; 4], [f64; 2], [f64; 2], f64),
     new: &[f64; 8],
     stored: f64,
