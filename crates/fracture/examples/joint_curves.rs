@@ -46,7 +46,7 @@ fn drive(path: &[(f64, f64)]) -> Vec<[f64; 4]> {
         let (h, u) = (&state.history, state.history.local[0]);
         let t = point_traction(
             &set.materials[0],
-            &set.consts[0],
+            &set.consts(0),
             &set.softening[0],
             u[0],
             u[1],

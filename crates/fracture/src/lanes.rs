@@ -17,7 +17,7 @@
 //! evaluates that block joint by joint instead.
 
 use crate::joint::{EvalOut, evaluate_with, pre_peak_lane};
-use crate::material::{JointConsts, JointMaterial};
+use crate::material::JointMaterial;
 use crate::pass::step_dissipation;
 
 /// Joints per block: two AVX2 vectors of `f64`, one AVX-512 vector.
@@ -31,18 +31,14 @@ pub(crate) type Lanes = [f64; LANES];
 pub(crate) struct BlockIn {
     /// Node positions: `x[node][axis][lane]`, nodes P, Q, R, S.
     pub(crate) x: [[Lanes; 2]; 4],
-    /// The joint constants ([`JointConsts`], field by field).
+    /// The reference length `h`.
     pub(crate) h: Lanes,
-    pub(crate) kn: Lanes,
-    pub(crate) o_p: Lanes,
-    pub(crate) inv_o_p: Lanes,
-    pub(crate) slip_per_fs: Lanes,
-    pub(crate) s_p0: Lanes,
-    pub(crate) inv_s_p0: Lanes,
-    /// The material's tensile strength, cohesion and `tan(phi)`.
+    /// The material's tensile strength, cohesion, `tan(phi)` and penalties `p`, `p_t`.
     pub(crate) ft: Lanes,
     pub(crate) cohesion: Lanes,
     pub(crate) tan_phi: Lanes,
+    pub(crate) p: Lanes,
+    pub(crate) p_t: Lanes,
     /// The committed history: shear secants, `[o, s]` per point, `A sigma` per point, stored
     /// and dissipated energy.
     pub(crate) secant: [Lanes; 2],
@@ -73,25 +69,18 @@ pub(crate) fn pre_peak_block(b: &BlockIn, th: f64, out: &mut BlockOut) -> bool {
     let mut all = true;
     for l in 0..LANES {
         let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
-        let k = JointConsts {
-            h: b.h[l],
-            kn: b.kn[l],
-            o_p: b.o_p[l],
-            inv_o_p: b.inv_o_p[l],
-            slip_per_fs: b.slip_per_fs[l],
-            s_p0: b.s_p0[l],
-            inv_s_p0: b.inv_s_p0[l],
-        };
-        // only the strengths enter the pre-peak law
+        // the fracture energies do not enter the pre-peak law
         let mat = JointMaterial {
             ft: b.ft[l],
             cohesion: b.cohesion[l],
             tan_phi: b.tan_phi[l],
             g_i: 0.0,
             g_ii: 0.0,
-            p: 0.0,
-            p_t: 0.0,
+            p: b.p[l],
+            p_t: b.p_t[l],
         };
+        // the joint's constants, derived here as the scalar pass derives them
+        let k = mat.consts(b.h[l]);
         let secant_old = [b.secant[0][l], b.secant[1][l]];
         let (mut fj, mut d_b, mut mix_b, mut k_b, mut loc) =
             ([[0.0; 2]; 4], [0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
@@ -145,7 +134,7 @@ pub(crate) fn pre_peak_block(b: &BlockIn, th: f64, out: &mut BlockOut) -> bool {
 mod tests {
     use super::*;
     use crate::joint::evaluate_into;
-    use crate::material::JointMaterialInput;
+    use crate::material::{JointConsts, JointMaterialInput};
 
     /// A reproducible number in [-1, 1) (SplitMix64 of a counter).
     fn r(state: &mut u64) -> f64 {
@@ -157,15 +146,18 @@ mod tests {
         2.0 * (z >> 11) as f64 / (1u64 << 53) as f64 - 1.0
     }
 
-    fn material() -> JointMaterial {
+    /// The material of lane `l`: strengths and penalties differ from lane to lane (as the
+    /// joints of a heterogeneous specimen).
+    fn material(l: usize) -> JointMaterial {
+        let f = 1.0 + 0.1 * l as f64;
         JointMaterialInput {
-            tensile_strength: 5e6,
-            cohesion: 8e6,
+            tensile_strength: 5e6 * f,
+            cohesion: 8e6 / f,
             friction_angle_deg: 35.0,
             fracture_energy_i: 50.0,
             fracture_energy_ii: 200.0,
-            penalty_normal: 3e11,
-            penalty_tangential: 2e11,
+            penalty_normal: 3e11 * f,
+            penalty_tangential: 2e11 / f,
         }
         .validate(0)
         .unwrap()
@@ -175,11 +167,11 @@ mod tests {
     /// closed) and slid by up to `reach` times the peak opening and slip; committed histories
     /// at random, half of the secants still infinite.
     fn block(seed: u64, reach: f64) -> (BlockIn, [JointConsts; LANES]) {
-        let m = material();
         let mut s = seed;
         let mut b = BlockIn::default();
-        let mut ks = [m.consts(1.0); LANES];
+        let mut ks = [material(0).consts(1.0); LANES];
         for l in 0..LANES {
+            let m = material(l);
             let h = 1e-3 * (1.0 + 0.5 * r(&mut s));
             let k = m.consts(h);
             ks[l] = k;
@@ -202,9 +194,9 @@ mod tests {
                 b.x[n][0][l] = xn[0];
                 b.x[n][1][l] = xn[1];
             }
-            (b.h[l], b.kn[l], b.o_p[l], b.inv_o_p[l]) = (k.h, k.kn, k.o_p, k.inv_o_p);
-            (b.slip_per_fs[l], b.s_p0[l], b.inv_s_p0[l]) = (k.slip_per_fs, k.s_p0, k.inv_s_p0);
+            b.h[l] = h;
             (b.ft[l], b.cohesion[l], b.tan_phi[l]) = (m.ft, m.cohesion, m.tan_phi);
+            (b.p[l], b.p_t[l]) = (m.p, m.p_t);
             for p in 0..2 {
                 b.secant[p][l] = if l % 2 == 0 {
                     f64::INFINITY
@@ -223,7 +215,7 @@ mod tests {
 
     #[test]
     fn a_block_is_the_scalar_pass_bit_for_bit() {
-        let (m, th) = (material(), 0.01);
+        let th = 0.01;
         let mut blocks = 0;
         for seed in 0..200 {
             let (b, ks) = block(seed, 0.95);
@@ -235,6 +227,7 @@ mod tests {
             blocks += 1;
             for (l, k) in ks.iter().enumerate() {
                 let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
+                let m = material(l);
                 let soft = m.softening_consts(k.h);
                 let secant = [b.secant[0][l], b.secant[1][l]];
                 let (mut f, mut d, mut mix, mut kb, mut loc) =
@@ -296,6 +289,11 @@ mod tests {
             }
         }
         assert_eq!(blocks, 200);
+        fdem_figures::record_part(
+            146,
+            1,
+            format!("{} joints before their peaks: identical", blocks * LANES),
+        );
     }
 
     #[test]
@@ -303,24 +301,33 @@ mod tests {
         let th = 0.01;
         let mut past = 0;
         for seed in 0..200 {
-            // openings and slips up to twice the peaks: most blocks have a lane past one
-            let (b, ks) = block(seed, 2.0);
+            // openings and slips up to 1.03 times the peaks: some blocks have a lane past one
+            let (b, ks) = block(seed, 1.03);
             let mut o = BlockOut::default();
             let ok = pulp::Arch::new().dispatch(|| pre_peak_block(&b, th, &mut o));
-            let m = material();
             // the scalar law's own verdict, point by point
             let beyond = (0..LANES).any(|l| {
                 let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
                 let kin = crate::joint::kinematics(&xs, ks[l].h);
                 (0..2).any(|p| {
                     let (_, before) =
-                        pre_peak_lane(&m, &ks[l], kin.o[p], kin.s[p], 0.0, f64::INFINITY);
+                        pre_peak_lane(&material(l), &ks[l], kin.o[p], kin.s[p], 0.0, f64::INFINITY);
                     !before
                 })
             });
             assert_eq!(ok, !beyond, "seed {seed}");
             past += usize::from(beyond);
         }
-        assert!(past > 100, "only {past} blocks with a lane past a peak");
+        assert!(
+            (20..180).contains(&past),
+            "{past} blocks with a lane past a peak: both verdicts must occur"
+        );
+        fdem_figures::record_part(
+            146,
+            2,
+            format!(
+                "{past} of 200 blocks with a lane past a peak, each reported, the others taken"
+            ),
+        );
     }
 }

@@ -184,7 +184,7 @@ impl JointMaterialInput {
 
 impl JointMaterial {
     /// Peak opening `o_p = 2 h ft/p` (m) for reference edge length `h`.
-    #[inline]
+    #[inline(always)]
     pub fn peak_opening(&self, h: f64) -> f64 {
         2.0 * h * self.ft / self.p
     }
@@ -205,7 +205,7 @@ impl JointMaterial {
     }
 
     /// Peak slip `s_p = 2 h fs/p_t` (m) at shear strength `fs`.
-    #[inline]
+    #[inline(always)]
     pub fn peak_slip(&self, h: f64, fs: f64) -> f64 {
         2.0 * h * fs / self.p_t
     }
@@ -218,7 +218,8 @@ impl JointMaterial {
         softening_width(self.g_ii, fs, self.peak_slip(h, fs)).max(0.0)
     }
 
-    /// The per-joint constants of an edge of reference length `h` (divisions done once).
+    /// The per-joint constants of an edge of reference length `h`.
+    #[inline(always)]
     pub fn consts(&self, h: f64) -> JointConsts {
         let o_p = self.peak_opening(h);
         let s_p0 = self.peak_slip(h, self.cohesion);

@@ -40,7 +40,7 @@ use rayon::prelude::*;
 use crate::events::{FractureEvent, FractureMode};
 use crate::joint::{EvalOut, evaluate_into};
 use crate::lanes::{BlockIn, BlockOut, LANES, pre_peak_block};
-use crate::material::{JointConsts, SofteningConsts};
+use crate::material::SofteningConsts;
 use crate::set::{JointId, JointSet};
 use crate::state::{Histories, JointState};
 
@@ -392,10 +392,12 @@ fn chunk_pass<const OFF: bool, const IN_PLACE: bool>(
     // the committed history (in place: the output arrays themselves)
     let old = old.unwrap_or(HistIn::EMPTY);
     let mut fl = 0u8;
+    let (mut b, mut o) = (BlockIn::default(), BlockOut::default());
     let mut b0 = 0;
     while b0 < n {
         let b1 = (b0 + LANES).min(n);
-        if OFF || b1 - b0 < LANES || !block_pass::<IN_PLACE>(&c, b0, &old, &mut h) {
+        if OFF || b1 - b0 < LANES || !block_pass::<IN_PLACE>(&c, b0, &old, &mut h, (&mut b, &mut o))
+        {
             for i in b0..b1 {
                 fl |= joint_pass::<OFF, IN_PLACE>(&c, i, &old, &mut h, marks);
             }
@@ -414,7 +416,7 @@ struct Chunk<'a> {
     pos: &'a [u32],
     intact: &'a [bool],
     nodes: &'a [[u32; 4]],
-    consts: &'a [JointConsts],
+    ref_length: &'a [f64],
     softening: &'a [SofteningConsts],
     material: &'a [u32],
     offsets: &'a [[f64; 2]],
@@ -431,7 +433,7 @@ impl<'a> Chunk<'a> {
             pos: &inp.slot_pos[4 * j0..4 * (j0 + n)],
             intact: &inp.intact[r.clone()],
             nodes: &set.nodes[r.clone()],
-            consts: &set.consts[r.clone()],
+            ref_length: &set.ref_length[r.clone()],
             softening: &set.softening[r.clone()],
             material: &set.material[r.clone()],
             offsets: if set.initial_offsets.is_empty() {
@@ -450,66 +452,92 @@ impl<'a> Chunk<'a> {
     }
 }
 
+/// The `LANES` entries of `v` from `b0` on.
+#[inline(always)]
+fn lanes<T>(v: &[T], b0: usize) -> &[T; LANES] {
+    v[b0..b0 + LANES].try_into().expect("a whole block")
+}
+
+/// The `LANES` entries of `v` from `b0` on, to write.
+#[inline(always)]
+fn lanes_mut<T>(v: &mut [T], b0: usize) -> &mut [T; LANES] {
+    (&mut v[b0..b0 + LANES]).try_into().expect("a whole block")
+}
+
 /// Joints `b0..b0 + LANES` of the chunk through [`pre_peak_block`], if every one is intact
 /// and undamaged and stays before both peaks: then their forces and new history are written
 /// (as [`joint_pass`] writes them) and the answer is true. Otherwise nothing is written.
+/// `b` and `o` are the block's buffers (every lane of every field is written before it is
+/// read).
 #[inline(always)]
 fn block_pass<const IN_PLACE: bool>(
     c: &Chunk<'_>,
     b0: usize,
     old: &HistIn<'_>,
     h: &mut HistOut<'_>,
+    (b, o): (&mut BlockIn, &mut BlockOut),
 ) -> bool {
-    let r = b0..b0 + LANES;
     let src = if IN_PLACE { h.view() } else { *old };
-    if !(c.intact[r.clone()].iter().all(|&b| b) && src.damage[r].iter().all(|d| *d == [0.0; 2])) {
+    let (intact, damage) = (lanes(c.intact, b0), lanes(src.damage, b0));
+    if !(intact.iter().all(|&b| b) && damage.iter().all(|d| *d == [0.0; 2])) {
         return false;
     }
-    let mut b = BlockIn::default();
+    let (nodes, ref_length, material) = (
+        lanes(c.nodes, b0),
+        lanes(c.ref_length, b0),
+        lanes(c.material, b0),
+    );
+    let (secant, local, normal) = (
+        lanes(src.shear_secant, b0),
+        lanes(src.local, b0),
+        lanes(src.normal, b0),
+    );
+    let (stored, dissipated) = (lanes(src.stored, b0), lanes(src.dissipated, b0));
     for l in 0..LANES {
-        let i = b0 + l;
-        for (n, &nd) in c.nodes[i].iter().enumerate() {
+        for (n, &nd) in nodes[l].iter().enumerate() {
             let xn = c.x[nd as usize];
             b.x[n][0][l] = xn[0];
             b.x[n][1][l] = xn[1];
         }
-        let k = &c.consts[i];
-        (b.h[l], b.kn[l], b.o_p[l], b.inv_o_p[l]) = (k.h, k.kn, k.o_p, k.inv_o_p);
-        (b.slip_per_fs[l], b.s_p0[l], b.inv_s_p0[l]) = (k.slip_per_fs, k.s_p0, k.inv_s_p0);
-        let m = &c.set.materials[c.material[i] as usize];
+        b.h[l] = ref_length[l];
+        let m = &c.set.materials[material[l] as usize];
         (b.ft[l], b.cohesion[l], b.tan_phi[l]) = (m.ft, m.cohesion, m.tan_phi);
-        let (ka, ua, na) = (src.shear_secant[i], src.local[i], src.normal[i]);
-        (b.secant[0][l], b.secant[1][l]) = (ka[0], ka[1]);
-        for (q, u) in ua.iter().enumerate() {
+        (b.p[l], b.p_t[l]) = (m.p, m.p_t);
+        (b.secant[0][l], b.secant[1][l]) = (secant[l][0], secant[l][1]);
+        for (q, u) in local[l].iter().enumerate() {
             b.local[q][l] = *u;
         }
-        (b.normal[0][l], b.normal[1][l]) = (na[0], na[1]);
-        (b.stored[l], b.dissipated[l]) = (src.stored[i], src.dissipated[i]);
+        (b.normal[0][l], b.normal[1][l]) = (normal[l][0], normal[l][1]);
+        (b.stored[l], b.dissipated[l]) = (stored[l], dissipated[l]);
     }
-    let mut o = BlockOut::default();
-    if !pre_peak_block(&b, c.set.thickness, &mut o) {
+    if !pre_peak_block(b, c.set.thickness, o) {
         return false;
     }
     for l in 0..LANES {
-        let i = b0 + l;
         c.out.put(
-            c.slots(i),
+            c.slots(b0 + l),
             std::array::from_fn(|n| [o.forces[n][0][l], o.forces[n][1][l]]),
         );
+    }
+    let secant_out = lanes_mut(h.shear_secant, b0);
+    for l in 0..LANES {
         let k_b = [o.secant[0][l], o.secant[1][l]];
         if !IN_PLACE || k_b != [b.secant[0][l], b.secant[1][l]] {
-            h.shear_secant[i] = k_b;
+            secant_out[l] = k_b;
         }
-        if !IN_PLACE {
-            // an undamaged joint's damage and mode indicators stay 0
-            h.damage[i] = [0.0; 2];
-            h.mode_mix[i] = [0.0; 2];
-        }
-        h.local[i] = [o.local[0][l], o.local[1][l], o.local[2][l], o.local[3][l]];
-        h.normal[i] = [o.normal[0][l], o.normal[1][l]];
-        h.stored[i] = o.stored[l];
-        h.dissipated[i] = o.dissipated[l];
     }
+    if !IN_PLACE {
+        // an undamaged joint's damage and mode indicators stay 0
+        *lanes_mut(h.damage, b0) = [[0.0; 2]; LANES];
+        *lanes_mut(h.mode_mix, b0) = [[0.0; 2]; LANES];
+    }
+    let (local, normal) = (lanes_mut(h.local, b0), lanes_mut(h.normal, b0));
+    for l in 0..LANES {
+        local[l] = [o.local[0][l], o.local[1][l], o.local[2][l], o.local[3][l]];
+        normal[l] = [o.normal[0][l], o.normal[1][l]];
+    }
+    *lanes_mut(h.stored, b0) = o.stored;
+    *lanes_mut(h.dissipated, b0) = o.dissipated;
     true
 }
 
@@ -552,9 +580,10 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
     let (mut d_b, mut mix_b, mut k_b, mut loc) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
     let mat = &c.set.materials[c.material[i] as usize];
     let th = c.set.thickness;
+    let h_ref = c.ref_length[i];
     let stored = evaluate_into::<true, OFF>(
         mat,
-        &c.consts[i],
+        &mat.consts(h_ref),
         &c.softening[i],
         &xs,
         [d_a, mix_a, k_a],
@@ -570,7 +599,7 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
     );
     c.out.put(slots, fj);
     let u_b = [loc[2], loc[3], loc[6], loc[7]];
-    let area = 0.5 * c.consts[i].h * th;
+    let area = 0.5 * h_ref * th;
     h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
     h.local[i] = u_b;
     h.normal[i] = [loc[0], loc[4]];
@@ -591,7 +620,7 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
             marks[i] = 1;
         }
     }
-    if d_b[0] >= 1.0 && d_b[1] >= 1.0 && breaks(&u_b, c.consts[i].h) {
+    if d_b[0] >= 1.0 && d_b[1] >= 1.0 && breaks(&u_b, h_ref) {
         fl |= BREAKS;
     }
     fl
@@ -886,7 +915,7 @@ fn commit(
             if fl & BREAKS != 0
                 && h.damage[j][0] >= 1.0
                 && h.damage[j][1] >= 1.0
-                && breaks(&h.local[j], set.consts[j].h)
+                && breaks(&h.local[j], set.ref_length[j])
             {
                 let stored = h.stored[j];
                 let p = set.gather(j, x);

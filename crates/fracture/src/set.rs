@@ -76,8 +76,6 @@ pub struct JointSet {
     pub ref_length: Vec<f64>,
     /// Material index per joint.
     pub material: Vec<u32>,
-    /// Derived constants per joint that every evaluation reads (stiffness, peak opening, ...).
-    pub consts: Vec<JointConsts>,
     /// Derived constants per joint that only the softening branch reads (softening widths).
     pub softening: Vec<SofteningConsts>,
     /// The validated materials.
@@ -124,9 +122,6 @@ impl JointSet {
         }
         // the columns, each joint on its own, collected in joint order
         let column = || joints.par_iter().with_min_len(SET_CHUNK);
-        let consts = column()
-            .map(|jt| materials[jt.material as usize].consts(jt.ref_length))
-            .collect();
         let softening = column()
             .map(|jt| materials[jt.material as usize].softening_consts(jt.ref_length))
             .collect();
@@ -135,7 +130,6 @@ impl JointSet {
             triangles: column().map(|jt| jt.triangles).collect(),
             ref_length: column().map(|jt| jt.ref_length).collect(),
             material: column().map(|jt| jt.material).collect(),
-            consts,
             softening,
             materials,
             thickness,
@@ -162,7 +156,6 @@ impl JointSet {
             triangles: pick(&self.triangles, keep),
             ref_length: pick(&self.ref_length, keep),
             material: pick(&self.material, keep),
-            consts: pick(&self.consts, keep),
             softening: pick(&self.softening, keep),
             materials: self.materials.clone(),
             thickness: self.thickness,
@@ -241,7 +234,7 @@ impl JointSet {
                 )));
             }
             let material = self.material[j];
-            let (m, k) = (&self.materials[material as usize], &self.consts[j]);
+            let (m, k) = (&self.materials[material as usize], &self.consts(j));
             let o0 = if sigma0 <= 0.0 {
                 sigma0 / k.kn
             } else if sigma0 < m.ft {
@@ -301,6 +294,14 @@ impl JointSet {
         self.nodes.is_empty()
     }
 
+    /// The constants of joint `j` that every evaluation reads, derived from its material and
+    /// reference length ([`JointMaterial::consts`]; the pass derives them as it goes rather
+    /// than reading them per joint).
+    #[inline(always)]
+    pub fn consts(&self, j: usize) -> JointConsts {
+        self.materials[self.material[j] as usize].consts(self.ref_length[j])
+    }
+
     /// Positions of joint `j`'s nodes P, Q, R, S.
     #[inline]
     pub fn gather(&self, j: usize, x: &[[f64; 2]]) -> [[f64; 2]; 4] {
@@ -354,7 +355,7 @@ mod tests {
             let m = &set.materials[0];
             let e = evaluate_offset(
                 m,
-                &set.consts[0],
+                &set.consts(0),
                 &set.softening[0],
                 &x,
                 &PointHistory::FRESH,

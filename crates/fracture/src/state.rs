@@ -183,7 +183,7 @@ impl JointState {
             .with_min_len(1024)
             .map(|j| {
                 let m = &set.materials[set.material[j] as usize];
-                let (k, soft, xs) = (&set.consts[j], &set.softening[j], set.gather(j, x));
+                let (k, soft, xs) = (&set.consts(j), &set.softening[j], set.gather(j, x));
                 if set.initial_offsets.is_empty() {
                     evaluate(m, k, soft, &xs, &PointHistory::FRESH, set.thickness)
                 } else {

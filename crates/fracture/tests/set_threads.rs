@@ -55,7 +55,7 @@ fn bits(set: &JointSet) -> Vec<u64> {
         b.extend(set.triangles[j].map(u64::from));
         b.push(set.ref_length[j].to_bits());
         b.push(u64::from(set.material[j]));
-        let (k, c) = (&set.consts[j], &set.softening[j]);
+        let (k, c) = (&set.consts(j), &set.softening[j]);
         b.extend(
             [
                 k.h,
@@ -96,7 +96,6 @@ fn serial_reference(
     set.triangles.clear();
     set.ref_length.clear();
     set.material.clear();
-    set.consts.clear();
     set.softening.clear();
     for jt in joints {
         let m = &materials[jt.material as usize];
@@ -104,7 +103,6 @@ fn serial_reference(
         set.triangles.push(jt.triangles);
         set.ref_length.push(jt.ref_length);
         set.material.push(jt.material);
-        set.consts.push(m.consts(jt.ref_length));
         set.softening.push(m.softening_consts(jt.ref_length));
     }
     let mut offsets = vec![0u32; n_nodes + 1];

@@ -73,7 +73,7 @@ impl Rig {
         let t: [(f64, f64); 2] = std::array::from_fn(|p| {
             let pt = point_traction(
                 &self.set.materials[0],
-                &self.set.consts[0],
+                &self.set.consts(0),
                 &self.set.softening[0],
                 u[2 * p],
                 u[2 * p + 1],

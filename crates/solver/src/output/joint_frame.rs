@@ -97,7 +97,7 @@ struct Row {
 fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
     let xs = set.gather(j, x);
     let [p, q, r, s] = xs;
-    let k = kinematics(&xs, set.consts[j].h);
+    let k = kinematics(&xs, set.ref_length[j]);
     let h = state.point_history(j);
     let intact = state.intact[j];
     let (sigma, tau) = if intact {
@@ -111,7 +111,7 @@ fn row(set: &JointSet, state: &JointState, x: &[[f64; 2]], j: usize) -> Row {
             };
             point_traction(
                 m,
-                &set.consts[j],
+                &set.consts(j),
                 &set.softening[j],
                 o,
                 sl,

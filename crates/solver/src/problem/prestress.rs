@@ -35,7 +35,7 @@ use crate::problem::model::Model;
 pub fn joint_tractions(set: &JointSet, x0: &[[f64; 2]], s0: &[[f64; 3]]) -> Vec<[f64; 2]> {
     (0..set.len())
         .map(|j| {
-            let k = kinematics(&set.gather(j, x0), set.consts[j].h);
+            let k = kinematics(&set.gather(j, x0), set.ref_length[j]);
             let [a, b] = set.triangles[j].map(|t| s0[t as usize]);
             let s = [
                 0.5 * (a[0] + b[0]),
