@@ -72,8 +72,11 @@ fn setup_and_two_steps(scene: &std::path::Path, out: &std::path::Path) -> String
     key += &format!(
         " {:?} {:?} {:?} {:?}",
         f64_bits(&set.ref_length),
-        (set.consts.iter().zip(&set.softening))
-            .map(|(k, c)| [k.kn, k.o_p, c.o_soft, k.s_p0, c.s_soft0].map(f64::to_bits))
+        (set.softening.iter().enumerate())
+            .map(|(j, c)| {
+                let k = set.consts(j);
+                [k.kn, k.o_p, c.o_soft, k.s_p0, c.s_soft0].map(f64::to_bits)
+            })
             .collect::<Vec<_>>(),
         set.node_offsets,
         set.node_slots
