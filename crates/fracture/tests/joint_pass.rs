@@ -410,11 +410,11 @@ fn the_pass_gives_each_joint_its_own_evaluation_bit_for_bit() {
                 })
             })
             .collect();
-        for j in 0..set.len() {
-            match state.joint_damage(j) {
-                _ if !state.intact[j] => {}
-                d if d == 0.0 => fresh += 1,
-                _ => damaged += 1,
+        for j in (0..set.len()).filter(|&j| state.intact[j]) {
+            if state.joint_damage(j) == 0.0 {
+                fresh += 1;
+            } else {
+                damaged += 1;
             }
         }
         accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut f);
