@@ -1,5 +1,5 @@
 //! The joint-force pass over a whole exploded mesh: conservation of linear and angular
-//! momentum, serial-parallel bit parity, extremes, and the time-step bound.
+//! momentum, serial-parallel bit parity, each joint's own evaluation, extremes, and the time-step bound.
 
 use crate::common;
 
