@@ -135,8 +135,8 @@ pub fn point_traction(
 }
 
 /// The law; with `FULL = false` the mode indicator is not computed. An undamaged point
-/// that stays before both peaks takes [`pre_peak_point`] (the same operations, without the
-/// softening quantities and with few branches); every other point the general [`law_any`].
+/// that stays before both peaks takes [`pre_peak_lane`] (the same operations, without the
+/// softening quantities and without branches); every other point the general [`law_any`].
 #[inline(always)]
 fn law<const FULL: bool>(
     mat: &JointMaterial,
@@ -148,34 +148,21 @@ fn law<const FULL: bool>(
     mix_old: f64,
     shear_secant_old: f64,
 ) -> PointTraction {
-    if damage_old == 0.0
-        && let Some(pt) = pre_peak_point(mat, k, o, s, mix_old, shear_secant_old)
-    {
-        return pt;
+    if damage_old == 0.0 {
+        let (pt, before_peaks) = pre_peak_lane(mat, k, o, s, mix_old, shear_secant_old);
+        if before_peaks {
+            return pt;
+        }
     }
     law_any::<FULL>(mat, k, soft, o, s, damage_old, mix_old, shear_secant_old)
 }
 
-/// The law at an undamaged point, if it stays undamaged: `None` when the opening passes
-/// `o_p` or the slip passes `s_p` (where [`law_any`] computes the damage). Where it answers,
-/// its result is bit for bit that of [`law_any`]: with `D = 0` the damage terms vanish
-/// exactly (`<o - o_p> = 0`, `<|s| - s_p> = 0`), so only the pre-peak curves remain.
-#[inline(always)]
-fn pre_peak_point(
-    mat: &JointMaterial,
-    k: &JointConsts,
-    o: f64,
-    s: f64,
-    mix_old: f64,
-    shear_secant_old: f64,
-) -> Option<PointTraction> {
-    let (pt, before_peaks) = pre_peak_lane(mat, k, o, s, mix_old, shear_secant_old);
-    before_peaks.then_some(pt)
-}
-
-/// [`pre_peak_point`] without branches (every quantity computed, the branches chosen by
-/// selects, so that a loop over joints vectorises): the pre-peak result and whether the point
-/// stays before both peaks (only then is the result the law's).
+/// The law at an undamaged point, and whether it stays undamaged: false when the opening
+/// passes `o_p` or the slip passes `s_p` (where [`law_any`] computes the damage). Where it
+/// says true, its result is bit for bit that of [`law_any`]: with `D = 0` the damage terms
+/// vanish exactly (`<o - o_p> = 0`, `<|s| - s_p> = 0`), so only the pre-peak curves remain.
+/// Without branches (every quantity computed, the cases chosen by selects), so that a loop
+/// over joints vectorises.
 #[inline(always)]
 pub(crate) fn pre_peak_lane(
     mat: &JointMaterial,
@@ -217,7 +204,7 @@ pub(crate) fn pre_peak_lane(
 }
 
 /// The general law (any damage, any branch). Kept out of line: in a force pass most points
-/// take [`pre_peak_point`], and the hot loop stays small.
+/// take [`pre_peak_lane`], and the hot loop stays small.
 #[inline(never)]
 fn law_any<const FULL: bool>(
     mat: &JointMaterial,
@@ -545,6 +532,30 @@ pub(crate) fn evaluate_with<const OFF: bool>(
     stored
 }
 
+/// A joint's dissipation in a step: the step's work by the trapezoidal rule on `(A sigma, o)`
+/// and `(A tau, s)`, less the change of stored energy. `committed` is the committed opening
+/// and sliding, `A sigma`, shear secants and stored energy (`A tau = A k_t s` is computed
+/// again: the same bits as the law's); `new` is the evaluation's `[A sigma, A tau, o, s]` per
+/// point, `stored` its stored energy, `area` the points' area `A`.
+#[inline(always)]
+pub(crate) fn step_dissipation(
+    committed: ([f64; 4], [f64; 2], [f64; 2], f64),
+    new: &[f64; 8],
+    stored: f64,
+    area: f64,
+) -> f64 {
+    let (u_a, normal_a, k_a, stored_a) = committed;
+    let mut dw = 0.0;
+    for p in 0..2 {
+        let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
+        let tau_a = area * (k_a[p] * s_a);
+        let q = 4 * p;
+        dw += 0.5 * (normal_a[p] + new[q]) * (new[q + 2] - o_a)
+            + 0.5 * (tau_a + new[q + 1]) * (new[q + 3] - s_a);
+    }
+    dw - (stored - stored_a)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -660,13 +671,13 @@ mod tests {
                 (1.0 + rnd()) * m.cohesion / k.s_p0
             };
             let mix = 0.5 * (1.0 + rnd());
-            match pre_peak_point(&m, &k, o, s, mix, secant) {
-                Some(fast) => {
+            match pre_peak_lane(&m, &k, o, s, mix, secant) {
+                (fast, true) => {
                     taken += 1;
                     let any = law_any::<true>(&m, &k, &soft, o, s, 0.0, mix, secant);
                     assert_eq!(bits(&fast), bits(&any), "o = {o:e}, s = {s:e}");
                 }
-                None => declined += 1,
+                (_, false) => declined += 1,
             }
         }
         // both cases occur (the fast path is not vacuous, the general law is reached)

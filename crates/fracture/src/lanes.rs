@@ -16,9 +16,8 @@
 //! leaves the pre-peak branch (its opening or slip passes a peak) reports it, and the caller
 //! evaluates that block joint by joint instead.
 
-use crate::joint::{EvalOut, evaluate_with, pre_peak_lane};
+use crate::joint::{EvalOut, evaluate_with, pre_peak_lane, step_dissipation};
 use crate::material::JointMaterial;
-use crate::pass::step_dissipation;
 
 /// Joints per block: two AVX2 vectors of `f64`, one AVX-512 vector.
 pub(crate) const LANES: usize = 8;

@@ -38,7 +38,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, evaluate_into};
+use crate::joint::{EvalOut, evaluate_into, step_dissipation};
 use crate::lanes::{BlockIn, BlockOut, LANES, pre_peak_block};
 use crate::material::SofteningConsts;
 use crate::set::{JointId, JointSet};
@@ -624,30 +624,6 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
         fl |= BREAKS;
     }
     fl
-}
-
-/// A joint's dissipation in a step: the step's work by the trapezoidal rule on `(A sigma, o)`
-/// and `(A tau, s)`, less the change of stored energy. `committed` is the committed opening
-/// and sliding, `A sigma`, shear secants and stored energy (`A tau = A k_t s` is computed
-/// again: the same bits as the law's); `new` is the evaluation's `[A sigma, A tau, o, s]` per
-/// point, `stored` its stored energy, `area` the points' area `A`.
-#[inline(always)]
-pub(crate) fn step_dissipation(
-    committed: ([f64; 4], [f64; 2], [f64; 2], f64),
-    new: &[f64; 8],
-    stored: f64,
-    area: f64,
-) -> f64 {
-    let (u_a, normal_a, k_a, stored_a) = committed;
-    let mut dw = 0.0;
-    for p in 0..2 {
-        let (o_a, s_a) = (u_a[2 * p], u_a[2 * p + 1]);
-        let tau_a = area * (k_a[p] * s_a);
-        let q = 4 * p;
-        dw += 0.5 * (normal_a[p] + new[q]) * (new[q + 2] - o_a)
-            + 0.5 * (tau_a + new[q + 1]) * (new[q + 3] - s_a);
-    }
-    dw - (stored - stored_a)
 }
 
 /// The nodal forces of a pass by node slot, written by the parallel pass: each joint writes

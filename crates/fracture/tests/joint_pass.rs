@@ -70,6 +70,17 @@ fn loaded(mesh: &Exploded, dx: &[[f64; 2]], s: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// The 60 x 40 grid of the runs below: its mesh, joint set, fresh state and pass scratch, and
+/// the perturbation of its load steps.
+fn grid() -> (Exploded, JointSet, JointState, JointScratch, Vec<[f64; 2]>) {
+    let mesh = exploded_grid(60, 40, 0.005, 0.005);
+    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+    let state = JointState::new(&set, &mesh.x);
+    let scratch = JointScratch::new(set.len());
+    let dx = perturbed(&mesh, 1e-6, 11);
+    (mesh, set, state, scratch, dx)
+}
+
 /// Forces, damage, histories and events after a run.
 type Outcome = (Vec<[f64; 2]>, Vec<[f64; 2]>, Histories, Vec<FractureEvent>);
 
@@ -80,13 +91,9 @@ fn run(threads: usize) -> Outcome {
         .build()
         .unwrap();
     pool.install(|| {
-        let mesh = exploded_grid(60, 40, 0.005, 0.005);
-        let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
-        let mut state = JointState::new(&set, &mesh.x);
-        let mut scratch = JointScratch::new(set.len());
+        let (mesh, set, mut state, mut scratch, dx) = grid();
         let mut f = vec![[0.0; 2]; mesh.x.len()];
         let mut events = Vec::new();
-        let dx = perturbed(&mesh, 1e-6, 11);
         for step in 1..=30 {
             let s = step as f64;
             let x = loaded(&mesh, &dx, s);
@@ -377,13 +384,9 @@ fn in_place_pass_matches_the_trial_pass_and_its_commit() {
 /// joint's results in that joint's places.
 #[test]
 fn the_pass_gives_each_joint_its_own_evaluation_bit_for_bit() {
-    let mesh = exploded_grid(60, 40, 0.005, 0.005);
-    let set = JointSet::new(&mesh.joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
-    let mut state = JointState::new(&set, &mesh.x);
-    let mut scratch = JointScratch::new(set.len());
+    let (mesh, set, mut state, mut scratch, dx) = grid();
     let mut f = vec![[0.0; 2]; mesh.x.len()];
     let mut events = Vec::new();
-    let dx = perturbed(&mesh, 1e-6, 11);
     let (mut fresh, mut damaged) = (0usize, 0usize);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     for step in 1..=30 {
