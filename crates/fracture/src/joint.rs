@@ -306,6 +306,21 @@ pub struct JointEval {
     pub stored: f64,
 }
 
+impl JointEval {
+    /// Where [`evaluate_into`] writes: the fields of `self` (all but the stored energy, which
+    /// it returns).
+    #[inline(always)]
+    pub(crate) fn out(&mut self) -> EvalOut<'_> {
+        EvalOut {
+            forces: &mut self.forces,
+            damage: &mut self.damage,
+            mode_mix: &mut self.mode_mix,
+            shear_secant: &mut self.shear_secant,
+            local: &mut self.local,
+        }
+    }
+}
+
 /// The committed history of one joint that a force evaluation reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointHistory {
@@ -393,13 +408,7 @@ pub(crate) fn evaluate_impl<const FULL: bool>(
         [damage_old, mix_old, shear_secant_old],
         t,
         [0.0; 2],
-        EvalOut {
-            forces: &mut out.forces,
-            damage: &mut out.damage,
-            mode_mix: &mut out.mode_mix,
-            shear_secant: &mut out.shear_secant,
-            local: &mut out.local,
-        },
+        out.out(),
     );
     out
 }
@@ -427,13 +436,7 @@ pub fn evaluate_offset(
         [hist.damage, hist.mode_mix, hist.shear_secant],
         t,
         off,
-        EvalOut {
-            forces: &mut out.forces,
-            damage: &mut out.damage,
-            mode_mix: &mut out.mode_mix,
-            shear_secant: &mut out.shear_secant,
-            local: &mut out.local,
-        },
+        out.out(),
     );
     out
 }

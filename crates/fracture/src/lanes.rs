@@ -16,7 +16,7 @@
 //! leaves the pre-peak branch (its opening or slip passes a peak) reports it, and the caller
 //! evaluates that block joint by joint instead.
 
-use crate::joint::{EvalOut, evaluate_with, pre_peak_lane, step_dissipation};
+use crate::joint::{JointEval, evaluate_with, pre_peak_lane, step_dissipation};
 use crate::material::JointMaterial;
 
 /// Joints per block: two AVX2 vectors of `f64`, one AVX-512 vector.
@@ -81,27 +81,14 @@ pub(crate) fn pre_peak_block(b: &BlockIn, th: f64, out: &mut BlockOut) -> bool {
         // the joint's constants, derived here as the scalar pass derives them
         let k = mat.consts(b.h[l]);
         let secant_old = [b.secant[0][l], b.secant[1][l]];
-        let (mut fj, mut d_b, mut mix_b, mut k_b, mut loc) =
-            ([[0.0; 2]; 4], [0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
+        let mut e = JointEval::default();
         let mut before_peaks = true;
-        let stored = evaluate_with::<false>(
-            k.h,
-            &xs,
-            th,
-            [0.0; 2],
-            EvalOut {
-                forces: &mut fj,
-                damage: &mut d_b,
-                mode_mix: &mut mix_b,
-                shear_secant: &mut k_b,
-                local: &mut loc,
-            },
-            |i, o, s| {
-                let (pt, ok) = pre_peak_lane(&mat, &k, o, s, 0.0, secant_old[i]);
-                before_peaks &= ok;
-                pt
-            },
-        );
+        let stored = evaluate_with::<false>(k.h, &xs, th, [0.0; 2], e.out(), |i, o, s| {
+            let (pt, ok) = pre_peak_lane(&mat, &k, o, s, 0.0, secant_old[i]);
+            before_peaks &= ok;
+            pt
+        });
+        let loc = e.local;
         all &= before_peaks;
         let u_a = [b.local[0][l], b.local[1][l], b.local[2][l], b.local[3][l]];
         let committed = (
@@ -112,11 +99,11 @@ pub(crate) fn pre_peak_block(b: &BlockIn, th: f64, out: &mut BlockOut) -> bool {
         );
         let area = 0.5 * k.h * th;
         out.dissipated[l] = b.dissipated[l] + step_dissipation(committed, &loc, stored, area);
-        for (n, f) in fj.iter().enumerate() {
+        for (n, f) in e.forces.iter().enumerate() {
             out.forces[n][0][l] = f[0];
             out.forces[n][1][l] = f[1];
         }
-        for (p, kp) in k_b.iter().enumerate() {
+        for (p, kp) in e.shear_secant.iter().enumerate() {
             out.secant[p][l] = *kp;
         }
         for (c, u) in [loc[2], loc[3], loc[6], loc[7]].iter().enumerate() {
@@ -229,8 +216,7 @@ mod tests {
                 let m = material(l);
                 let soft = m.softening_consts(k.h);
                 let secant = [b.secant[0][l], b.secant[1][l]];
-                let (mut f, mut d, mut mix, mut kb, mut loc) =
-                    ([[0.0; 2]; 4], [0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
+                let mut e = JointEval::default();
                 let stored = evaluate_into::<true, false>(
                     &m,
                     k,
@@ -239,14 +225,10 @@ mod tests {
                     [[0.0; 2], [0.0; 2], secant],
                     th,
                     [0.0; 2],
-                    EvalOut {
-                        forces: &mut f,
-                        damage: &mut d,
-                        mode_mix: &mut mix,
-                        shear_secant: &mut kb,
-                        local: &mut loc,
-                    },
+                    e.out(),
                 );
+                let (f, d, mix, kb, loc) =
+                    (e.forces, e.damage, e.mode_mix, e.shear_secant, e.local);
                 assert_eq!(
                     (d, mix),
                     ([0.0; 2], [0.0; 2]),

@@ -38,7 +38,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use rayon::prelude::*;
 
 use crate::events::{FractureEvent, FractureMode};
-use crate::joint::{EvalOut, evaluate_into, step_dissipation};
+use crate::joint::{JointEval, evaluate_into, step_dissipation};
 use crate::lanes::{BlockIn, BlockOut, LANES, pre_peak_block};
 use crate::material::SofteningConsts;
 use crate::set::{JointId, JointSet};
@@ -576,8 +576,7 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
         x[nr as usize],
         x[ns as usize],
     ];
-    let mut fj = [[0.0; 2]; 4];
-    let (mut d_b, mut mix_b, mut k_b, mut loc) = ([0.0; 2], [0.0; 2], [0.0; 2], [0.0; 8]);
+    let mut e = JointEval::default();
     let mat = &c.set.materials[c.material[i] as usize];
     let th = c.set.thickness;
     let h_ref = c.ref_length[i];
@@ -589,15 +588,10 @@ fn joint_pass<const OFF: bool, const IN_PLACE: bool>(
         [d_a, mix_a, k_a],
         th,
         if OFF { c.offsets[i] } else { [0.0; 2] },
-        EvalOut {
-            forces: &mut fj,
-            damage: &mut d_b,
-            mode_mix: &mut mix_b,
-            shear_secant: &mut k_b,
-            local: &mut loc,
-        },
+        e.out(),
     );
-    c.out.put(slots, fj);
+    let (d_b, mix_b, k_b, loc) = (e.damage, e.mode_mix, e.shear_secant, e.local);
+    c.out.put(slots, e.forces);
     let u_b = [loc[2], loc[3], loc[6], loc[7]];
     let area = 0.5 * h_ref * th;
     h.dissipated[i] = d_old + step_dissipation(committed, &loc, stored, area);
