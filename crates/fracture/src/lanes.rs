@@ -26,7 +26,7 @@ pub(crate) const LANES: usize = 8;
 pub(crate) type Lanes = [f64; LANES];
 
 /// What a block of joints reads, lane by lane.
-#[derive(Clone, Copy, Default)]
+#[derive(Default)]
 pub(crate) struct BlockIn {
     /// Node positions: `x[node][axis][lane]`, nodes P, Q, R, S.
     pub(crate) x: [[Lanes; 2]; 4],
@@ -47,8 +47,16 @@ pub(crate) struct BlockIn {
     pub(crate) dissipated: Lanes,
 }
 
+impl BlockIn {
+    /// The node positions P, Q, R, S of lane `l`.
+    #[inline(always)]
+    fn nodes(&self, l: usize) -> [[f64; 2]; 4] {
+        std::array::from_fn(|n| [self.x[n][0][l], self.x[n][1][l]])
+    }
+}
+
 /// What a block of joints produces, lane by lane.
-#[derive(Clone, Copy, Default)]
+#[derive(Default)]
 pub(crate) struct BlockOut {
     /// Nodal forces: `forces[node][axis][lane]`.
     pub(crate) forces: [[Lanes; 2]; 4],
@@ -67,7 +75,7 @@ pub(crate) struct BlockOut {
 pub(crate) fn pre_peak_block(b: &BlockIn, th: f64, out: &mut BlockOut) -> bool {
     let mut all = true;
     for l in 0..LANES {
-        let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
+        let xs = b.nodes(l);
         // the fracture energies do not enter the pre-peak law
         let mat = JointMaterial {
             ft: b.ft[l],
@@ -199,20 +207,27 @@ mod tests {
         (b, ks)
     }
 
+    /// Thickness of the test joints.
+    const TH: f64 = 0.01;
+
+    /// [`block`], and the block evaluated as the pass runs it (compiled for the processor's
+    /// vectors): its result and whether every lane stayed before the peaks.
+    fn run_block(seed: u64, reach: f64) -> (BlockIn, [JointConsts; LANES], BlockOut, bool) {
+        let (b, ks) = block(seed, reach);
+        let mut o = BlockOut::default();
+        let ok = pulp::Arch::new().dispatch(|| pre_peak_block(&b, TH, &mut o));
+        (b, ks, o, ok)
+    }
+
     #[test]
     fn a_block_is_the_scalar_pass_bit_for_bit() {
-        let th = 0.01;
-        let mut blocks = 0;
-        for seed in 0..200 {
-            let (b, ks) = block(seed, 0.95);
-            let mut o = BlockOut::default();
-            // the block as the pass runs it (compiled for the processor's vectors), the
-            // reference joint by joint without them
-            let ok = pulp::Arch::new().dispatch(|| pre_peak_block(&b, th, &mut o));
+        let (th, blocks) = (TH, 200);
+        for seed in 0..blocks {
+            // the reference joint by joint, without the vectors
+            let (b, ks, o, ok) = run_block(seed, 0.95);
             assert!(ok, "seed {seed}: a lane passed a peak");
-            blocks += 1;
             for (l, k) in ks.iter().enumerate() {
-                let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
+                let xs = b.nodes(l);
                 let m = material(l);
                 let soft = m.softening_consts(k.h);
                 let secant = [b.secant[0][l], b.secant[1][l]];
@@ -269,26 +284,25 @@ mod tests {
                 assert!(o.forces[0][0][l] != 0.0 || o.forces[0][1][l] != 0.0);
             }
         }
-        assert_eq!(blocks, 200);
         fdem_figures::record_part(
             146,
             1,
-            format!("{} joints before their peaks: identical", blocks * LANES),
+            format!(
+                "{} joints before their peaks: identical",
+                blocks as usize * LANES
+            ),
         );
     }
 
     #[test]
     fn a_lane_past_a_peak_sends_the_block_to_the_scalar_pass() {
-        let th = 0.01;
         let mut past = 0;
         for seed in 0..200 {
             // openings and slips up to 1.03 times the peaks: some blocks have a lane past one
-            let (b, ks) = block(seed, 1.03);
-            let mut o = BlockOut::default();
-            let ok = pulp::Arch::new().dispatch(|| pre_peak_block(&b, th, &mut o));
+            let (b, ks, _, ok) = run_block(seed, 1.03);
             // the scalar law's own verdict, point by point
             let beyond = (0..LANES).any(|l| {
-                let xs = std::array::from_fn(|n| [b.x[n][0][l], b.x[n][1][l]]);
+                let xs = b.nodes(l);
                 let kin = crate::joint::kinematics(&xs, ks[l].h);
                 (0..2).any(|p| {
                     let (_, before) =
