@@ -75,8 +75,8 @@ pub use joint::{
 };
 pub use material::{JointConsts, JointMaterial, JointMaterialInput, SofteningConsts};
 pub use pass::{
-    JointScratch, accumulate_joint_forces, accumulate_joint_forces_committing, commit_joints,
-    commit_joints_at_last_pass,
+    JointScratch, accumulate_joint_forces, accumulate_joint_forces_committing, add_joint_forces,
+    commit_joints, commit_joints_at_last_pass, joint_forces_ahead, joint_forces_ahead_committing,
 };
 pub use set::{Joint, JointId, JointSet};
 pub use softening::{Z_INTEGRAL, z};

@@ -8,8 +8,13 @@
 //! and the dissipation) goes into the trial arrays of the caller's [`JointScratch`], one array
 //! per field. The pass runs in parallel over fixed chunks of [`CHUNK`] joints; each chunk also
 //! records whether one of its joints softened for the first time or may break. Then each node
-//! sums its joint slots in a fixed order (CSR list of the [`JointSet`], increasing joint
-//! order) and adds the sum to the node force.
+//! adds its joint slots to its force, slot after slot in a fixed order (the node-slot list of
+//! the [`JointSet`], increasing joint order). Where no node has more than two slots (every
+//! exploded mesh) each node's slots sit side by side in the buffer and the gather reads it
+//! straight through. A caller with its own pass over the node forces (the solver's element
+//! pass) runs the joint pass first ([`joint_forces_ahead`]) and adds the joints' forces range by
+//! range inside its pass ([`add_joint_forces`]): the same sums without a trip of their own
+//! through the node array.
 //!
 //! The end-of-step [`commit_joints`] at the positions of the last pass (bitwise; the end of a
 //! central-difference step) swaps the trial arrays with the committed ones (no copy, no
@@ -67,13 +72,18 @@ const BREAKS: u8 = 2;
 /// Per-joint scratch of the pass, owned by the stepping code.
 #[derive(Debug, Clone, Default)]
 pub struct JointScratch {
-    /// The nodal forces of the last pass by node slot, in the order of the set's node-slot
-    /// list ([`JointSet::node_slots`]): the pass scatters each joint's four forces to their
-    /// slots, and the per-node gather then reads this array in order.
+    /// The nodal forces of the last pass by node slot, node after node, each node's slots in
+    /// the order of the set's node-slot list ([`JointSet::node_slots`], increasing joint
+    /// order): the pass scatters each joint's four forces to their slots, and the per-node
+    /// gather then reads this array in order.
     slot_forces: SlotBuf,
-    /// Per slot `4 j + k` (node k of joint j), its index in the node-slot list (the inverse
-    /// permutation of [`JointSet::node_slots`]).
+    /// Per slot `4 j + k` (node k of joint j), its place in `slot_forces`.
     slot_pos: Vec<u32>,
+    /// True when no node has more than two slots (every node of a wholly exploded mesh lies
+    /// on two edges of its triangle): node `i`'s slots are then `2 i` and `2 i + 1`, a place
+    /// no joint fills holding -0.0 (`f + (-0.0) = f` for every `f`), and the gather needs no
+    /// offsets and no inner loop. Otherwise the places follow the node-slot list.
+    pairs: bool,
     /// Trial history of the last pass (the committed one after a commit swapped them).
     trial: Histories,
     /// Per chunk of joints: [`SOFTENED`] | [`BREAKS`].
@@ -110,7 +120,6 @@ impl JointScratch {
     /// Sizes the buffers for `n` joints (no-op when they already are).
     fn fit(&mut self, n: usize) {
         self.trial.resize(n);
-        self.slot_forces.fit(4 * n);
         self.flags.resize(n.div_ceil(CHUNK), 0);
         if self.softened.capacity() == 0 {
             self.softened.reserve(256);
@@ -142,15 +151,30 @@ impl JointScratch {
         })
     }
 
-    /// Builds the slot positions of `set` (once: a scratch serves one joint set).
+    /// Builds the slot places of `set` (once: a scratch serves one joint set) and sizes the
+    /// slot buffer.
     fn fit_slots(&mut self, set: &JointSet) {
-        if self.slot_pos.len() == set.node_slots.len() {
-            return;
+        if self.slot_pos.len() != set.node_slots.len() {
+            let offsets = &set.node_offsets;
+            self.pairs = !offsets.is_empty() && offsets.windows(2).all(|w| w[1] - w[0] <= 2);
+            self.slot_pos = vec![0; set.node_slots.len()];
+            for (i, w) in offsets.windows(2).enumerate() {
+                for p in w[0]..w[1] {
+                    let slot = set.node_slots[p as usize] as usize;
+                    self.slot_pos[slot] = if self.pairs {
+                        (2 * i) as u32 + (p - w[0])
+                    } else {
+                        p
+                    };
+                }
+            }
         }
-        self.slot_pos = vec![0; set.node_slots.len()];
-        for (p, &slot) in set.node_slots.iter().enumerate() {
-            self.slot_pos[slot as usize] = p as u32;
-        }
+        let n = if self.pairs {
+            2 * set.n_nodes
+        } else {
+            set.node_slots.len()
+        };
+        self.slot_forces.fit(n);
     }
 
     /// The joints whose damage became positive (at either point, from zero at both) at the
@@ -257,7 +281,6 @@ fn in_place_pass<const OFF: bool>(
 ) {
     let n = set.len();
     scratch.fit_slots(set);
-    scratch.slot_forces.fit(4 * n);
     scratch.flags.resize(n.div_ceil(CHUNK), 0);
     scratch.marks.resize(n, 0);
     let inp = PassIn::new(
@@ -639,14 +662,16 @@ impl Clone for SlotBuf {
 }
 
 impl SlotBuf {
-    /// Sizes the buffer for `n` slots (the pages touched in parallel on the first sizing).
+    /// Sizes the buffer for `n` slots, each holding -0.0 until a joint writes it (the pages
+    /// touched in parallel on the first sizing).
     fn fit(&mut self, n: usize) {
         if self.0.len() != n {
+            let z = (-0.0f64).to_bits();
             self.0 = Vec::new();
             self.0.par_extend(
                 (0..n)
                     .into_par_iter()
-                    .map(|_| [AtomicU64::new(0), AtomicU64::new(0)]),
+                    .map(|_| [AtomicU64::new(z), AtomicU64::new(z)]),
             );
         }
     }
@@ -739,15 +764,44 @@ pub fn accumulate_joint_forces_committing(
 /// The per-node gather of the last pass's slot forces into `f`; the positions are kept for the
 /// commit on the way, unless the caller turned the check off.
 fn gather(set: &JointSet, x: &[[f64; 2]], scratch: &mut JointScratch, f: &mut [[f64; 2]]) {
-    // gather per node over its (joint, slot) list in joint order (parallel and
-    // deterministic); the positions are kept for the commit on the way, unless the caller
-    // turned the check off
-    // slot 4 j + k of the flat list is node k of joint j
+    let sc = &*scratch;
+    if scratch.skip_position_copy {
+        f.par_chunks_mut(NODE_CHUNK)
+            .with_min_len(min_chunks(set.len()))
+            .enumerate()
+            .for_each(|(c, fc)| gather_range(set, sc, c * NODE_CHUNK, fc));
+    } else {
+        let mut x_last = std::mem::take(&mut scratch.x_last);
+        x_last.resize(x.len(), [0.0; 2]);
+        let sc = &*scratch;
+        f.par_chunks_mut(NODE_CHUNK)
+            .zip(x_last.par_chunks_mut(NODE_CHUNK))
+            .zip(x.par_chunks(NODE_CHUNK))
+            .with_min_len(min_chunks(set.len()))
+            .enumerate()
+            .for_each(|(c, ((fc, xl), xc))| {
+                xl.copy_from_slice(xc);
+                gather_range(set, sc, c * NODE_CHUNK, fc);
+            });
+        scratch.x_last = x_last;
+    }
+}
+
+/// Adds to `fc`, the forces of nodes `i0..i0 + fc.len()`, each node's slot forces in the order
+/// of its (joint, slot) list (increasing joint order): `f_i += f_slot`, slot after slot.
+#[inline(always)]
+fn gather_range(set: &JointSet, scratch: &JointScratch, i0: usize, fc: &mut [[f64; 2]]) {
     let forces = &scratch.slot_forces;
-    let offsets = &set.node_offsets;
-    let gather = |c: usize, fc: &mut [[f64; 2]]| {
-        let i0 = c * NODE_CHUNK;
-        let off = &offsets[i0..i0 + fc.len() + 1];
+    if scratch.pairs {
+        for (i, fi) in (2 * i0..).step_by(2).zip(fc) {
+            let (a, b) = (forces.get(i), forces.get(i + 1));
+            fi[0] += a[0];
+            fi[1] += a[1];
+            fi[0] += b[0];
+            fi[1] += b[1];
+        }
+    } else {
+        let off = &set.node_offsets[i0..i0 + fc.len() + 1];
         for (fi, w) in fc.iter_mut().zip(off.windows(2)) {
             for p in w[0] as usize..w[1] as usize {
                 let fe = forces.get(p);
@@ -755,23 +809,74 @@ fn gather(set: &JointSet, x: &[[f64; 2]], scratch: &mut JointScratch, f: &mut [[
                 fi[1] += fe[1];
             }
         }
-    };
-    if scratch.skip_position_copy {
-        f.par_chunks_mut(NODE_CHUNK)
-            .with_min_len(min_chunks(set.len()))
-            .enumerate()
-            .for_each(|(c, fc)| gather(c, fc));
+    }
+}
+
+/// The joint pass of [`accumulate_joint_forces`] without its gather, for a caller that adds
+/// the joints' forces node range by node range with [`add_joint_forces`], inside a pass of its
+/// own over the node forces (the solver's element pass, while each range is in cache): the
+/// same forces, trial history and commit, bit for bit, with one trip through the node array
+/// less.
+pub fn joint_forces_ahead(
+    set: &JointSet,
+    state: &JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+) {
+    check_sizes(set, state, x);
+    assert!(
+        scratch.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
+    trial_pass(set, state, x, scratch);
+    keep_positions(set, x, scratch);
+    scratch.valid = Some(state.generation);
+}
+
+/// [`joint_forces_ahead`] for the last force evaluation of a step, as
+/// [`accumulate_joint_forces_committing`] is to [`accumulate_joint_forces`].
+pub fn joint_forces_ahead_committing(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    scratch: &mut JointScratch,
+) {
+    check_sizes(set, state, x);
+    assert!(
+        scratch.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
+    if set.initial_offsets.is_empty() {
+        in_place_pass::<false>(set, state, x, scratch);
     } else {
+        in_place_pass::<true>(set, state, x, scratch);
+    }
+    keep_positions(set, x, scratch);
+    scratch.valid = None;
+    scratch.in_place = Some(state.generation);
+}
+
+/// Adds the forces of the last [`joint_forces_ahead`] (or its committing variant) on nodes
+/// `i0..i0 + f.len()` to `f`, with the arithmetic of [`accumulate_joint_forces`]'s gather.
+/// Callable from parallel tasks on disjoint ranges.
+pub fn add_joint_forces(set: &JointSet, scratch: &JointScratch, i0: usize, f: &mut [[f64; 2]]) {
+    assert!(
+        i0 + f.len() <= set.n_nodes,
+        "node range past the joint set's nodes"
+    );
+    gather_range(set, scratch, i0, f);
+}
+
+/// The positions of a pass kept for the commit, unless the caller turned the check off.
+fn keep_positions(set: &JointSet, x: &[[f64; 2]], scratch: &mut JointScratch) {
+    if !scratch.skip_position_copy {
         scratch.x_last.resize(x.len(), [0.0; 2]);
-        f.par_chunks_mut(NODE_CHUNK)
-            .zip(scratch.x_last.par_chunks_mut(NODE_CHUNK))
+        scratch
+            .x_last
+            .par_chunks_mut(NODE_CHUNK)
             .zip(x.par_chunks(NODE_CHUNK))
             .with_min_len(min_chunks(set.len()))
-            .enumerate()
-            .for_each(|(c, ((fc, xl), xc))| {
-                xl.copy_from_slice(xc);
-                gather(c, fc);
-            });
+            .for_each(|(xl, xc)| xl.copy_from_slice(xc));
     }
 }
 

@@ -478,3 +478,86 @@ fn the_pass_gives_each_joint_its_own_evaluation_bit_for_bit() {
         ),
     );
 }
+
+/// Every node's force is its starting value plus its joints' forces
+/// (`JointScratch::joint_forces`) added one by one in increasing joint order, bit for bit:
+/// through the pass's own gather, and range by range inside another pass over the nodes
+/// (`joint_forces_ahead` and its committing variant, then `add_joint_forces`). With at most
+/// two joints per node (an exploded mesh: each node's two slots in place, unused ones -0.0)
+/// and with every joint doubled (up to four per node: the node-slot list). Starting values of
+/// -0.0 at nodes without joints keep their sign.
+#[test]
+fn node_sums_add_each_joint_in_joint_order_bit_for_bit() {
+    let mesh = exploded_grid(30, 20, 0.005, 0.005);
+    let dx = perturbed(&mesh, 1e-6, 5);
+    let bits = |v: &[[f64; 2]]| {
+        v.iter()
+            .flat_map(|p| p.map(f64::to_bits))
+            .collect::<Vec<_>>()
+    };
+    for doubled in [false, true] {
+        let mut joints = mesh.joints.clone();
+        if doubled {
+            joints.extend_from_slice(&mesh.joints);
+        }
+        let set = JointSet::new(&joints, &[material(3e11)], mesh.x.len(), 1.0).unwrap();
+        let most = set.node_offsets.windows(2).map(|w| w[1] - w[0]).max();
+        assert_eq!(most, Some(if doubled { 4 } else { 2 }));
+        let mut state = JointState::new(&set, &mesh.x);
+        let mut scratch = JointScratch::new(set.len());
+        let mut events = Vec::new();
+        let f0: Vec<[f64; 2]> = (0..mesh.x.len())
+            .map(|i| {
+                if i % 3 == 0 {
+                    [-0.0; 2]
+                } else {
+                    [1e-3 * i as f64, -1.0]
+                }
+            })
+            .collect();
+        for step in 1..=30 {
+            let s = step as f64;
+            let x = loaded(&mesh, &dx, s);
+            let mut whole = f0.clone();
+            accumulate_joint_forces(&set, &state, &x, &mut scratch, &mut whole);
+            let mut reference = f0.clone();
+            for j in 0..set.len() {
+                for (k, fk) in scratch.joint_forces(&set, j).iter().enumerate() {
+                    let r = &mut reference[set.nodes[j][k] as usize];
+                    r[0] += fk[0];
+                    r[1] += fk[1];
+                }
+            }
+            assert_eq!(
+                bits(&whole),
+                bits(&reference),
+                "doubled {doubled}, step {step}"
+            );
+            for committing in [false, true] {
+                if committing {
+                    joint_forces_ahead_committing(&set, &mut state, &x, &mut scratch);
+                } else {
+                    joint_forces_ahead(&set, &state, &x, &mut scratch);
+                }
+                let mut ranged = f0.clone();
+                for (i0, fc) in (0..).step_by(777).zip(ranged.chunks_mut(777)) {
+                    add_joint_forces(&set, &scratch, i0, fc);
+                }
+                assert_eq!(
+                    bits(&ranged),
+                    bits(&whole),
+                    "doubled {doubled}, committing {committing}, step {step}"
+                );
+            }
+            commit_joints_at_last_pass(&set, &mut state, &x, s * 1e-6, &mut scratch, &mut events);
+        }
+        let damaged = (0..set.len())
+            .filter(|&j| state.joint_damage(j) > 0.0)
+            .count();
+        assert!(
+            damaged > 0 && !events.is_empty(),
+            "doubled {doubled}: {damaged} damaged, {} broken",
+            events.len()
+        );
+    }
+}

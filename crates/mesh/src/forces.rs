@@ -32,6 +32,9 @@ use rayon::prelude::*;
 const TRI_CHUNK: usize = 8192;
 /// Nodes per rayon task in the gather pass.
 const NODE_CHUNK: usize = 8192;
+/// Triangles per range handed to the `then` of [`Elements::set_internal_forces_then`] on a
+/// wholly exploded mesh: their 1 536 nodes' forces (24 KiB) stay in the first-level cache.
+const THEN_TRIS: usize = 512;
 
 /// Scratch memory of the force kernels: three nodal forces per triangle.
 #[derive(Clone, Debug, Default)]
@@ -117,9 +120,9 @@ impl Elements {
     ) {
         if self.owned_nodes {
             if self.prestressed() {
-                self.owned::<false, true>(x, v, f);
+                self.owned::<false, true, _>(x, v, f, &|_, _| {});
             } else {
-                self.owned::<false, false>(x, v, f);
+                self.owned::<false, false, _>(x, v, f, &|_, _| {});
             }
         } else {
             self.internal_forces_buffered(x, v, f, scratch);
@@ -135,27 +138,53 @@ impl Elements {
         f: &mut [[f64; 2]],
         scratch: &mut ForceScratch,
     ) {
+        self.set_internal_forces_then(x, v, f, scratch, |_, _| {});
+    }
+
+    /// [`Elements::set_internal_forces`], then `then(i0, fc)` on each range `fc` of the forces
+    /// of nodes `i0..i0 + fc.len()`, the ranges covering the mesh's nodes once, in parallel. On
+    /// a wholly exploded mesh each range is the nodes of one chunk of triangles, handed over
+    /// right after the chunk's forces are written, while they are in cache: a force term that
+    /// adds per node (the joints) joins the pass instead of making a trip of its own through
+    /// the node array. The result is that of `then` run on the whole array afterwards.
+    pub fn set_internal_forces_then<G>(
+        &self,
+        x: &[[f64; 2]],
+        v: &[[f64; 2]],
+        f: &mut [[f64; 2]],
+        scratch: &mut ForceScratch,
+        then: G,
+    ) where
+        G: Fn(usize, &mut [[f64; 2]]) + Sync,
+    {
         if self.owned_nodes {
             if self.prestressed() {
-                self.owned::<true, true>(x, v, f);
+                self.owned::<true, true, G>(x, v, f, &then);
             } else {
-                self.owned::<true, false>(x, v, f);
+                self.owned::<true, false, G>(x, v, f, &then);
             }
         } else {
             f.fill([0.0; 2]);
             self.internal_forces_buffered(x, v, f, scratch);
+            f[..self.n_nodes]
+                .par_chunks_mut(3 * TRI_CHUNK)
+                .enumerate()
+                .for_each(|(ci, fc)| then(ci * 3 * TRI_CHUNK, fc));
         }
     }
 
     /// The kernel of a wholly exploded mesh: each triangle adds (`SET`: writes, as if onto
     /// zero) its forces to its own three nodes, in parallel over fixed chunks; `PRE`: with
-    /// the triangles' initial stresses.
-    fn owned<const SET: bool, const PRE: bool>(
+    /// the triangles' initial stresses. Then `then(i0, fc)` on each chunk's nodes.
+    fn owned<const SET: bool, const PRE: bool, G>(
         &self,
         x: &[[f64; 2]],
         v: &[[f64; 2]],
         f: &mut [[f64; 2]],
-    ) {
+        then: &G,
+    ) where
+        G: Fn(usize, &mut [[f64; 2]]) + Sync,
+    {
         assert!(x.len() >= self.n_nodes && f.len() >= self.n_nodes);
         let mats = &self.materials[..];
         let viscous = self.viscous;
@@ -169,35 +198,46 @@ impl Elements {
             .zip(self.tris.par_chunks(TRI_CHUNK))
             .enumerate()
             .for_each(|(ci, ((fc, xc), tc))| {
-                let pc = if PRE { &pre[ci * TRI_CHUNK..] } else { pre };
-                for (k, ((fa, xa), td)) in fc
-                    .chunks_exact_mut(3)
-                    .zip(xc.chunks_exact(3))
-                    .zip(tc)
-                    .enumerate()
-                {
-                    // the triangle's own nodes 3t..3t+3 (`owned_nodes`): read in order, no
-                    // node ids
-                    let xs = [xa[0], xa[1], xa[2]];
-                    let c = &mats[td.material as usize];
-                    let s0 = if PRE { Some(&pc[k]) } else { None };
-                    let ft = if viscous {
-                        let (s, _) = tri_stress::<true>(td, c, xs, v, s0);
-                        nodal_forces(s, c.half_t, xs)
-                    } else {
-                        let (s, _) = tri_stress::<false>(td, c, xs, v, s0);
-                        nodal_forces(s, c.half_t, xs)
-                    };
-                    for (fi, p) in fa.iter_mut().zip(ft) {
-                        // the gather's node sum over one slot, `0 + f_slot`, then `f_i += sum`
-                        let s = [0.0 + p[0], 0.0 + p[1]];
-                        if SET {
-                            *fi = [0.0 + s[0], 0.0 + s[1]];
+                // sub-blocks of the chunk, each handed to `then` while its forces are in the
+                // core's first-level cache
+                let blocks = fc
+                    .chunks_mut(3 * THEN_TRIS)
+                    .zip(xc.chunks(3 * THEN_TRIS))
+                    .zip(tc.chunks(THEN_TRIS));
+                for (b, ((fb, xb), tb)) in blocks.enumerate() {
+                    let t0 = ci * TRI_CHUNK + b * THEN_TRIS;
+                    let pc = if PRE { &pre[t0..] } else { pre };
+                    for (k, ((fa, xa), td)) in fb
+                        .chunks_exact_mut(3)
+                        .zip(xb.chunks_exact(3))
+                        .zip(tb)
+                        .enumerate()
+                    {
+                        // the triangle's own nodes 3t..3t+3 (`owned_nodes`): read in order, no
+                        // node ids
+                        let xs = [xa[0], xa[1], xa[2]];
+                        let c = &mats[td.material as usize];
+                        let s0 = if PRE { Some(&pc[k]) } else { None };
+                        let ft = if viscous {
+                            let (s, _) = tri_stress::<true>(td, c, xs, v, s0);
+                            nodal_forces(s, c.half_t, xs)
                         } else {
-                            fi[0] += s[0];
-                            fi[1] += s[1];
+                            let (s, _) = tri_stress::<false>(td, c, xs, v, s0);
+                            nodal_forces(s, c.half_t, xs)
+                        };
+                        for (fi, p) in fa.iter_mut().zip(ft) {
+                            // the gather's node sum over one slot, `0 + f_slot`, then
+                            // `f_i += sum`
+                            let s = [0.0 + p[0], 0.0 + p[1]];
+                            if SET {
+                                *fi = [0.0 + s[0], 0.0 + s[1]];
+                            } else {
+                                fi[0] += s[0];
+                                fi[1] += s[1];
+                            }
                         }
                     }
+                    then(3 * t0, fb);
                 }
             });
     }

@@ -187,3 +187,62 @@ fn exploded_kernel_matches_the_two_pass_kernel_bit_for_bit() {
     assert!(!elements(&mesh, Material::new(1e10, 0.25, 2500.0)).owned_nodes);
     fdem_figures::record_part(62, 2, "exploded kernel equal bit for bit");
 }
+
+/// `set_internal_forces_then` hands every node to `then` exactly once, after the node's own
+/// triangles wrote its forces: the result is `set_internal_forces` followed by `then` over the
+/// whole array, bit for bit, on a wholly exploded mesh (ranges of one chunk of triangles, in
+/// the kernel) and on a connected one (ranges after the pass), on 1 and 2 threads.
+#[test]
+fn forces_then_visits_each_node_once_after_its_forces() {
+    use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+    let mesh = common::grid(70, 60, 1.4, 1.2, 0.3, 5);
+    let ex = explode(&mesh, None).unwrap();
+    for m in [&ex.mesh, &mesh] {
+        let el = elements(m, Material::new(1e10, 0.25, 2500.0));
+        let mut rng = Rng(7);
+        let x: Vec<[f64; 2]> = m
+            .nodes
+            .iter()
+            .map(|p| [p[0] + 1e-4 * rng.next(), p[1] + 1e-4 * rng.next()])
+            .collect();
+        let v = vec![[0.0; 2]; x.len()];
+        // the added term: a per-node value whose sum with the element force rounds
+        let add = |i: usize| [1e3 * (i % 7) as f64 + 0.1, -2e3 * (i % 5) as f64 - 0.3];
+        let mut s = fdem_mesh::ForceScratch::new(&el);
+        let mut whole = vec![[0.0; 2]; x.len()];
+        el.set_internal_forces(&x, &v, &mut whole, &mut s);
+        for (i, w) in whole.iter_mut().enumerate() {
+            let a = add(i);
+            w[0] += a[0];
+            w[1] += a[1];
+        }
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let visits: Vec<AtomicU32> = (0..x.len()).map(|_| AtomicU32::new(0)).collect();
+            let mut f = vec![[7.0; 2]; x.len()];
+            pool.install(|| {
+                el.set_internal_forces_then(&x, &v, &mut f, &mut s, |i0, fc| {
+                    for (i, fi) in (i0..).zip(fc) {
+                        visits[i].fetch_add(1, Relaxed);
+                        let a = add(i);
+                        fi[0] += a[0];
+                        fi[1] += a[1];
+                    }
+                })
+            });
+            let owned = el.owned_nodes;
+            assert!(
+                visits.iter().all(|c| c.load(Relaxed) == 1),
+                "owned {owned}, {threads} threads: a node not visited exactly once"
+            );
+            let same = f
+                .iter()
+                .zip(&whole)
+                .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits));
+            assert!(same, "owned {owned}, {threads} threads: forces differ");
+        }
+    }
+}

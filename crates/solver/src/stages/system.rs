@@ -26,6 +26,43 @@ const PAR_MIN_DOFS: usize = 1 << 16;
 /// DOFs per rayon task in the element-wise loops.
 const DOF_CHUNK: usize = 1 << 14;
 
+/// The time now when `on` (the stage timers are on).
+fn clock(on: bool) -> Option<Instant> {
+    on.then(Instant::now)
+}
+
+/// Seconds since `s` (0 when the timers are off).
+fn secs(s: Option<Instant>) -> f64 {
+    s.map_or(0.0, |s| s.elapsed().as_secs_f64())
+}
+
+/// The forces of `stages` into `f`, in stage order; with `times`, each stage's wall time added
+/// to its entry.
+fn stage_forces(
+    stages: &mut [Box<dyn Stage>],
+    times: Option<&mut [f64]>,
+    t: f64,
+    x: &[[f64; 2]],
+    v: &[[f64; 2]],
+    f: &mut [[f64; 2]],
+    events: &mut StepEvents,
+) {
+    match times {
+        Some(times) => {
+            for (c, ct) in stages.iter_mut().zip(times) {
+                let sc = Instant::now();
+                c.forces(t, x, v, f, events);
+                *ct += sc.elapsed().as_secs_f64();
+            }
+        }
+        None => {
+            for c in stages {
+                c.forces(t, x, v, f, events);
+            }
+        }
+    }
+}
+
 /// A force term beyond the elements and the loads (contact, joints, ...): its forces, its
 /// history at the end of a step and its frequency bounds, from the scene and the state. What
 /// else a stage does lives in its own layer: [`StageOutput`] (energy books, reports, files,
@@ -50,6 +87,21 @@ pub trait ForceTerm: Send {
     /// between (the time crate's [`SecondOrderSystem::next_evaluation_ends_step`]): a term may
     /// advance its history in that call. Default: nothing.
     fn next_evaluation_ends_step(&mut self) {}
+    /// For the first term of a system whose element forces it follows directly (no loads,
+    /// gravity or mass damping in between, a whole run): runs the term's pass at `(t, x, v)`
+    /// ahead of the element forces, in place of [`ForceTerm::forces`], and returns what adds
+    /// its forces node range by node range, which the element pass calls while each range is
+    /// in cache. The forces must be those of [`ForceTerm::forces`] bit for bit. `None` (the
+    /// default): the term has no such split and did nothing; its `forces` follows as usual.
+    fn forces_ahead(
+        &mut self,
+        _t: f64,
+        _x: &[[f64; 2]],
+        _v: &[[f64; 2]],
+        _events: &mut StepEvents,
+    ) -> Option<&dyn AheadForces> {
+        None
+    }
     /// Commits history at the end of an accepted step at `(t, x, v)`, and puts what it hands
     /// to the stages after it into `events` (the fracture stage: the released pairs and its
     /// fracture events). `at_last`: the step's last [`ForceTerm::forces`] call was at these
@@ -83,6 +135,12 @@ pub trait ForceTerm: Send {
     }
     /// The time step changed to `h` (an adaptive step; default: nothing).
     fn set_time_step(&mut self, _h: f64) {}
+}
+
+/// The nodal forces a term computed ahead of the element pass ([`ForceTerm::forces_ahead`]).
+pub trait AheadForces: Sync {
+    /// Adds the term's forces on nodes `i0..i0 + f.len()` to `f`.
+    fn add(&self, i0: usize, f: &mut [[f64; 2]]);
 }
 
 /// What [`ForceTerm::active_frequency_bound`] counts as engaged at its positions.
@@ -296,6 +354,11 @@ pub struct SceneSystem {
     pub contributions: Vec<Box<dyn Stage>>,
     /// What the stages hand to each other in the step pipeline (the released pairs).
     pub events: StepEvents,
+    /// Whether the first stage may run its pass ahead of the element forces and add its
+    /// forces inside the element pass ([`ForceTerm::forces_ahead`]; on, off only to compare).
+    pub(crate) ahead: bool,
+    /// The evaluations whose first stage ran ahead of the element pass.
+    pub(crate) ahead_evaluations: u64,
     /// Nodal force of the last evaluation (internal + external + damping + contributions).
     pub force: Vec<[f64; 2]>,
     /// The internal (element) part of [`SceneSystem::force`], kept only after
@@ -345,6 +408,8 @@ impl SceneSystem {
             x0,
             alpha,
             contributions: Vec::new(),
+            ahead: true,
+            ahead_evaluations: 0,
             events: StepEvents::default(),
             force: vec![[0.0; 2]; n],
             internal_force: Vec::new(),
@@ -427,14 +492,46 @@ impl SceneSystem {
     pub fn evaluate(&mut self, t: f64, x: &[f64], v: &[f64]) {
         let xn = x.as_chunks::<2>().0;
         let vn = v.as_chunks::<2>().0;
-        let clock = |on: bool| on.then(Instant::now);
-        let secs = |s: Option<Instant>| s.map_or(0.0, |s| s.elapsed().as_secs_f64());
         let s = clock(self.timing);
         let partial = self.dist.is_some();
+        // the first stage's forces join the element pass when nothing comes in between
+        let mut ahead_s = 0.0;
+        let fused = self.ahead
+            && self.dist.is_none()
+            && self.model.loads.is_empty()
+            && self.model.gravity.is_none()
+            && self.alpha == 0.0
+            && self.internal_force.is_empty()
+            && self.elements.n_nodes == self.force.len();
+        let ahead = match self.contributions.first_mut() {
+            Some(c) if fused => {
+                c.set_partial(false);
+                let sa = clock(self.timing);
+                let a = c.forces_ahead(t, xn, vn, &mut self.events);
+                ahead_s = secs(sa);
+                a
+            }
+            _ => None,
+        };
+        let n_ahead = usize::from(ahead.is_some());
+        self.ahead_evaluations += n_ahead as u64;
         let (xn, vn) = match &mut self.dist {
             None => {
-                self.elements
-                    .set_internal_forces(xn, vn, &mut self.force, &mut self.scratch);
+                match ahead {
+                    Some(a) => self.elements.set_internal_forces_then(
+                        xn,
+                        vn,
+                        &mut self.force,
+                        &mut self.scratch,
+                        |i0, fc| a.add(i0, fc),
+                    ),
+                    None => self.elements.set_internal_forces(
+                        xn,
+                        vn,
+                        &mut self.force,
+                        &mut self.scratch,
+                    ),
+                }
                 (xn, vn)
             }
             Some(d) => {
@@ -456,7 +553,7 @@ impl SceneSystem {
         if !self.internal_force.is_empty() {
             self.internal_force.copy_from_slice(&self.force);
         }
-        self.timers.internal_forces += secs(s);
+        self.timers.internal_forces += secs(s) - ahead_s;
         if !self.model.loads.is_empty() || self.model.gravity.is_some() {
             let s = clock(self.timing);
             self.model.add_external(t, self.force.as_flattened_mut());
@@ -472,28 +569,21 @@ impl SceneSystem {
             self.timers.mass_damping += secs(s);
         }
         if !self.contributions.is_empty() {
-            let s = clock(self.timing);
             for c in &mut self.contributions {
                 c.set_partial(partial);
             }
+            let s = clock(self.timing);
             if self.timing {
                 self.contribution_times
                     .resize(self.contributions.len(), 0.0);
-                for (c, ct) in self
-                    .contributions
-                    .iter_mut()
-                    .zip(&mut self.contribution_times)
-                {
-                    let sc = Instant::now();
-                    c.forces(t, xn, vn, &mut self.force, &mut self.events);
-                    *ct += sc.elapsed().as_secs_f64();
-                }
-            } else {
-                for c in &mut self.contributions {
-                    c.forces(t, xn, vn, &mut self.force, &mut self.events);
+                if n_ahead > 0 {
+                    self.contribution_times[0] += ahead_s;
                 }
             }
-            self.timers.contributions += secs(s);
+            let times = (self.timing).then(|| &mut self.contribution_times[n_ahead..]);
+            let stages = &mut self.contributions[n_ahead..];
+            stage_forces(stages, times, t, xn, vn, &mut self.force, &mut self.events);
+            self.timers.contributions += secs(s) + ahead_s;
         }
         self.evaluations += 1;
     }

@@ -28,7 +28,7 @@ fn root() -> PathBuf {
 
 /// A fresh temporary folder, removed when the test that made it passes (kept for a look
 /// when it fails).
-struct TempDir(PathBuf);
+pub(super) struct TempDir(PathBuf);
 
 impl std::ops::Deref for TempDir {
     type Target = Path;
@@ -45,7 +45,7 @@ impl Drop for TempDir {
     }
 }
 
-fn temp_dir(tag: &str) -> TempDir {
+pub(super) fn temp_dir(tag: &str) -> TempDir {
     let d = std::env::temp_dir().join(format!("fdem-ckfracture-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
@@ -53,7 +53,7 @@ fn temp_dir(tag: &str) -> TempDir {
 }
 
 /// `examples/brazilian-disc-fracture.json` on the ring mesh `mesh` of `meshes/`.
-fn disc(dir: &Path, mesh: &str) -> Problem {
+pub(super) fn disc(dir: &Path, mesh: &str) -> Problem {
     let text = std::fs::read_to_string(root().join("examples/brazilian-disc-fracture.json"));
     let mut v: serde_json::Value = serde_json::from_str(&text.unwrap()).unwrap();
     let m = root().join("meshes").join(mesh);
@@ -66,7 +66,7 @@ fn disc(dir: &Path, mesh: &str) -> Problem {
 
 /// The scene's fracture stage as `crate::stages::attach_to` builds it, and its bonded pairs at
 /// set-up.
-fn stage(
+pub(super) fn stage(
     l: &Problem,
     sys: &SceneSystem,
     out: Option<&Path>,
@@ -80,7 +80,7 @@ fn stage(
     (stage, bonded)
 }
 
-fn system(l: &Problem) -> SceneSystem {
+pub(super) fn system(l: &Problem) -> SceneSystem {
     let alpha = l.scene.damping.mass_proportional;
     SceneSystem::new(l.model.clone(), l.elements.clone(), alpha)
 }
@@ -360,7 +360,7 @@ impl StageCheckpoint for Tee {
 impl StageDistribution for Tee {}
 
 /// The broken joints of the fracture stage first in `sys`.
-fn broken(sys: &SceneSystem) -> usize {
+pub(super) fn broken(sys: &SceneSystem) -> usize {
     sys.contributions[0].joint_state().unwrap().n_broken
 }
 

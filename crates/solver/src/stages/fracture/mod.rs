@@ -34,15 +34,18 @@ use std::path::Path;
 
 use fdem_fracture::{
     JointScratch, JointSet, JointState, accumulate_joint_forces,
-    accumulate_joint_forces_committing, commit_joints, commit_joints_at_last_pass,
+    accumulate_joint_forces_committing, add_joint_forces, commit_joints,
+    commit_joints_at_last_pass, joint_forces_ahead, joint_forces_ahead_committing,
 };
 use serde::Serialize;
 
 pub use crate::input::scene::fracture::{FractureSection, Region};
 use crate::problem::model::Model;
 use crate::stages::star_bonds::StarBonds;
-use crate::stages::system::{ForceTerm, StepEvents};
+use crate::stages::system::{AheadForces, ForceTerm, StepEvents};
 
+#[cfg(test)]
+mod ahead_tests;
 mod checkpoint;
 #[cfg(test)]
 mod checkpoint_tests;
@@ -305,6 +308,12 @@ impl crate::stages::system::Stage for FractureStage {
     }
 }
 
+impl AheadForces for FractureStage {
+    fn add(&self, i0: usize, f: &mut [[f64; 2]]) {
+        add_joint_forces(&self.set, &self.scratch, i0, f);
+    }
+}
+
 impl ForceTerm for FractureStage {
     fn forces(
         &mut self,
@@ -333,6 +342,26 @@ impl ForceTerm for FractureStage {
 
     fn next_evaluation_ends_step(&mut self) {
         self.ends_step = true;
+    }
+
+    /// The joint pass ahead of the element forces (a whole run's), its per-node gather then
+    /// inside the element pass.
+    fn forces_ahead(
+        &mut self,
+        _t: f64,
+        x: &[[f64; 2]],
+        _v: &[[f64; 2]],
+        _events: &mut StepEvents,
+    ) -> Option<&dyn AheadForces> {
+        if self.local.is_some() && self.partial {
+            return None;
+        }
+        if std::mem::take(&mut self.ends_step) {
+            joint_forces_ahead_committing(&self.set, &mut self.state, x, &mut self.scratch);
+        } else {
+            joint_forces_ahead(&self.set, &self.state, x, &mut self.scratch);
+        }
+        Some(self)
     }
 
     /// The commit (at the last pass's positions when `at_last`), and the pairs it releases
