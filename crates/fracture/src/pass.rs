@@ -79,6 +79,10 @@ pub struct JointScratch {
     slot_forces: SlotBuf,
     /// Per slot `4 j + k` (node k of joint j), its place in `slot_forces`.
     slot_pos: Vec<u32>,
+    /// With `pairs`, per joint: bit k set when node k's slot is the second of its node's two
+    /// (the pass then reads this byte instead of the four places: the place is
+    /// `2 node + bit`). Empty otherwise.
+    ranks: Vec<u8>,
     /// True when no node has more than two slots (every node of a wholly exploded mesh lies
     /// on two edges of its triangle): node `i`'s slots are then `2 i` and `2 i + 1`, a place
     /// no joint fills holding -0.0 (`f + (-0.0) = f` for every `f`), and the gather needs no
@@ -156,7 +160,9 @@ impl JointScratch {
     fn fit_slots(&mut self, set: &JointSet) {
         if self.slot_pos.len() != set.node_slots.len() {
             let offsets = &set.node_offsets;
-            self.pairs = !offsets.is_empty() && offsets.windows(2).all(|w| w[1] - w[0] <= 2);
+            self.pairs = !offsets.is_empty()
+                && set.n_nodes < (u32::MAX / 2) as usize
+                && offsets.windows(2).all(|w| w[1] - w[0] <= 2);
             self.slot_pos = vec![0; set.node_slots.len()];
             for (i, w) in offsets.windows(2).enumerate() {
                 for p in w[0]..w[1] {
@@ -168,6 +174,14 @@ impl JointScratch {
                     };
                 }
             }
+            self.ranks = if self.pairs {
+                let bit = |q: &[u32], k: usize| ((q[k] & 1) as u8) << k;
+                (self.slot_pos.chunks_exact(4))
+                    .map(|q| bit(q, 0) | bit(q, 1) | bit(q, 2) | bit(q, 3))
+                    .collect()
+            } else {
+                Vec::new()
+            };
         }
         let n = if self.pairs {
             2 * set.n_nodes
@@ -217,7 +231,7 @@ fn trial_pass_impl<const OFF: bool>(
         set,
         &state.intact,
         x,
-        &scratch.slot_pos,
+        places(&scratch.slot_pos, &scratch.ranks),
         &scratch.slot_forces,
     );
     let old = &state.history;
@@ -287,7 +301,7 @@ fn in_place_pass<const OFF: bool>(
         set,
         &state.intact,
         x,
-        &scratch.slot_pos,
+        places(&scratch.slot_pos, &scratch.ranks),
         &scratch.slot_forces,
     );
     let arch = pulp::Arch::new();
@@ -304,12 +318,24 @@ fn in_place_pass<const OFF: bool>(
         });
 }
 
+/// What gives the pass the slot places: the places `pos`, or the rank bytes where there are
+/// any ([`JointScratch::ranks`]).
+fn places<'a>(pos: &'a [u32], ranks: &'a [u8]) -> (&'a [u32], &'a [u8]) {
+    if ranks.is_empty() {
+        (pos, ranks)
+    } else {
+        (&[], ranks)
+    }
+}
+
 /// What a pass reads besides the histories, and where it puts the forces.
 struct PassIn<'a> {
     set: &'a JointSet,
     intact: &'a [bool],
     x: &'a [[f64; 2]],
+    /// The slot places (empty when `ranks` gives them).
     slot_pos: &'a [u32],
+    ranks: &'a [u8],
     out: &'a SlotBuf,
 }
 
@@ -318,7 +344,7 @@ impl<'a> PassIn<'a> {
         set: &'a JointSet,
         intact: &'a [bool],
         x: &'a [[f64; 2]],
-        slot_pos: &'a [u32],
+        (slot_pos, ranks): (&'a [u32], &'a [u8]),
         out: &'a SlotBuf,
     ) -> Self {
         PassIn {
@@ -326,6 +352,7 @@ impl<'a> PassIn<'a> {
             intact,
             x,
             slot_pos,
+            ranks,
             out,
         }
     }
@@ -437,6 +464,7 @@ struct Chunk<'a> {
     x: &'a [[f64; 2]],
     out: &'a SlotBuf,
     pos: &'a [u32],
+    ranks: &'a [u8],
     intact: &'a [bool],
     nodes: &'a [[u32; 4]],
     ref_length: &'a [f64],
@@ -453,7 +481,16 @@ impl<'a> Chunk<'a> {
             set,
             x: inp.x,
             out: inp.out,
-            pos: &inp.slot_pos[4 * j0..4 * (j0 + n)],
+            pos: if inp.ranks.is_empty() {
+                &inp.slot_pos[4 * j0..4 * (j0 + n)]
+            } else {
+                &[]
+            },
+            ranks: if inp.ranks.is_empty() {
+                &[]
+            } else {
+                &inp.ranks[r.clone()]
+            },
             intact: &inp.intact[r.clone()],
             nodes: &set.nodes[r.clone()],
             ref_length: &set.ref_length[r.clone()],
@@ -470,8 +507,13 @@ impl<'a> Chunk<'a> {
     /// The slot places of joint `i`'s four nodes.
     #[inline(always)]
     fn slots(&self, i: usize) -> [u32; 4] {
-        let p = &self.pos[4 * i..4 * i + 4];
-        [p[0], p[1], p[2], p[3]]
+        if let Some(&r) = self.ranks.get(i) {
+            let n = &self.nodes[i];
+            std::array::from_fn(|k| 2 * n[k] + u32::from((r >> k) & 1))
+        } else {
+            let p = &self.pos[4 * i..4 * i + 4];
+            [p[0], p[1], p[2], p[3]]
+        }
     }
 }
 
