@@ -763,14 +763,38 @@ pub fn accumulate_joint_forces(
     f: &mut [[f64; 2]],
 ) {
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
-    check_sizes(set, state, x);
-    assert!(
-        scratch.in_place.is_none(),
-        "a joint pass between an in-place pass and its commit"
-    );
-    trial_pass(set, state, x, scratch);
+    trial_evaluation(set, state, x, scratch);
     gather(set, x, scratch, f);
     scratch.valid = Some(state.generation);
+}
+
+/// The checks and the pass of [`accumulate_joint_forces`] and [`joint_forces_ahead`].
+fn trial_evaluation(set: &JointSet, state: &JointState, x: &[[f64; 2]], s: &mut JointScratch) {
+    check_sizes(set, state, x);
+    assert!(
+        s.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
+    trial_pass(set, state, x, s);
+}
+
+/// The checks and the pass of the committing variants.
+fn in_place_evaluation(
+    set: &JointSet,
+    state: &mut JointState,
+    x: &[[f64; 2]],
+    s: &mut JointScratch,
+) {
+    check_sizes(set, state, x);
+    assert!(
+        s.in_place.is_none(),
+        "a joint pass between an in-place pass and its commit"
+    );
+    if set.initial_offsets.is_empty() {
+        in_place_pass::<false>(set, state, x, s);
+    } else {
+        in_place_pass::<true>(set, state, x, s);
+    }
 }
 
 /// [`accumulate_joint_forces`] for the last force evaluation of a step that ends with
@@ -788,16 +812,7 @@ pub fn accumulate_joint_forces_committing(
     f: &mut [[f64; 2]],
 ) {
     assert_eq!(f.len(), set.n_nodes, "forces must have one entry per node");
-    check_sizes(set, state, x);
-    assert!(
-        scratch.in_place.is_none(),
-        "a joint pass between an in-place pass and its commit"
-    );
-    if set.initial_offsets.is_empty() {
-        in_place_pass::<false>(set, state, x, scratch);
-    } else {
-        in_place_pass::<true>(set, state, x, scratch);
-    }
+    in_place_evaluation(set, state, x, scratch);
     gather(set, x, scratch, f);
     scratch.valid = None;
     scratch.in_place = Some(state.generation);
@@ -865,12 +880,7 @@ pub fn joint_forces_ahead(
     x: &[[f64; 2]],
     scratch: &mut JointScratch,
 ) {
-    check_sizes(set, state, x);
-    assert!(
-        scratch.in_place.is_none(),
-        "a joint pass between an in-place pass and its commit"
-    );
-    trial_pass(set, state, x, scratch);
+    trial_evaluation(set, state, x, scratch);
     keep_positions(set, x, scratch);
     scratch.valid = Some(state.generation);
 }
@@ -883,16 +893,7 @@ pub fn joint_forces_ahead_committing(
     x: &[[f64; 2]],
     scratch: &mut JointScratch,
 ) {
-    check_sizes(set, state, x);
-    assert!(
-        scratch.in_place.is_none(),
-        "a joint pass between an in-place pass and its commit"
-    );
-    if set.initial_offsets.is_empty() {
-        in_place_pass::<false>(set, state, x, scratch);
-    } else {
-        in_place_pass::<true>(set, state, x, scratch);
-    }
+    in_place_evaluation(set, state, x, scratch);
     keep_positions(set, x, scratch);
     scratch.valid = None;
     scratch.in_place = Some(state.generation);
