@@ -245,4 +245,13 @@ fn forces_then_visits_each_node_once_after_its_forces() {
             assert!(same, "owned {owned}, {threads} threads: forces differ");
         }
     }
+    fdem_figures::record_part(
+        147,
+        2,
+        format!(
+            "each of {} and {} nodes once, identical",
+            ex.mesh.nodes.len(),
+            mesh.nodes.len()
+        ),
+    );
 }
