@@ -17,6 +17,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("fdem-mesh", 1),
     ("fdem-contact", 2),
     ("fdem-fracture", 2),
+    ("fdem-flow", 2),
     ("fdem-solver", 3),
     ("fdem-mpi", 4),
     ("fdem-python", 4),
