@@ -46,6 +46,8 @@ mod disc_relaxation;
 mod distributed;
 #[path = "extremes.rs"]
 mod extremes;
+#[path = "fluid.rs"]
+mod fluid;
 #[path = "fracture_extremes.rs"]
 mod fracture_extremes;
 #[path = "fracture_restart.rs"]

@@ -85,6 +85,7 @@ fn loaded() -> Problem {
             ..Default::default()
         },
         warnings: Vec::new(),
+        fluid: None,
         accuracy: Vec::new(),
     }
 }

@@ -32,7 +32,7 @@ pub use pack::{Dec, DecodeError, Enc, Pack};
 /// The checkpoint file's name in a run folder.
 pub const FILE_NAME: &str = "checkpoint.fdem";
 /// The format version this fdem writes and the only one it reads.
-pub const FORMAT: u32 = 5;
+pub const FORMAT: u32 = 6;
 /// The file of a run folder that holds the id of the run whose checkpoints it holds.
 pub const RUN_ID_FILE: &str = "run_id.txt";
 const MAGIC: &[u8; 8] = b"FDEMCKPT";

@@ -10,7 +10,8 @@
 //! - `joints_NNNN.vtu` cell data (scenes with a `"fracture"` section): `damage`, `mode`,
 //!   `mode_mix`, `broken`, `time_of_failure`, `opening`, `sliding`, `normal_traction`,
 //!   `shear_traction`, then `tensile_strength`, `cohesion`, `fracture_energy_i`,
-//!   `fracture_energy_ii` (scenes whose joints differ in material).
+//!   `fracture_energy_ii` (scenes whose joints differ in material), then `fluid_pressure`,
+//!   `aperture`, `flow_rate`, `wetted` (scenes with a `"fluid"` section, [`FLUID`]).
 //!
 //! The points and cells (`Points`, `connectivity`, `offsets`, `types`) are always written; a
 //! list without any joint array writes no joint series.
@@ -52,6 +53,12 @@ pub const JOINT_PROPERTIES: [&str; 4] = [
     "fracture_energy_ii",
 ];
 
+/// The joint arrays of a scene with a fluid in its cracks (`fdem_flow`): the pressure of the
+/// joint's two end cavities (mean), the aperture (mean of its ends, within the residual and
+/// maximum apertures), the volume flow along the channel from end P to end Q, and 1 for a
+/// wetted joint; 0 on the dry joints.
+pub const FLUID: [&str; 4] = ["fluid_pressure", "aperture", "flow_rate", "wetted"];
+
 /// What a scene has that adds arrays to its frames.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Offer {
@@ -63,6 +70,8 @@ pub struct Offer {
     pub fracture: bool,
     /// Joints that differ in material (the joint property arrays).
     pub varied_joints: bool,
+    /// A fluid in the cracks (the joint fluid arrays).
+    pub fluid: bool,
 }
 
 impl Offer {
@@ -86,6 +95,9 @@ impl Offer {
             if self.varied_joints {
                 v.extend(JOINT_PROPERTIES);
             }
+            if self.fluid {
+                v.extend(FLUID);
+            }
         }
         v
     }
@@ -100,6 +112,10 @@ impl Offer {
         } else if name == YOUNG {
             format!(
                 "'{name}' needs a material whose Young's modulus is drawn (\"heterogeneity\"), and this scene has none"
+            )
+        } else if FLUID.contains(&name) {
+            format!(
+                "'{name}' is a joint array of the fluid, and this scene has no \"fluid\" section"
             )
         } else if JOINT.contains(&name) {
             format!("'{name}' is a joint array, and this scene has no \"fracture\" section")
@@ -166,6 +182,6 @@ impl ArraySet {
 
     /// True when the frames carry a joint array (and so a joint series is written).
     pub fn has_joints(&self) -> bool {
-        self.has_any(&JOINT) || self.has_any(&JOINT_PROPERTIES)
+        self.has_any(&JOINT) || self.has_any(&JOINT_PROPERTIES) || self.has_any(&FLUID)
     }
 }

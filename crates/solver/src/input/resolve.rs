@@ -188,7 +188,51 @@ fn walk<'a>(
         walk_cracks(fr, f)?;
     }
     walk_initial_stress(scene, f)?;
+    if let Some(fl) = &scene.fluid {
+        walk_fluid(fl, f)?;
+    }
     walk_contact(scene, f)
+}
+
+/// The names of the `"fluid"` section (the injections' bodies, the pressures' bodies and
+/// edge groups), for [`walk`].
+fn walk_fluid<'a>(
+    fl: &'a crate::input::scene::fluid::FluidSection,
+    f: &mut dyn FnMut(Ref<'a>) -> Result<(), SceneError>,
+) -> Result<(), SceneError> {
+    for (i, inj) in fl.injections.iter().enumerate() {
+        if let Some(b) = &inj.body {
+            f(Ref {
+                path: format!("fluid.injections[{i}].body"),
+                pointer: format!("/fluid/injections/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
+    }
+    for (i, p) in fl.pressures.iter().enumerate() {
+        if let Some(b) = &p.body {
+            f(Ref {
+                path: format!("fluid.pressures[{i}].body"),
+                pointer: format!("/fluid/pressures/{i}/body"),
+                kind: RefKind::Body,
+                name: b,
+                body: Scope::None,
+                slot: Slot::None,
+            })?;
+        }
+        f(Ref {
+            path: format!("fluid.pressures[{i}].group"),
+            pointer: format!("/fluid/pressures/{i}/group"),
+            kind: RefKind::EdgeGroup,
+            name: &p.group,
+            body: Scope::Named(p.body.as_deref()),
+            slot: Slot::None,
+        })?;
+    }
+    Ok(())
 }
 
 /// The bodies' names and material keys, for [`walk`].
@@ -270,7 +314,7 @@ fn walk_probes<'a>(
             Probe::Displacement(g) => ("displacement", g),
             Probe::Velocity(g) => ("velocity", g),
             Probe::Reaction(g) => ("reaction", g),
-            Probe::Energy => continue,
+            Probe::Energy | Probe::Fluid => continue,
         };
         if let Some(b) = &g.body {
             f(Ref {

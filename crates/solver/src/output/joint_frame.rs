@@ -33,6 +33,22 @@ pub struct JointFrame {
     /// material (several joint materials, or drawn ones).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub properties: Option<JointProperties>,
+    /// The fluid in the joints, only in a scene with a `"fluid"` section.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<JointFluid>,
+}
+
+/// The fluid in every joint (one entry per joint; 0 on the dry ones).
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct JointFluid {
+    /// Mean pressure of the joint's two end cavities [Pa].
+    pub pressure: Vec<f64>,
+    /// Mean aperture of its two ends [m].
+    pub aperture: Vec<f64>,
+    /// Volume flow from end P to end Q [m^3/s].
+    pub flow_rate: Vec<f64>,
+    /// 1 for a wetted joint (a channel), else 0.
+    pub wetted: Vec<i32>,
 }
 
 /// The material values of every joint (one entry per joint).
@@ -166,6 +182,7 @@ impl JointFrame {
             normal_traction: vec![0.0; n],
             shear_traction: vec![0.0; n],
             properties: None,
+            fluid: None,
         };
         // one row per joint, evaluated in parallel (each from its own joint only) and written
         // straight into its place in every column
@@ -224,6 +241,11 @@ impl JointFrame {
             ]
             .iter()
             .all(|a| a.iter().all(|v| v.is_finite()))
+            && self.fluid.as_ref().is_none_or(|f| {
+                [&f.pressure, &f.aperture, &f.flow_rate]
+                    .iter()
+                    .all(|a| a.iter().all(|v| v.is_finite()))
+            })
     }
 }
 

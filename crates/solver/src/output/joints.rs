@@ -23,6 +23,7 @@
 //! | `opening`, `sliding` | `o = w . nn`, `s = w . tt`, mean of the two points [m] (`w` = x_S - x_P, x_R - x_Q) |
 //! | `normal_traction`, `shear_traction` | `sigma`, `tau` of the law, mean of the two points [Pa], tension positive; 0 once broken |
 //! | `tensile_strength`, `cohesion`, `fracture_energy_i`, `fracture_energy_ii` | the joint's material values [Pa, Pa, J/m^2, J/m^2], only in a scene whose joints differ in material (several joint materials, or drawn ones) |
+//! | `fluid_pressure`, `aperture`, `flow_rate`, `wetted` | the fluid (scenes with a `"fluid"` section): mean pressure of the two end cavities [Pa], mean aperture [m], volume flow from end P to end Q [m^3/s], 1 on a channel; 0 on dry joints |
 
 use std::path::{Path, PathBuf};
 
@@ -52,6 +53,14 @@ pub fn grid<'a>(j: &'a JointFrame, arrays: &ArraySet) -> Grid<'a> {
             Column::new("cohesion", 1, Values::F64(&p.cohesion)),
             Column::new("fracture_energy_i", 1, Values::F64(&p.fracture_energy_i)),
             Column::new("fracture_energy_ii", 1, Values::F64(&p.fracture_energy_ii)),
+        ]);
+    }
+    if let Some(f) = &j.fluid {
+        cells.extend([
+            Column::new("fluid_pressure", 1, Values::F64(&f.pressure)),
+            Column::new("aperture", 1, Values::F64(&f.aperture)),
+            Column::new("flow_rate", 1, Values::F64(&f.flow_rate)),
+            Column::new("wetted", 1, Values::I32(&f.wetted)),
         ]);
     }
     grid.cell_data = cells.into_iter().filter(|c| arrays.has(c.name)).collect();

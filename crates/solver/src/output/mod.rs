@@ -25,6 +25,6 @@ pub use atomic::{write_atomic, write_atomic_with};
 pub use csv::{csv_length, open_csv, truncate_csv};
 pub use frame::{FrameData, frame_from_parts, make_frame, make_frame_of};
 pub use history::HistoryWriter;
-pub use joint_frame::{JointFrame, JointProperties};
+pub use joint_frame::{JointFluid, JointFrame, JointProperties};
 pub use joints::JointSeries;
 pub use pvd::Collection;

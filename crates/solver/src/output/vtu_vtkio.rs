@@ -359,6 +359,12 @@ mod tests {
                 fracture_energy_i: f(10, nj),
                 fracture_energy_ii: f(11, nj),
             }),
+            fluid: Some(crate::output::JointFluid {
+                pressure: f(12, nj),
+                aperture: f(13, nj),
+                flow_rate: f(14, nj),
+                wetted: (0..nj as i32).map(|i| i % 2).collect(),
+            }),
         };
         FrameData {
             time: 1.5,

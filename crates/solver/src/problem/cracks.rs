@@ -42,16 +42,7 @@ pub fn resolve(
     let mut out = Vec::with_capacity(section.cracks.len());
     for (i, c) in section.cracks.iter().enumerate() {
         let path = format!("fracture.cracks[{i}]");
-        let bi = match &c.body {
-            Some(b) => scene
-                .bodies
-                .iter()
-                .position(|x| x.name.as_deref() == Some(b)),
-            None => meshes
-                .iter()
-                .position(|m| edge_group(m, &c.group).is_some()),
-        }
-        .unwrap_or(0);
+        let bi = group_body(scene, meshes, c.body.as_deref(), &c.group);
         contact_between_faces(scene, file, &path, bi)?;
         let local = joints
             .iter()
@@ -62,6 +53,19 @@ pub fn resolve(
         out.push(CrackJoints { body: bi, joints });
     }
     Ok(out)
+}
+
+/// The body of an edge group named by `body` or, without a name, the first body whose mesh has
+/// the group (the names were resolved before: the first body otherwise).
+pub(crate) fn group_body(scene: &Scene, meshes: &[Mesh], body: Option<&str>, group: &str) -> usize {
+    match body {
+        Some(b) => scene
+            .bodies
+            .iter()
+            .position(|x| x.name.as_deref() == Some(b)),
+        None => meshes.iter().position(|m| edge_group(m, group).is_some()),
+    }
+    .unwrap_or(0)
 }
 
 /// The edge (dimension-1) group `name` of `mesh`.
@@ -110,7 +114,7 @@ fn contact_between_faces(
 /// The joints (indices into `joints`, the body's joint list) on the edges of the edge group
 /// `group` of the exploded `mesh`: a group edge is a joint when its two nodes are the `P, Q`
 /// or the `S, R` nodes of one joint.
-fn crack_joints(
+pub(crate) fn crack_joints(
     file: &Path,
     path: &str,
     mesh: &Mesh,

@@ -388,12 +388,10 @@ fn check_history_rows(inp: &StepInputs, n_steps: u64) -> Result<(), SceneError> 
         .histories
         .probes
         .iter()
-        .map(|p| {
-            if matches!(p, Probe::Energy) {
-                ENERGY_COLUMNS
-            } else {
-                2
-            }
+        .map(|p| match p {
+            Probe::Energy => ENERGY_COLUMNS,
+            Probe::Fluid => crate::stages::fluid::COLUMNS.len(),
+            _ => 2,
         })
         .sum::<usize>()
         + scene

@@ -71,6 +71,9 @@ pub struct Problem {
     /// What the scene asks for that does nothing but is not wrong (a joint material that
     /// nothing uses): each a line with the JSON path and the fix, shown by [`Problem::describe`].
     pub warnings: Vec<String>,
+    /// The fluid in the crack network (`fluid`), prepared ([`crate::problem::fluid`]); `None`
+    /// without the section.
+    pub fluid: Option<crate::problem::fluid::FluidSetup>,
     /// The accuracy indicators the problem decides before a step is taken
     /// ([`crate::problem::accuracy::predict`]: process zone, joint compliance, mesh quality,
     /// units); `fdem check` prints them and the run reports them with what it measured.
@@ -190,6 +193,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
         steps,
     } = timed;
     let accuracy = crate::problem::accuracy::predict(&scene, &model, &elements, &fracturing);
+    let fluid = crate::problem::fluid::prepare(&scene, file, &meshes, &model, &fracturing)?;
     Ok(Problem {
         file: file.to_path_buf(),
         scene,
@@ -206,6 +210,7 @@ pub fn load_text(text: &str, file: &Path) -> Result<Problem, SceneError> {
         initial_joint_state: None,
         frequency,
         warnings,
+        fluid,
         accuracy,
     })
 }

@@ -15,6 +15,7 @@
 pub mod accuracy;
 pub mod contact_laws;
 pub mod cracks;
+pub mod fluid;
 pub mod indicator;
 pub mod input_checks;
 pub mod joint_assign;

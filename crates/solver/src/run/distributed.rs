@@ -45,6 +45,12 @@ pub fn check(
             "a distributed run steps with central difference only",
         );
     }
+    if l.fluid.is_some() {
+        return bad(
+            "fluid",
+            "the fluid in the crack network is stepped by one process",
+        );
+    }
     if l.scene.integrator.time_step == TimeStep::Adaptive {
         return bad(
             "integrator.time_step",

@@ -1,5 +1,6 @@
 //! The histories of a run (`histories.csv`): the scene's probes (displacement, velocity and
-//! reaction of a group, the energy ledger), one row every `histories.every` steps.
+//! reaction of a group, the energy ledger, the fluid's books), one row every
+//! `histories.every` steps.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -58,6 +59,10 @@ impl Histories {
                         .unwrap_or_default();
                     groups.push(nodes);
                 }
+                Probe::Fluid => {
+                    cols.extend(crate::stages::fluid::COLUMNS.map(String::from));
+                    groups.push(Vec::new());
+                }
                 Probe::Energy => {
                     // the ledger's terms, named as in summary.json and the console
                     cols.extend(Energies::column_names().map(String::from));
@@ -96,6 +101,7 @@ impl Histories {
         reaction: &[[f64; 2]],
         energy: &Energies,
         k_free: f64,
+        fluid: Option<&crate::stages::fluid::FluidBooks>,
     ) {
         let mut row = vec![t];
         for (p, nodes) in l.scene.histories.probes.iter().zip(&self.groups) {
@@ -125,6 +131,10 @@ impl Histories {
                         ry += reaction[n as usize][1];
                     }
                     row.extend([rx, ry]);
+                }
+                Probe::Fluid => {
+                    let b = fluid.copied().unwrap_or_default();
+                    row.extend(b.columns());
                 }
                 Probe::Energy => {
                     row.extend(energy.columns().map(|(_, v)| v));
@@ -186,6 +196,7 @@ impl Observer for Histories {
                 &reaction,
                 &e,
                 k_free,
+                crate::stages::fluid::books_of(sys).as_ref(),
             );
             run.sys.timers.histories += s.elapsed().as_secs_f64();
         }

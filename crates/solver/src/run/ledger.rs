@@ -5,7 +5,7 @@
 //! ```text
 //! error = initial + supplied - present - dissipated
 //! initial    = initial_kinetic + initial_strain + initial_stored            (t = 0)
-//! supplied   = external_work + gravity_work + support_work + wall_work      (since t = 0)
+//! supplied   = external_work + gravity_work + support_work + wall_work + fluid_work (since t = 0)
 //! present    = kinetic + strain + stored                                    (now)
 //! dissipated = mass_damping + viscosity + contact_damping + friction + fracture + switch_loss
 //!              + contact_residual + elastic_residual
@@ -19,7 +19,8 @@
 //!   trapezoidal rule on each step's displacement of the loaded / prescribed DOFs; the
 //!   supports also supply the kinetic energy of the prescribed DOFs' change of velocity
 //!   (`1/2 m v^2` there, now less at t = 0); gravity_work `sum m g . (x - x_0)` (exact, dead
-//!   load); wall_work: the contact stage's trapezoidal work of the moving walls;
+//!   load); wall_work: the contact stage's trapezoidal work of the moving walls; fluid_work:
+//!   the fluid stage's trapezoidal work of the pressure on the crack faces;
 //! - mass_damping `int alpha sum m v^2 dt`, viscosity `int P_visc dt` (the mesh crate's
 //!   viscous stress power), contact_damping `int P_dashpots dt`: trapezoidal rule in time on
 //!   the end-of-step states; friction and fracture: the contact and joint books; switch_loss:
@@ -65,7 +66,12 @@ pub struct Energies {
     pub support_work: f64,
     /// Work of the moving rigid walls (platens) on the bodies.
     pub wall_work: f64,
-    /// `external_work + gravity_work + support_work + wall_work`.
+    /// Work of the fluid's pressure on the crack faces (scenes with a `"fluid"` section;
+    /// not written without one, and part of `supplied`, with no column of its own in
+    /// `histories.csv`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub fluid_work: f64,
+    /// `external_work + gravity_work + support_work + wall_work + fluid_work`.
     pub supplied: f64,
     /// Kinetic energy now.
     pub kinetic: f64,
@@ -119,6 +125,11 @@ pub struct Energies {
     pub residuals_booked: bool,
 }
 
+/// True for 0 (a term a scene without it does not write).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
 /// Number of ledger terms ([`Energies::columns`]), as the history rows are sized at load.
 pub const N_COLUMNS: usize = crate::problem::limits::ENERGY_COLUMNS;
 
@@ -127,7 +138,11 @@ impl Energies {
     /// `error` from the terms.
     pub fn close(&mut self) {
         self.initial = self.initial_kinetic + self.initial_strain + self.initial_stored;
-        self.supplied = self.external_work + self.gravity_work + self.support_work + self.wall_work;
+        self.supplied = self.external_work
+            + self.gravity_work
+            + self.support_work
+            + self.wall_work
+            + self.fluid_work;
         self.present = self.kinetic + self.strain + self.stored;
         self.dissipated = self.mass_damping
             + self.viscosity
@@ -142,7 +157,8 @@ impl Energies {
             + self.external_work.abs()
             + self.gravity_work.abs()
             + self.support_work.abs()
-            + self.wall_work.abs();
+            + self.wall_work.abs()
+            + self.fluid_work.abs();
         self.dissipated_or_error = 0.0;
     }
 
@@ -471,6 +487,7 @@ impl Books {
         if let Some(r) = stages {
             e.stored = r.stored;
             e.wall_work = r.wall_work;
+            e.fluid_work = r.fluid_work;
             e.friction = r.friction;
             e.contact_damping = r.contact_damping;
             e.fracture = r.fracture;
@@ -574,6 +591,7 @@ impl Pack for Energies {
         e.put(&self.in_play);
         e.put(&self.dissipated_or_error);
         e.put(&self.residuals_booked);
+        e.put(&self.fluid_work);
     }
 
     fn unpack(d: &mut Dec) -> Result<Self, DecodeError> {
@@ -604,6 +622,7 @@ impl Pack for Energies {
             in_play: d.get()?,
             dissipated_or_error: d.get()?,
             residuals_booked: d.get()?,
+            fluid_work: d.get()?,
         })
     }
 }

@@ -193,6 +193,7 @@ fn static_run(
             &frame.reaction,
             &summary.energy,
             0.0,
+            None,
         );
         h.flush()?;
     }

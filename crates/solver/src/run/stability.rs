@@ -90,8 +90,8 @@ impl Observer for StabilityGuard {
         if !state.x.iter().all(|v| v.is_finite()) || !state.v.iter().all(|v| v.is_finite()) {
             return Err(Halt::Unstable(Found::NonFinite));
         }
-        let (stored, walls) =
-            summed_report(sys, state.x_nodes()).map_or((0.0, 0.0), |r| (r.stored, r.wall_work));
+        let (stored, walls) = summed_report(sys, state.x_nodes())
+            .map_or((0.0, 0.0), |r| (r.stored, r.wall_work + r.fluid_work));
         let kinetic = kinetic_energy(&run.ledger.mass_dof, &state.v);
         let strain = sys.elements.strain_energy(state.x_nodes());
         let mut e_now = kinetic + strain + stored;

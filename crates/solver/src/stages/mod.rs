@@ -3,6 +3,7 @@
 //! A scene without their sections gets none of them and pays nothing.
 
 pub mod contact;
+pub mod fluid;
 pub mod fracture;
 pub mod star_bonds;
 pub mod system;
@@ -118,6 +119,15 @@ pub fn attach_to(
             .any(|p| matches!(p, crate::input::scene::Probe::Energy));
         sys.contributions.push(Box::new(stage));
     }
+    if let (Some(setup), Some(set)) = (&l.fluid, &fracturing.set) {
+        // the joints broken at the start (cracks, a saved state) are channels
+        let broken: Vec<bool> = match sys.contributions.iter().find_map(|c| c.joint_state()) {
+            Some(s) => s.intact.iter().map(|i| !i).collect(),
+            None => vec![false; set.len()],
+        };
+        let stage = crate::stages::fluid::FluidStage::new(setup, set, &broken, &sys.model);
+        sys.contributions.push(Box::new(stage));
+    }
     Ok(())
 }
 
@@ -139,6 +149,7 @@ pub fn reports(sys: &SceneSystem, x: &[[f64; 2]]) -> (StageReport, serde_json::V
         total.switch_loss += r.switch_loss;
         total.contact_residual += r.contact_residual;
         total.wall_work += r.wall_work;
+        total.fluid_work += r.fluid_work;
         let mut d = r.details;
         if let (Some(obj), Some(t)) = (d.as_object_mut(), sys.contribution_times.get(i)) {
             // wall time of the stage's force passes and end-of-step hooks [s]

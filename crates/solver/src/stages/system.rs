@@ -309,6 +309,8 @@ pub struct StageReport {
     pub contact_residual: f64,
     /// Work done on the bodies by boundaries the term moves (platens) [J].
     pub wall_work: f64,
+    /// Work done on the bodies by the fluid's pressure on the crack faces [J].
+    pub fluid_work: f64,
     /// An error that should stop the run (e.g. too deep a penetration).
     pub error: Option<String>,
     /// Free-form details for `summary.json`.

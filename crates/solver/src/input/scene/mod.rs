@@ -20,6 +20,7 @@ pub mod bodies;
 pub mod conditions;
 pub mod contact;
 pub mod cracks;
+pub mod fluid;
 pub mod fracture;
 pub mod initial_stress;
 pub mod integrator;
@@ -80,6 +81,9 @@ pub struct Scene {
     /// Fracturing regions and the joint material (default none: costs nothing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fracture: Option<FractureSection>,
+    /// A fluid in the crack network: injections, pressures (default none: costs nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fluid: Option<fluid::FluidSection>,
     /// In-situ (initial) stress of bodies or surface groups (default none: costs nothing).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub initial_stress: Vec<InitialStress>,
@@ -285,6 +289,7 @@ impl Scene {
                 .any(|b| b.materials.values().any(|m| m.heterogeneity.is_some())),
             fracture: self.fracture.is_some(),
             varied_joints: self.fracture.as_ref().is_some_and(|f| f.varied_joints()),
+            fluid: self.fluid.is_some(),
         }
     }
 }

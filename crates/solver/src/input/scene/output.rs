@@ -115,6 +115,9 @@ pub enum Probe {
     Reaction(GroupProbe),
     /// Kinetic, strain and external-work energies of the whole scene.
     Energy,
+    /// The fluid's volume books, the pressure at the first injection and the channels
+    /// (scenes with a `"fluid"` section).
+    Fluid,
 }
 
 /// A probe on a named group.

