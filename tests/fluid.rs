@@ -217,3 +217,67 @@ fn sneddon_pressurised_crack_opening_and_volume() {
         .collect();
     fdem_figures::record(148, text.join(", "));
 }
+
+/// The volume `V` injected into a crack whose tips hold (the joints beyond them are far
+/// stronger than the pressure needs) spreads along it and opens it: at rest the pressure p
+/// is uniform and the volume in the network is `c p + 2 a r` (`c` the crack's compliance,
+/// volume per unit pressure: `2 pi a^2 / E'` by Sneddon, and the same mesh's under a
+/// prescribed pressure; `r` the residual aperture of the touching faces), the rest of `V`
+/// held by the fluid's compression. A thin fluid (1e-5 Pa s) evens the pressure out within
+/// the run. The volume books close at every history row.
+#[test]
+fn injection_into_a_closed_crack_matches_sneddon() {
+    let n_a = 10;
+    let k_f = 2.2e9;
+    let q = 3.84e-3;
+    // ramped up over 0.5 ms, held 1 ms, ramped down over 0.5 ms: 1.5 ms at the full rate
+    let injected = q * 0.0015;
+    let fluid = json!({
+        "viscosity": 1e-5, "bulk_modulus": k_f,
+        "injections": [ {
+            "at": [0.0, 0.0], "rate": q,
+            "history": [[0.0, 0.0], [0.0005, 1.0], [0.0015, 1.0], [0.002, 0.0]]
+        } ]
+    });
+    let p = plate_scene("inject", n_a, fluid, 0.006);
+    let (o, out) = common::run(&p);
+    let (head, rows) = common::histories(&out);
+    let err = common::column(&head, &rows, "fluid_balance_error");
+    let worst = err.iter().fold(0.0f64, |m, &e| m.max(e));
+    assert!(worst < 1e-9, "the books' residual reaches {worst:e}");
+    let inj = *common::column(&head, &rows, "fluid_injected")
+        .last()
+        .unwrap();
+    assert!((inj / injected - 1.0).abs() < 1e-12, "{inj} vs {injected}");
+    let pressure = *common::column(&head, &rows, "injection_pressure")
+        .last()
+        .unwrap();
+    let stored = *common::column(&head, &rows, "fluid_stored").last().unwrap();
+    let open = stored - 2.0 * A * 1e-6;
+    // the same mesh's compliance under a prescribed pressure
+    let fluid = json!({
+        "viscosity": 1e-3, "bulk_modulus": k_f,
+        "pressures": [ { "group": "crack", "value": P, "ramp": 0.002 } ]
+    });
+    let (o_p, _) = common::run(&plate_scene("inject-ref", n_a, fluid, 0.005));
+    let c_mesh = opening_and_volume(&o_p).1 / P;
+    let c_sneddon = 2.0 * std::f64::consts::PI * A * A / e_prime();
+    let (p_mesh, p_sneddon) = (open / c_mesh, open / c_sneddon);
+    let (e_mesh, e_sneddon) = (pressure / p_mesh - 1.0, pressure / p_sneddon - 1.0);
+    eprintln!(
+        "p {pressure:.5e}: against the mesh's compliance {e_mesh:+.4}, Sneddon's {e_sneddon:+.4}; books {worst:.1e}"
+    );
+    assert!(e_mesh.abs() < 0.01, "{e_mesh}");
+    assert!(e_sneddon.abs() < 0.03, "{e_sneddon}");
+    let energy = o.summary.energy;
+    assert!(energy.fluid_work > 0.0);
+    fdem_figures::record(
+        149,
+        format!(
+            "pressure {:+.2} % against the mesh's own compliance, {:+.2} % against Sneddon (a/h = {n_a}); books closed to {} at every row",
+            100.0 * e_mesh,
+            100.0 * e_sneddon,
+            fdem_figures::sci(worst.max(1e-16), 1)
+        ),
+    );
+}

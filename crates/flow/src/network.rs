@@ -15,9 +15,10 @@ pub struct Fluid {
     pub bulk_modulus: f64,
     /// Density [kg/m^3], > 0 (the books' mass; the flow itself is by volume).
     pub density: f64,
-    /// Residual aperture [m], > 0: a closed channel still conducts and stores this much.
+    /// Residual aperture [m], > 0: a channel whose faces touch still conducts and stores
+    /// this much ([`aperture`]).
     pub residual_aperture: f64,
-    /// Maximum aperture [m], >= the residual one.
+    /// Maximum aperture [m], >= the residual one: the conductance's aperture at most.
     pub max_aperture: f64,
     /// Carter's leak-off coefficient `C_L` [m/s^0.5], >= 0.
     pub leak_off: f64,
@@ -83,8 +84,11 @@ pub struct ChannelGeometry {
     pub length: f64,
     /// Unit normal of the mid-line, from the first face (P, Q) to the second (R, S).
     pub normal: [f64; 2],
-    /// Apertures at the two ends, within the residual and maximum apertures [m].
+    /// Apertures at the two ends ([`aperture`]) [m]; the conductance takes them at most at
+    /// the maximum aperture.
     pub aperture: [f64; 2],
+    /// `da/do` at the two ends (1 where open).
+    pub slope: [f64; 2],
     /// Cubic-law conductance `t a^3 / (12 mu l)` [m^3 / (Pa s)].
     pub conductance: f64,
     /// Volume flow from end 0 to end 1 over the last sub-step [m^3/s].
@@ -104,6 +108,8 @@ pub struct Books {
     pub leaked: f64,
     /// Energy the sources put in, `int p Q dt`.
     pub injected_energy: f64,
+    /// Energy that came in with the volume through the prescribed pressures, `sum p dm`.
+    pub boundary_energy: f64,
     /// Energy dissipated by the viscous flow in the channels, `int sum q dp dt`.
     pub viscous: f64,
 }
@@ -141,12 +147,50 @@ pub struct Network {
     pub rate: Vec<f64>,
     /// The books since the start.
     pub books: Books,
+    /// Per cavity: the bulk modulus it stores the fluid with [Pa]: the fluid's, or less
+    /// where the explicit mechanical step cannot carry the stiffness of a small filled cavity
+    /// ([`Network::set_stiffness_cap`]).
+    pub bulk: Vec<f64>,
+    /// Per node `1 / m` and the largest frequency a cavity may add [rad/s]
+    /// ([`Network::set_stiffness_cap`]); empty and infinite: no cap.
+    inv_mass: Vec<f64>,
+    omega_cap: f64,
+    /// Per cavity: `sum a_i^2 / m_i` over the nodes of its faces (scratch of the cap).
+    face_sum: Vec<f64>,
     /// Per cavity: the sum of its channels' conductances (scratch of the stable step).
     sum_c: Vec<f64>,
     /// Per cavity: the change of stored volume over a sub-step (scratch).
     change: Vec<f64>,
     /// Sub-steps (explicit) or steps (implicit) taken so far.
     pub substeps: u64,
+}
+
+/// The aperture of a channel end at the opening `o` [m], `r` the residual aperture:
+/// `r + o` when open, `r exp(o / r)` when the faces press into each other (`o < 0`): positive,
+/// continuous with its slope at 0, so that a cavity's volume is a smooth function of the
+/// positions (a volume held constant while the faces move would let the pressure do work on
+/// the solid that no compression of the fluid pays for).
+pub fn aperture(o: f64, r: f64) -> f64 {
+    if o >= 0.0 { r + o } else { r * (o / r).exp() }
+}
+
+/// The terms `sum (dV/du_i)^2 / m_i` of the cavities at the two ends of a channel of face
+/// area `lt`, end slopes `sl` and nodes `n` (P, Q, R, S): the end-0 cavity's volume
+/// `lt (3 a_0 + a_1) / 8` moves with the end-0 nodes by `3 lt s_0 / 8` and with the end-1
+/// nodes by `lt s_1 / 8`.
+fn face_terms(lt: f64, sl: [f64; 2], im: &[f64], n: [u32; 4]) -> (f64, f64) {
+    let m0 = im[n[0] as usize] + im[n[3] as usize];
+    let m1 = im[n[1] as usize] + im[n[2] as usize];
+    let (a0, a1) = (0.125 * lt * sl[0], 0.125 * lt * sl[1]);
+    (
+        9.0 * a0 * a0 * m0 + a1 * a1 * m1,
+        a0 * a0 * m0 + 9.0 * a1 * a1 * m1,
+    )
+}
+
+/// `da/do` of [`aperture`]: 1 when open, `exp(o / r)` when the faces press together.
+pub fn aperture_slope(o: f64, r: f64) -> f64 {
+    if o >= 0.0 { 1.0 } else { (o / r).exp() }
 }
 
 /// Union-find root of `i` with path halving.
@@ -224,10 +268,30 @@ impl Network {
             fixed: vec![f64::NAN; n_vertices],
             rate: vec![0.0; n_vertices],
             books: Books::default(),
+            bulk: vec![fluid.bulk_modulus; n_vertices],
+            inv_mass: Vec::new(),
+            omega_cap: f64::INFINITY,
+            face_sum: vec![0.0; n_vertices],
             sum_c: vec![0.0; n_vertices],
             change: vec![0.0; n_vertices],
             substeps: 0,
         })
+    }
+
+    /// Caps the fluid's stiffness on the solid at `omega` [rad/s] (`inv_mass`: `1 / m` per
+    /// node): a filled cavity of volume `V` is a spring on the nodes of its faces whose
+    /// frequency is `sqrt(K S / V)`, `S = sum g_i^2 / m_i` (`g_i = dV/du_i`); where that is
+    /// above `omega`, the cavity stores the fluid with `K_v = omega^2 V / S` in place of `K`
+    /// (the books stay exact: the cavity's pressure is `K_v (m / V - 1)`). A time step `h`
+    /// of a scheme stable up to `h omega = c` carries springs up to `omega = c / h`.
+    pub fn set_stiffness_cap(&mut self, inv_mass: Vec<f64>, omega: f64) {
+        self.inv_mass = inv_mass;
+        self.omega_cap = omega;
+    }
+
+    /// The cap's frequency [rad/s] (infinite: none).
+    pub fn stiffness_cap(&self) -> f64 {
+        self.omega_cap
     }
 
     /// The cavities at the two ends of joint `j` (of its nodes P and Q).
@@ -282,6 +346,8 @@ impl Network {
         let (t, f) = (self.thickness, self.fluid);
         self.volume.iter_mut().for_each(|v| *v = 0.0);
         self.sum_c.iter_mut().for_each(|v| *v = 0.0);
+        self.face_sum.iter_mut().for_each(|v| *v = 0.0);
+        let capped = !self.inv_mass.is_empty() && self.omega_cap.is_finite();
         for (c, &j) in self.channels.iter().enumerate() {
             let n = self.joints[j as usize];
             let [p, q, r, s] = n.map(|k| x[k as usize]);
@@ -292,12 +358,13 @@ impl Network {
             let nn = [d[1] / l, -d[0] / l];
             let o0 = (s[0] - p[0]) * nn[0] + (s[1] - p[1]) * nn[1];
             let o1 = (r[0] - q[0]) * nn[0] + (r[1] - q[1]) * nn[1];
-            let a = [o0, o1].map(|o| o.clamp(f.residual_aperture, f.max_aperture));
-            let am = 0.5 * (a[0] + a[1]);
+            let a = [o0, o1].map(|o| aperture(o, f.residual_aperture));
+            let am = 0.5 * (a[0].min(f.max_aperture) + a[1].min(f.max_aperture));
             let g = &mut self.geometry[c];
             g.length = l;
             g.normal = nn;
             g.aperture = a;
+            g.slope = [o0, o1].map(|o| aperture_slope(o, f.residual_aperture));
             g.conductance = t * am * am * am / (12.0 * f.viscosity * l);
             let [v0, v1] = [
                 self.vertex_of[n[0] as usize] as usize,
@@ -307,6 +374,20 @@ impl Network {
             self.volume[v1] += t * l * (a[0] + 3.0 * a[1]) * 0.125;
             self.sum_c[v0] += g.conductance;
             self.sum_c[v1] += g.conductance;
+            if capped {
+                let im = &self.inv_mass;
+                let (e0, e1) = face_terms(l * t, g.slope, im, n);
+                self.face_sum[v0] += e0;
+                self.face_sum[v1] += e1;
+            }
+        }
+        let (k, w2) = (f.bulk_modulus, self.omega_cap * self.omega_cap);
+        for v in 0..self.n_vertices {
+            self.bulk[v] = if capped && self.face_sum[v] > 0.0 {
+                k.min(w2 * self.volume[v] / self.face_sum[v])
+            } else {
+                k
+            };
         }
         self.update_pressures();
     }
@@ -314,13 +395,12 @@ impl Network {
     /// The pressures of the stored volumes in the current cavity volumes; prescribed
     /// pressures hold their value.
     fn update_pressures(&mut self) {
-        let k = self.fluid.bulk_modulus;
         for v in 0..self.n_vertices {
             let fixed = self.fixed[v];
             self.pressure[v] = if !fixed.is_nan() {
                 fixed
             } else if self.volume[v] > 0.0 {
-                k * (self.stored[v] / self.volume[v] - 1.0).max(0.0)
+                self.bulk[v] * (self.stored[v] / self.volume[v] - 1.0).max(0.0)
             } else {
                 0.0
             };
@@ -331,11 +411,10 @@ impl Network {
     /// free cavities (forward Euler on the pressures `dp_i/dt = (K / V_i) sum_c C_c (p_j -
     /// p_i)`; the bound of Gershgorin's circles). Infinite without channels.
     pub fn stable_step(&self) -> f64 {
-        let k = self.fluid.bulk_modulus;
         let mut h = f64::INFINITY;
         for v in 0..self.n_vertices {
             if self.fixed[v].is_nan() && self.sum_c[v] > 0.0 {
-                h = h.min(self.volume[v] / (k * self.sum_c[v]));
+                h = h.min(self.volume[v] / (self.bulk[v] * self.sum_c[v]));
             }
         }
         h
@@ -344,14 +423,14 @@ impl Network {
     /// Sets the stored volume of each prescribed cavity to what its pressure needs in its
     /// volume, booking the difference as inflow through the boundary.
     fn hold_prescribed(&mut self) {
-        let k = self.fluid.bulk_modulus;
         for v in 0..self.n_vertices {
             let p = self.fixed[v];
             if p.is_nan() || self.volume[v] <= 0.0 {
                 continue;
             }
-            let m = self.volume[v] * (1.0 + p / k);
+            let m = self.volume[v] * (1.0 + p / self.bulk[v]);
             self.books.boundary += m - self.stored[v];
+            self.books.boundary_energy += p * (m - self.stored[v]);
             self.stored[v] = m;
         }
     }
@@ -428,7 +507,6 @@ impl Network {
             return 0;
         }
         self.hold_prescribed();
-        let k = self.fluid.bulk_modulus;
         let n = self.n_vertices;
         // the step's leak-off per cavity, at most what it stores
         let mut leak = vec![0.0; n];
@@ -497,7 +575,6 @@ impl Network {
         for (s, c) in self.stored.iter_mut().zip(&self.change) {
             *s += c;
         }
-        let _ = k;
         self.hold_prescribed();
         self.update_pressures();
         self.substeps += 1;
@@ -525,10 +602,9 @@ impl Network {
     /// `y = A x` on the filled cavities: `A = diag(V/K) + dt L` (L the channels' graph
     /// Laplacian; the other cavities' pressures are held at `x`'s values and not written).
     fn apply(&self, filled: &[bool], dt: f64, x: &[f64], y: &mut [f64]) {
-        let k = self.fluid.bulk_modulus;
         for v in 0..self.n_vertices {
             y[v] = if filled[v] {
-                self.volume[v] / k * x[v]
+                self.volume[v] / self.bulk[v] * x[v]
             } else {
                 0.0
             };
@@ -552,7 +628,6 @@ impl Network {
     /// diagonal as preconditioner, to a relative residual of 1e-13. Returns the iterations.
     fn solve(&self, filled: &[bool], leak: &[f64], dt: f64, p: &mut [f64]) -> u64 {
         let n = self.n_vertices;
-        let k = self.fluid.bulk_modulus;
         for v in 0..n {
             if !self.fixed[v].is_nan() {
                 p[v] = self.fixed[v];
@@ -566,7 +641,7 @@ impl Network {
         for v in 0..n {
             if filled[v] {
                 b[v] = self.stored[v] - self.volume[v] + dt * self.rate[v] - leak[v];
-                diag[v] = self.volume[v] / k;
+                diag[v] = self.volume[v] / self.bulk[v];
             }
         }
         for (c, &j) in self.channels.iter().enumerate() {
@@ -682,7 +757,7 @@ impl Network {
     /// Fills cavity `v` at pressure `p` in its current volume (a crack filled before the
     /// run), booking the volume as initial.
     pub fn fill(&mut self, v: usize, p: f64) {
-        let m = self.volume[v] * (1.0 + p / self.fluid.bulk_modulus);
+        let m = self.volume[v] * (1.0 + p / self.bulk[v]);
         self.books.initial += m - self.stored[v];
         self.stored[v] = m;
         self.update_pressures();
@@ -713,17 +788,21 @@ impl Network {
         (b.initial + b.injected + b.boundary - net - comp - b.leaked).abs() / scale
     }
 
-    /// Adds the pressure's forces on the faces of every channel at positions `x` to `f`:
-    /// `l t p_k / 2` on each node of end k, pushing the faces apart along the mid-line's
-    /// normal, with the cavities' current pressures.
+    /// Adds the pressure's forces on the faces of every channel at positions `x` to `f` (the
+    /// positions of the last [`Network::geometry`]), pushing the faces apart along the
+    /// mid-line's normal: the forces are the gradient of the stored fluid's energy in the
+    /// opening, `p_0 dV_0 + p_1 dV_1`, so `l t s_0 (3 p_0 + p_1) / 8` on each node of end 0
+    /// and `l t s_1 (p_0 + 3 p_1) / 8` on each node of end 1 (`s_k = da/do` at end k, 1
+    /// when open); under a uniform pressure, `p l t / 2` per node.
     pub fn add_face_forces(&self, x: &[[f64; 2]], f: &mut [[f64; 2]]) {
         let t = self.thickness;
-        for &j in &self.channels {
+        for (c, &j) in self.channels.iter().enumerate() {
             let n = self.joints[j as usize];
-            let [pv, qv] = [n[0], n[1]].map(|k| self.pressure[self.vertex_of[k as usize] as usize]);
-            if pv == 0.0 && qv == 0.0 {
+            let [p0, p1] = [n[0], n[1]].map(|k| self.pressure[self.vertex_of[k as usize] as usize]);
+            if p0 == 0.0 && p1 == 0.0 {
                 continue;
             }
+            let sl = self.geometry[c].slope;
             let [p, q, r, s] = n.map(|k| x[k as usize]);
             // l nn = (d_y, -d_x) with d the mid-line
             let d = [
@@ -731,40 +810,63 @@ impl Network {
                 (q[1] + r[1] - p[1] - s[1]) * 0.5,
             ];
             let ln = [d[1], -d[0]];
-            for (end, pr) in [(0usize, pv), (1, qv)] {
-                let w = 0.5 * t * pr;
-                let (a, b) = if end == 0 { (n[0], n[3]) } else { (n[1], n[2]) };
-                f[a as usize][0] -= w * ln[0];
-                f[a as usize][1] -= w * ln[1];
-                f[b as usize][0] += w * ln[0];
-                f[b as usize][1] += w * ln[1];
+            let w = [
+                0.125 * t * sl[0] * (3.0 * p0 + p1),
+                0.125 * t * sl[1] * (p0 + 3.0 * p1),
+            ];
+            for (end, (a, b)) in [(n[0], n[3]), (n[1], n[2])].into_iter().enumerate() {
+                f[a as usize][0] -= w[end] * ln[0];
+                f[a as usize][1] -= w[end] * ln[1];
+                f[b as usize][0] += w[end] * ln[0];
+                f[b as usize][1] += w[end] * ln[1];
             }
         }
     }
 
-    /// The highest frequency the fluid's stiffness adds to the solid [rad/s]: a filled cavity
-    /// of volume `V` under the fluid's bulk modulus couples the nodes of its faces by the
-    /// stiffness `K a_i a_j / V` (`a_i = l t / 2`, each node's share of a face), whose one
-    /// non-zero eigenvalue over the lumped masses is `(K / V) sum_i a_i^2 / m_i`; the
-    /// largest over the filled free cavities. `inv_mass`: per node, `1 / m`.
+    /// The highest frequency the fluid's stiffness adds to the solid [rad/s]. The filled free
+    /// cavities joined by channels form connected cavities (the flow evens their pressure out
+    /// within a step when the fluid is not too viscous); one of volume `V` under the bulk
+    /// modulus `K` couples the nodes of its faces by the stiffness `K g_i g_j / V` (`g_i =
+    /// dV/du_i`), whose one non-zero eigenvalue over the lumped masses is
+    /// `(K / V) sum_i g_i^2 / m_i`; the largest over the connected cavities.
+    /// `inv_mass`: per node, `1 / m`. With each cavity's own bulk modulus `K_v`, a connected
+    /// cavity's is `sum S / sum (V / K_v)`. A very viscous fluid keeps the cavities apart,
+    /// each stiffer than their union: the bound is then too low, unless the stiffness cap
+    /// holds each cavity ([`Network::set_stiffness_cap`]).
     pub fn frequency_bound(&self, inv_mass: &[f64]) -> f64 {
-        let k = self.fluid.bulk_modulus;
-        let mut sum = vec![0.0; self.n_vertices];
+        let n = self.n_vertices;
+        let filled = |v: usize| {
+            self.fixed[v].is_nan() && self.volume[v] > 0.0 && self.stored[v] >= self.volume[v]
+        };
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        for &j in &self.channels {
+            let [a, b] = self.ends(j as usize);
+            if filled(a) && filled(b) {
+                let (ra, rb) = (root(&mut parent, a as u32), root(&mut parent, b as u32));
+                parent[ra.max(rb) as usize] = ra.min(rb);
+            }
+        }
+        let (mut vol, mut sum) = (vec![0.0; n], vec![0.0; n]);
+        for v in 0..n {
+            if filled(v) {
+                vol[root(&mut parent, v as u32) as usize] += self.volume[v] / self.bulk[v];
+            }
+        }
         for (c, &j) in self.channels.iter().enumerate() {
-            let n = self.joints[j as usize];
-            let a = 0.5 * self.geometry[c].length * self.thickness;
-            for (end, pair) in [(0usize, [n[0], n[3]]), (1, [n[1], n[2]])] {
-                let v = self.vertex_of[n[end] as usize] as usize;
-                for node in pair {
-                    sum[v] += a * a * inv_mass[node as usize];
+            let nn = self.joints[j as usize];
+            let g = &self.geometry[c];
+            let terms = face_terms(g.length * self.thickness, g.slope, inv_mass, nn);
+            for (end, e) in [(0usize, terms.0), (1, terms.1)] {
+                let v = self.vertex_of[nn[end] as usize] as usize;
+                if filled(v) {
+                    sum[root(&mut parent, v as u32) as usize] += e;
                 }
             }
         }
         let mut w2: f64 = 0.0;
-        for v in 0..self.n_vertices {
-            let filled = self.stored[v] >= self.volume[v] && self.volume[v] > 0.0;
-            if self.fixed[v].is_nan() && filled {
-                w2 = w2.max(k / self.volume[v] * sum[v]);
+        for v in 0..n {
+            if vol[v] > 0.0 {
+                w2 = w2.max(sum[v] / vol[v]);
             }
         }
         w2.sqrt()

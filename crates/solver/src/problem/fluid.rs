@@ -150,6 +150,8 @@ pub fn prepare(
             history: p.history.as_ref().map(History::new),
         });
     }
+    wet.sort_unstable();
+    wet.dedup();
     let mut sources = Vec::new();
     for (i, inj) in section.injections.iter().enumerate() {
         let path = format!("fluid.injections[{i}]");
@@ -181,10 +183,16 @@ pub fn prepare(
                  of a fracture region",
             )
         })?;
-        for (j, n) in set.nodes.iter().enumerate() {
-            if n.iter().any(|&k| model.x0[k as usize] == at) {
-                wet.push(j as u32);
-            }
+        // a vertex on no crack is perforated: its joints are wetted
+        let at_vertex: Vec<u32> = (0..set.len() as u32)
+            .filter(|&j| {
+                set.nodes[j as usize]
+                    .iter()
+                    .any(|&k| model.x0[k as usize] == at)
+            })
+            .collect();
+        if !at_vertex.iter().any(|j| wet.binary_search(j).is_ok()) {
+            wet.extend(at_vertex);
         }
         sources.push(Source {
             node,

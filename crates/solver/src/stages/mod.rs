@@ -125,7 +125,10 @@ pub fn attach_to(
             Some(s) => s.intact.iter().map(|i| !i).collect(),
             None => vec![false; set.len()],
         };
-        let stage = crate::stages::fluid::FluidStage::new(setup, set, &broken, &sys.model);
+        let limit = l.scheme.stability_limit();
+        let mut stage =
+            crate::stages::fluid::FluidStage::new(setup, set, &broken, &sys.model, limit / dt);
+        stage.set_scheme_limit(limit);
         sys.contributions.push(Box::new(stage));
     }
     Ok(())

@@ -1,9 +1,11 @@
 //! The fluid stage: the fluid in the crack network (`fdem_flow::Network`) as a force term
 //! (the pressure on the wetted faces), stepped at the end of each mechanical step.
 //!
-//! - **Forces**: each force evaluation adds the pressure's forces on the faces of every
-//!   channel at the evaluation's positions, with the cavities' pressures of the last end of
-//!   step (the fluid is explicit in the mechanical step: staggered).
+//! - **Forces**: each force evaluation takes the cavities' volumes at its positions, their
+//!   pressures from the fluid they store (moved by the flow at the last end of step) and adds
+//!   the pressure's forces on the faces of every channel: within a step the stored fluid is
+//!   a spring of the positions (a pressure lagged by a step pumps energy into the solid), and
+//!   the flow is staggered, one update per step.
 //! - **End of step** at `t`: the joints the fracture stage broke in this step
 //!   ([`StepEvents::fractures`]) become channels; the channels' apertures and the cavities'
 //!   volumes are taken at the step's end positions; the prescribed pressures take their
@@ -118,6 +120,8 @@ pub struct FluidStage {
     work: f64,
     /// Time of the last end of step [s].
     t_last: f64,
+    /// `(h omega)_scheme` of the run's scheme (the stiffness cap follows the step).
+    scheme_limit: f64,
     /// The largest flow sub-steps per mechanical step, and the smallest flow stable step [s].
     max_substeps: u64,
     min_flow_step: f64,
@@ -128,11 +132,15 @@ pub struct FluidStage {
 impl FluidStage {
     /// The stage for `setup` on the joints of `set`, with the joints `broken` (the run's
     /// starting state) wet, at the reference positions of `model`.
+    ///
+    /// `omega_limit`: the largest frequency the time step carries, `(h omega)_scheme / h`;
+    /// a cavity adds at most [`CAP_FRACTION`] of it ([`fdem_flow::Network::set_stiffness_cap`]).
     pub fn new(
         setup: &FluidSetup,
         set: &fdem_fracture::JointSet,
         broken: &[bool],
         model: &Model,
+        omega_limit: f64,
     ) -> Self {
         let n = model.n_nodes();
         let mut net = Network::new(set.nodes.clone(), n, set.thickness, setup.fluid)
@@ -143,9 +151,10 @@ impl FluidStage {
         let source_cavity = (setup.sources.iter())
             .map(|s| net.vertex_of[s.node as usize] as usize)
             .collect();
-        let inv_mass = (model.mass.iter())
+        let inv_mass: Vec<f64> = (model.mass.iter())
             .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
             .collect();
+        net.set_stiffness_cap(inv_mass.clone(), CAP_FRACTION * omega_limit);
         let mut s = Self {
             net,
             setup: setup.clone(),
@@ -157,13 +166,14 @@ impl FluidStage {
             scratch: vec![[0.0; 2]; n],
             work: 0.0,
             t_last: 0.0,
+            scheme_limit: 0.0,
             max_substeps: 0,
             min_flow_step: f64::INFINITY,
             iterations: 0,
         };
         s.hold(0.0);
-        s.net.geometry(&model.x0);
-        s.start_work(&model.x0);
+        s.faces_at(&model.x0);
+        s.collect_start(&model.x0);
         s
     }
 
@@ -204,16 +214,16 @@ impl FluidStage {
         }
     }
 
-    /// The channels' nodes, and the faces' forces at `x` under the current pressures: the
-    /// start of the next step's work.
-    fn start_work(&mut self, x: &[[f64; 2]]) {
+    /// The channels' nodes, and the faces' forces at `x` as the last force evaluation there
+    /// gave them (in `scratch`, which this zeroes): the start of the next step's work. (The
+    /// integrator's first kick of a step reuses that evaluation, before the flow moved.)
+    fn collect_start(&mut self, x: &[[f64; 2]]) {
         self.work_nodes.clear();
         for &j in &self.net.channels {
             self.work_nodes.extend(self.net.joints[j as usize]);
         }
         self.work_nodes.sort_unstable();
         self.work_nodes.dedup();
-        self.faces_at(x);
         self.f_start.clear();
         self.x_start.clear();
         for &k in &self.work_nodes {
@@ -223,13 +233,16 @@ impl FluidStage {
         }
     }
 
-    /// The faces' forces at `x` under the current pressures into `scratch` (zero before).
+    /// The faces' forces at `x` under the stored fluid into `scratch` (zero there before),
+    /// as a force evaluation at `x` gives them.
     fn faces_at(&mut self, x: &[[f64; 2]]) {
+        self.net.geometry(x);
         self.net.add_face_forces(x, &mut self.scratch);
     }
 
-    /// The work of the faces' forces over the step that ends at `x` (trapezoidal rule, the
-    /// step's pressures), added to the books.
+    /// The work of the faces' forces over the step that ends at `x` (trapezoidal rule on the
+    /// forces the integrator used at the step's two ends), added to the books; the forces at
+    /// `x` stay in `scratch` for [`FluidStage::collect_start`].
     fn book_work(&mut self, x: &[[f64; 2]]) {
         self.faces_at(x);
         let mut w = 0.0;
@@ -238,9 +251,6 @@ impl FluidStage {
             let f1 = self.scratch[k as usize];
             let x1 = x[k as usize];
             w += 0.5 * ((f0[0] + f1[0]) * (x1[0] - x0[0]) + (f0[1] + f1[1]) * (x1[1] - x0[1]));
-        }
-        for &k in &self.work_nodes {
-            self.scratch[k as usize] = [0.0; 2];
         }
         self.work += w;
     }
@@ -255,6 +265,8 @@ impl ForceTerm for FluidStage {
         f: &mut [[f64; 2]],
         _events: &mut StepEvents,
     ) {
+        // the cavities' pressures at these positions: the stored fluid is a spring
+        self.net.geometry(x);
         self.net.add_face_forces(x, f);
     }
 
@@ -266,13 +278,14 @@ impl ForceTerm for FluidStage {
         _at_last: bool,
         events: &mut StepEvents,
     ) {
-        // the step's pressures did their work up to these positions
+        // the stored fluid did its work up to these positions
         self.book_work(x);
         let t0 = self.t_last;
         let dt = t - t0;
         self.t_last = t;
         let broke = events.fractures.iter().map(|e| e.joint.0 as usize);
         self.net.wet_joints(broke, t);
+        self.collect_start(x);
         self.hold(t);
         self.net.geometry(x);
         for v in self.net.rate.iter_mut() {
@@ -293,7 +306,6 @@ impl ForceTerm for FluidStage {
                 self.max_substeps = self.max_substeps.max(n);
             }
         }
-        self.start_work(x);
     }
 
     fn reads_velocities(&self) -> bool {
@@ -302,6 +314,40 @@ impl ForceTerm for FluidStage {
 
     fn active_frequency_bound(&mut self, _x: &[[f64; 2]], _at: Engaged) -> Option<f64> {
         Some(self.net.frequency_bound(&self.inv_mass))
+    }
+
+    fn set_time_step(&mut self, h: f64) {
+        if self.scheme_limit > 0.0 && h > 0.0 {
+            let inv = std::mem::take(&mut self.inv_mass);
+            self.net
+                .set_stiffness_cap(inv.clone(), CAP_FRACTION * self.scheme_limit / h);
+            self.inv_mass = inv;
+        }
+    }
+}
+
+/// The fraction of the largest frequency the step carries that a filled cavity may add
+/// (with the mechanical bound at 0.9 of it, the sum of squares stays below 1).
+pub const CAP_FRACTION: f64 = 0.3;
+
+impl FluidStage {
+    /// Sets the scheme's `(h omega)` limit, so that a change of step moves the stiffness cap.
+    pub fn set_scheme_limit(&mut self, limit: f64) {
+        self.scheme_limit = limit;
+    }
+
+    /// The cavities whose bulk modulus the cap lowers, and the smallest ratio `K_v / K`.
+    pub fn capped(&self) -> (usize, f64) {
+        let k = self.net.fluid.bulk_modulus;
+        let mut n = 0;
+        let mut r: f64 = 1.0;
+        for v in 0..self.net.n_vertices {
+            if self.net.is_wetted(v) && self.net.bulk[v] < k {
+                n += 1;
+                r = r.min(self.net.bulk[v] / k);
+            }
+        }
+        (n, r)
     }
 }
 
@@ -317,6 +363,13 @@ impl StageOutput for FluidStage {
             o.insert("flow_steps".into(), serde_json::json!(self.net.substeps));
             o.insert("max_substeps".into(), serde_json::json!(self.max_substeps));
             o.insert("cg_iterations".into(), serde_json::json!(self.iterations));
+            let (n, r) = self.capped();
+            o.insert("capped_cavities".into(), serde_json::json!(n));
+            o.insert("capped_bulk_ratio_min".into(), serde_json::json!(r));
+            o.insert(
+                "stiffness_cap".into(),
+                serde_json::json!(self.net.stiffness_cap()),
+            );
             let fs = self.min_flow_step;
             o.insert(
                 "min_flow_step".into(),
@@ -332,11 +385,24 @@ impl StageOutput for FluidStage {
 
     fn error(&self) -> Option<String> {
         let b = self.books();
-        (b.balance_error > BALANCE_LIMIT).then(|| {
-            format!(
+        if b.balance_error > BALANCE_LIMIT {
+            return Some(format!(
                 "the fluid's volume books do not close: a relative residual of {:.2e} (the \
                  limit is {BALANCE_LIMIT:.0e})",
                 b.balance_error
+            ));
+        }
+        // the fluid can give the solid no more than it was given: a coupling that pumps
+        // energy into the solid is unstable (its stiffness beyond the step)
+        let given = b.injected_energy + self.net.books.boundary_energy;
+        (self.work > WORK_LIMIT * given && self.work > 0.0).then(|| {
+            format!(
+                "the fluid did {:.3e} J of work on the solid but was given {:.3e} J: the \
+                 coupling of the fluid and the solid is unstable (a filled cavity is a spring \
+                 of stiffness K / V, beyond the time step): lower fluid.bulk_modulus, use \
+                 \"integrator\": {{\"time_step\": \"adaptive\"}} (the step then follows the \
+                 fluid's frequency bound), or a smaller integrator.safety",
+                self.work, given
             )
         })
     }
@@ -363,6 +429,9 @@ impl StageOutput for FluidStage {
         joints.fluid = Some(fl);
     }
 }
+
+/// The fluid's work on the solid, over the energy it was given, that stops a run.
+pub const WORK_LIMIT: f64 = 2.0;
 
 /// The relative residual of the volume books that stops a run.
 pub const BALANCE_LIMIT: f64 = 1e-9;
@@ -414,7 +483,7 @@ impl StageCheckpoint for FluidStage {
             let wet: Vec<bool> = d.vec_of_len(n, "wetted flags")?;
             let since: Vec<f64> = d.vec_of_len(n, "wetting times")?;
             let stored: Vec<f64> = d.vec_of_len(nv, "stored volumes")?;
-            let books: [f64; 6] = d.get()?;
+            let books: [f64; 7] = d.get()?;
             let rest: (u64, f64, f64, u64, f64, u64) =
                 (d.get()?, d.get()?, d.get()?, d.get()?, d.get()?, d.get()?);
             let f_start: Vec<[f64; 2]> = d.get()?;
@@ -434,6 +503,7 @@ impl StageCheckpoint for FluidStage {
             leaked,
             injected_energy,
             viscous,
+            boundary_energy,
         ] = books;
         self.net.books = fdem_flow::Books {
             initial,
@@ -442,6 +512,7 @@ impl StageCheckpoint for FluidStage {
             leaked,
             injected_energy,
             viscous,
+            boundary_energy,
         };
         (self.net.substeps, self.work, self.t_last) = (rest.0, rest.1, rest.2);
         (self.max_substeps, self.min_flow_step, self.iterations) = (rest.3, rest.4, rest.5);
