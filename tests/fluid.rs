@@ -26,17 +26,24 @@ fn e_prime() -> f64 {
 }
 
 /// A square plate with a crack on y = 0, |x| <= a, meshed by squares of side `h = a / n_a`
-/// in the box |x|, |y| <= 1.6 a (two triangles each), then rings of squares of sides 2h, 4h,
-/// ... four or five squares wide out to at least `20 a` (each ring's squares along the finer
-/// box split in three triangles at the finer nodes: no hanging node). Groups: `band` (the
-/// two rows of triangles beside y = 0 in the inner box, the fracture region), `rest`,
-/// `crack` (the edges on the crack), `outer` (the plate's edges).
+/// in the box |x|, |y| <= 1.6 a, then rings of coarser squares out to at least `20 a`
+/// ([`ringed_plate`]).
 pub fn cracked_plate(n_a: i64) -> Value {
-    let h = A / n_a as f64;
     let b0 = {
         let b = (1.6 * n_a as f64).round() as i64;
         b + b % 2
     };
+    ringed_plate(A / n_a as f64, [b0, b0], n_a, 20 * n_a)
+}
+
+/// A plate meshed by squares of side `h` in the box |x| <= `box_[0]` h, |y| <= `box_[1]` h
+/// (two triangles each; even counts), then rings of squares of sides 2h, 4h, ... four or
+/// five squares wide (so that each ring's edges fall on the next ring's nodes) out to at
+/// least `reach` h from the centre; each ring's squares along the finer box split in three
+/// triangles at the finer nodes (no hanging node). Groups: `band` (the two rows of triangles
+/// beside y = 0 in the inner box, the fracture region), `rest`, `crack` (the edges on y = 0
+/// with |x| <= `crack` h), `outer` (the plate's edges).
+pub fn ringed_plate(h: f64, box_: [i64; 2], crack: i64, reach: i64) -> Value {
     let mut ids = std::collections::HashMap::new();
     let mut pts: Vec<[i64; 2]> = Vec::new();
     let mut node = |p: [i64; 2]| -> u32 {
@@ -64,29 +71,32 @@ pub fn cracked_plate(n_a: i64) -> Value {
             tris.push(t.map(&mut node));
         }
     };
-    for j in -b0..b0 {
-        for i in -b0..b0 {
+    let [bx, by] = box_;
+    for j in -by..by {
+        for i in -bx..bx {
             cell(i, j, 1, None, j == -1 || j == 0);
         }
     }
-    let (mut inner, mut s) = (b0, 1);
-    while inner < 20 * n_a {
+    let (mut inner, mut s) = ([bx, by], 1);
+    while inner[0].min(inner[1]) < reach {
         s *= 2;
-        let m = if (inner / s + 4) % 2 == 0 { 4 } else { 5 };
-        let outer = inner + m * s;
-        for j in (-outer..outer).step_by(s as usize) {
-            for i in (-outer..outer).step_by(s as usize) {
-                let inside = |v: i64| -inner <= v && v < inner;
-                if inside(i) && inside(j) {
+        let grow = |b: i64| b + if (b / s + 4) % 2 == 0 { 4 } else { 5 } * s;
+        let outer = [grow(inner[0]), grow(inner[1])];
+        let (ix, iy) = (inner[0], inner[1]);
+        for j in (-outer[1]..outer[1]).step_by(s as usize) {
+            for i in (-outer[0]..outer[0]).step_by(s as usize) {
+                let in_x = -ix <= i && i < ix;
+                let in_y = -iy <= j && j < iy;
+                if in_x && in_y {
                     continue;
                 }
-                let hang = if j + s == -inner && inside(i) {
+                let hang = if j + s == -iy && in_x {
                     Some(2)
-                } else if j == inner && inside(i) {
+                } else if j == iy && in_x {
                     Some(0)
-                } else if i + s == -inner && inside(j) {
+                } else if i + s == -ix && in_y {
                     Some(1)
-                } else if i == inner && inside(j) {
+                } else if i == ix && in_y {
                     Some(3)
                 } else {
                     None
@@ -96,15 +106,18 @@ pub fn cracked_plate(n_a: i64) -> Value {
         }
         inner = outer;
     }
-    let crack: Vec<[u32; 2]> = (-n_a..n_a)
+    let crack: Vec<[u32; 2]> = (-crack..crack)
         .map(|i| [node([i, 0]), node([i + 1, 0])])
         .collect();
     let mut outer_edges = Vec::new();
-    for i in (-inner..inner).step_by(s as usize) {
-        outer_edges.push([node([i, -inner]), node([i + s, -inner])]);
-        outer_edges.push([node([i, inner]), node([i + s, inner])]);
-        outer_edges.push([node([-inner, i]), node([-inner, i + s])]);
-        outer_edges.push([node([inner, i]), node([inner, i + s])]);
+    let [ox, oy] = inner;
+    for i in (-ox..ox).step_by(s as usize) {
+        outer_edges.push([node([i, -oy]), node([i + s, -oy])]);
+        outer_edges.push([node([i, oy]), node([i + s, oy])]);
+    }
+    for j in (-oy..oy).step_by(s as usize) {
+        outer_edges.push([node([-ox, j]), node([-ox, j + s])]);
+        outer_edges.push([node([ox, j]), node([ox, j + s])]);
     }
     let nodes: Vec<[f64; 2]> = pts
         .iter()
@@ -274,10 +287,127 @@ fn injection_into_a_closed_crack_matches_sneddon() {
     fdem_figures::record(
         149,
         format!(
-            "pressure {:+.2} % against the mesh's own compliance, {:+.2} % against Sneddon (a/h = {n_a}); books closed to {} at every row",
+            "pressure {:+.2} % against the mesh's own compliance, {:+.2} % against Sneddon (a/h = {n_a}), books closed to {} at every row",
             100.0 * e_mesh,
             100.0 * e_sneddon,
             fdem_figures::sci(worst.max(1e-16), 1)
         ),
+    );
+}
+
+/// The error of loading the small cracked plate's scene with `edit` applied.
+fn load_error(tag: &str, edit: impl FnOnce(&mut Value)) -> String {
+    let fluid = json!({
+        "viscosity": 1e-3, "bulk_modulus": 2.2e9,
+        "injections": [ { "at": [0.0, 0.0], "rate": 1e-4 } ]
+    });
+    let p = plate_scene(tag, 2, fluid, 1e-4);
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    edit(&mut v);
+    std::fs::write(&p, v.to_string()).unwrap();
+    match fdem_solver::driver::load(&p) {
+        Ok(_) => panic!("{tag}: the scene loaded"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// Bad input is refused at its JSON path, with the fix.
+#[test]
+fn bad_fluid_input_is_refused_at_its_path() {
+    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, &str)> = vec![
+        (
+            "negative-viscosity",
+            Box::new(|v| v["fluid"]["viscosity"] = json!(-1e-3)),
+            "fluid.viscosity",
+        ),
+        (
+            "point-off",
+            Box::new(|v| v["fluid"]["injections"][0]["at"] = json!([0.9, 0.7])),
+            "fluid.injections[0].at",
+        ),
+        (
+            "no-fracture",
+            Box::new(|v| {
+                let o = v.as_object_mut().unwrap();
+                o.remove("fracture");
+                o.remove("contact");
+            }),
+            "fluid",
+        ),
+        (
+            "unknown-group",
+            Box::new(|v| {
+                v["fluid"]["pressures"] = json!([{ "group": "crak", "value": 1e6 }]);
+            }),
+            "fluid.pressures[0].group",
+        ),
+        (
+            "group-not-joints",
+            Box::new(|v| {
+                v["fluid"]["pressures"] = json!([{ "group": "outer", "value": 1e6 }]);
+            }),
+            "fluid.pressures[0].group",
+        ),
+        (
+            "negative-rate",
+            Box::new(|v| v["fluid"]["injections"][0]["rate"] = json!(-1.0)),
+            "fluid.injections[0].rate",
+        ),
+        (
+            "aperture-order",
+            Box::new(|v| v["fluid"]["max_aperture"] = json!(1e-9)),
+            "fluid.max_aperture",
+        ),
+        (
+            "unknown-field",
+            Box::new(|v| v["fluid"]["viscosty"] = json!(1e-3)),
+            "fluid.viscosty",
+        ),
+        (
+            "probe-without-fluid",
+            Box::new(|v| {
+                v.as_object_mut().unwrap().remove("fluid");
+            }),
+            "histories.probes[1]",
+        ),
+    ];
+    let mut seen = Vec::new();
+    for (tag, edit, path) in cases {
+        let e = load_error(tag, edit);
+        assert!(
+            e.contains(path),
+            "{tag}: the error does not name `{path}`: {e}"
+        );
+        seen.push(tag);
+    }
+    assert_eq!(seen.len(), 9);
+    fdem_figures::record(151, format!("{} of 9 refused at their paths", seen.len()));
+}
+
+/// A run with a fluid stopped twice during the injection and resumed writes the very same
+/// files as the run that never stopped (frames with the fluid's joint arrays, the fluid's
+/// histories, `summary.json` but for its timers).
+#[test]
+fn injection_resumes_bit_for_bit() {
+    let fluid = json!({
+        "viscosity": 1e-4, "bulk_modulus": 2.2e9, "leak_off": 1e-6,
+        "injections": [ { "at": [0.0, 0.0], "rate": 3.0e-3, "ramp": 5e-4 } ]
+    });
+    let p = plate_scene("fluid-resume", 5, fluid, 0.002);
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    v["output"]["frames"] = json!(4);
+    std::fs::write(&p, v.to_string()).unwrap();
+    let (a, _) = crate::restart::straight_and_resumed(&p, &[700, 1900]);
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(a.join("summary.json")).unwrap()).unwrap();
+    let fl = &summary["stages"]["fluid"];
+    assert!(
+        fl["injected_volume"].as_f64().unwrap() > 0.0
+            && fl["leaked_volume"].as_f64().unwrap() > 0.0
+    );
+    fdem_figures::record_part(
+        150,
+        5,
+        "a run stopped twice and resumed: the same files, bit for bit",
     );
 }

@@ -451,6 +451,7 @@ impl StageCheckpoint for FluidStage {
                 b.leaked,
                 b.injected_energy,
                 b.viscous,
+                b.boundary_energy,
             ]);
             e.put(&self.net.substeps);
             e.put(&self.work);
