@@ -49,6 +49,7 @@ fn joints_of(j: &serde_json::Value) -> JointFrame {
         normal_traction: f64s(&j["normal_traction"]),
         shear_traction: f64s(&j["shear_traction"]),
         properties: None,
+        fluid: None,
     }
 }
 

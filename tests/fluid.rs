@@ -311,10 +311,13 @@ fn load_error(tag: &str, edit: impl FnOnce(&mut Value)) -> String {
     }
 }
 
+/// An edit of a scene's JSON.
+type Edit = Box<dyn FnOnce(&mut Value)>;
+
 /// Bad input is refused at its JSON path, with the fix.
 #[test]
 fn bad_fluid_input_is_refused_at_its_path() {
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, &str)> = vec![
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "negative-viscosity",
             Box::new(|v| v["fluid"]["viscosity"] = json!(-1e-3)),
@@ -410,4 +413,66 @@ fn injection_resumes_bit_for_bit() {
         5,
         "a run stopped twice and resumed: the same files, bit for bit",
     );
+}
+
+/// A fracture driven by injection into a notch: with `wet_damaged` the fluid enters the
+/// joints from their first softening (the process zone), without it only from their break;
+/// the books close either way and the breaks follow the fluid.
+#[test]
+fn injection_grows_a_fracture_and_wet_damaged_wets_the_process_zone() {
+    let h = 0.01;
+    let run = |wet: bool| {
+        let dir = common::temp_dir(if wet { "grow-wet" } else { "grow-dry" });
+        std::fs::write(
+            dir.join("plate.json"),
+            ringed_plate(h, [32, 4], 5, 100).to_string(),
+        )
+        .unwrap();
+        let scene = json!({
+            "bodies": [{
+                "name": "plate", "mesh": "plate.json",
+                "materials": { "*": { "young": E, "poisson": NU, "density": 2500.0, "plane": "strain" } }
+            }],
+            "boundary_conditions": [ { "fixed": { "group": "outer", "x": true, "y": true } } ],
+            "fracture": {
+                "regions": [ { "body": "plate", "groups": ["band"] } ],
+                "material": {
+                    "tensile_strength": 1e6, "cohesion": 3e6, "friction_angle_deg": 30.0,
+                    "fracture_energy_i": 6.0, "fracture_energy_ii": 60.0,
+                    "penalty_normal": 10.0 * E, "penalty_tangential": 10.0 * E
+                },
+                "cracks": [ { "group": "crack" } ]
+            },
+            "contact": {},
+            "fluid": {
+                "viscosity": 1e-6, "bulk_modulus": 2.2e9, "wet_damaged": wet,
+                "injections": [ { "at": [0.0, 0.0], "rate": 4e-3 } ]
+            },
+            "integrator": { "scheme": "central-difference", "safety": 0.9 },
+            "duration": 0.0015,
+            "output": { "frames": 0 },
+            "histories": { "every": 20, "probes": [ "fluid" ] }
+        });
+        let p = dir.join("grow.json");
+        std::fs::write(&p, scene.to_string()).unwrap();
+        let (o, out) = common::run(&p);
+        let (head, rows) = common::histories(&out);
+        let worst = common::column(&head, &rows, "fluid_balance_error")
+            .iter()
+            .fold(0.0f64, |m, &e| m.max(e));
+        assert!(worst < 1e-9, "books {worst:e}");
+        let broken = o.summary.stages["fracture"]["broken"].as_u64().unwrap();
+        let channels = o.summary.stages["fluid"]["channels"].as_u64().unwrap();
+        (broken, channels)
+    };
+    let (broken_dry, channels_dry) = run(false);
+    let (broken_wet, channels_wet) = run(true);
+    eprintln!("broken {broken_dry} / {broken_wet}, channels {channels_dry} / {channels_wet}");
+    // the notch's 10 joints start broken; the fracture grew
+    assert!(broken_dry > 14 && broken_wet > 14);
+    assert_eq!(
+        channels_dry, broken_dry,
+        "without wet_damaged only broken joints are wet"
+    );
+    assert!(channels_wet > broken_wet, "the process zone is wet");
 }

@@ -253,6 +253,14 @@ pub fn encode_joints(j: &JointFrame, level: u32) -> Result<Vec<u8>, String> {
                     joint_array("fracture_energy_ii", p.fracture_energy_ii.clone()),
                 ]
             }))
+            .chain(j.fluid.iter().flat_map(|f| {
+                [
+                    joint_array("fluid_pressure", f.pressure.clone()),
+                    joint_array("aperture", f.aperture.clone()),
+                    joint_array("flow_rate", f.flow_rate.clone()),
+                    int_array("wetted", f.wetted.clone()),
+                ]
+            }))
             .collect(),
         },
     };
@@ -311,7 +319,7 @@ pub(crate) fn arrays_of(p: &UnstructuredGridPiece) -> Vec<(String, String, usize
 
 #[cfg(test)]
 mod tests {
-    use super::super::joint_frame::JointProperties;
+    use super::super::joint_frame::{JointFluid, JointProperties};
     use super::super::{joints, vtu};
     use super::*;
 
@@ -359,7 +367,7 @@ mod tests {
                 fracture_energy_i: f(10, nj),
                 fracture_energy_ii: f(11, nj),
             }),
-            fluid: Some(crate::output::JointFluid {
+            fluid: Some(JointFluid {
                 pressure: f(12, nj),
                 aperture: f(13, nj),
                 flow_rate: f(14, nj),
@@ -448,7 +456,7 @@ mod tests {
                 assert!(j1 == j2, "joint bytes differ with the thread count");
                 let got = as_tuples(vtu::read(&j1).unwrap());
                 let want = arrays_of(&read_back(encode_joints(j, level).unwrap()));
-                assert_eq!((got.len(), want.len()), (17, 17), "13 cell, 4 grid arrays");
+                assert_eq!((got.len(), want.len()), (21, 21), "17 cell, 4 grid arrays");
                 for (g, w) in got.iter().zip(&want) {
                     assert!(g == w, "joint array {} differs at level {level}", w.0);
                 }

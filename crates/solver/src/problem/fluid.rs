@@ -15,6 +15,19 @@ use crate::problem::Fracturing;
 use crate::problem::model::Model;
 use crate::problem::time_function::{self, History};
 
+/// The columns of the `fluid` history probe (`crate::stages::fluid::FluidBooks::columns`).
+pub const COLUMNS: [&str; 9] = [
+    "fluid_initial",
+    "fluid_injected",
+    "fluid_boundary",
+    "fluid_stored",
+    "fluid_compressed",
+    "fluid_leaked",
+    "fluid_balance_error",
+    "injection_pressure",
+    "fluid_channels",
+];
+
 /// An injection resolved: the node of the vertex it feeds, its rate and its factor in time.
 #[derive(Debug, Clone)]
 pub struct Source {
@@ -68,6 +81,8 @@ pub struct FluidSetup {
     pub fluid: fdem_flow::Fluid,
     /// How the pressures are stepped.
     pub stepping: FlowStepping,
+    /// Joints are wetted from their first softening (`fluid.wet_damaged`).
+    pub wet_damaged: bool,
     /// The injections, in scene order.
     pub sources: Vec<Source>,
     /// The prescribed pressures, in scene order.
@@ -127,6 +142,35 @@ pub fn prepare(
             wet.extend(c.joints.iter().map(|&j| (base + j as usize) as u32));
         }
     }
+    let pressures = held_pressures(scene, file, meshes, fracturing, &bases, &mut wet)?;
+    wet.sort_unstable();
+    wet.dedup();
+    let sources = sources(scene, file, model, set, &bases, &mut wet)?;
+    wet.sort_unstable();
+    wet.dedup();
+    Ok(Some(FluidSetup {
+        fluid: section.fluid(),
+        stepping: section.stepping,
+        wet_damaged: section.wet_damaged,
+        sources,
+        pressures,
+        wet,
+    }))
+}
+
+/// The first global joint id and the count of each fracturing body's joints, by body index.
+type Bases = [(usize, usize, usize)];
+
+/// `fluid.pressures` resolved to joints (appended to `wet`).
+fn held_pressures(
+    scene: &Scene,
+    file: &Path,
+    meshes: &[Mesh],
+    fracturing: &Fracturing,
+    bases: &Bases,
+    wet: &mut Vec<u32>,
+) -> Result<Vec<HeldPressure>, SceneError> {
+    let section = scene.fluid.as_ref().expect("a fluid section");
     let mut pressures = Vec::new();
     for (i, p) in section.pressures.iter().enumerate() {
         let path = format!("fluid.pressures[{i}]");
@@ -150,8 +194,20 @@ pub fn prepare(
             history: p.history.as_ref().map(History::new),
         });
     }
-    wet.sort_unstable();
-    wet.dedup();
+    Ok(pressures)
+}
+
+/// `fluid.injections` snapped to joint vertices; the joints at a vertex on no wet joint are
+/// appended to `wet` (a perforation). `wet` is sorted.
+fn sources(
+    scene: &Scene,
+    file: &Path,
+    model: &Model,
+    set: &fdem_fracture::JointSet,
+    bases: &Bases,
+    wet: &mut Vec<u32>,
+) -> Result<Vec<Source>, SceneError> {
+    let section = scene.fluid.as_ref().expect("a fluid section");
     let mut sources = Vec::new();
     for (i, inj) in section.injections.iter().enumerate() {
         let path = format!("fluid.injections[{i}]");
@@ -193,6 +249,8 @@ pub fn prepare(
             .collect();
         if !at_vertex.iter().any(|j| wet.binary_search(j).is_ok()) {
             wet.extend(at_vertex);
+            wet.sort_unstable();
+            wet.dedup();
         }
         sources.push(Source {
             node,
@@ -202,15 +260,7 @@ pub fn prepare(
             history: inj.history.as_ref().map(History::new),
         });
     }
-    wet.sort_unstable();
-    wet.dedup();
-    Ok(Some(FluidSetup {
-        fluid: section.fluid(),
-        stepping: section.stepping,
-        sources,
-        pressures,
-        wet,
-    }))
+    Ok(sources)
 }
 
 /// The error of a group or body with no joints.

@@ -390,7 +390,7 @@ fn check_history_rows(inp: &StepInputs, n_steps: u64) -> Result<(), SceneError> 
         .iter()
         .map(|p| match p {
             Probe::Energy => ENERGY_COLUMNS,
-            Probe::Fluid => crate::stages::fluid::COLUMNS.len(),
+            Probe::Fluid => crate::problem::fluid::COLUMNS.len(),
             _ => 2,
         })
         .sum::<usize>()

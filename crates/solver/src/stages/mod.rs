@@ -129,6 +129,7 @@ pub fn attach_to(
         let mut stage =
             crate::stages::fluid::FluidStage::new(setup, set, &broken, &sys.model, limit / dt);
         stage.set_scheme_limit(limit);
+        sys.events.softened_taken = setup.wet_damaged;
         sys.contributions.push(Box::new(stage));
     }
     Ok(())

@@ -168,6 +168,12 @@ pub struct StepEvents {
     pub released_taken: bool,
     /// The fracture events (breaks) of the last end of step, in joint order.
     pub fractures: Vec<fdem_fracture::FractureEvent>,
+    /// The joints that softened (damage above 0) for the first time at the last end of step
+    /// (global ids, increasing): filled by the fracture stage only when a later stage takes
+    /// them ([`StepEvents::softened_taken`]: the fluid, `fluid.wet_damaged`).
+    pub softened: Vec<u32>,
+    /// A stage reads [`StepEvents::softened`].
+    pub softened_taken: bool,
 }
 
 /// A stage's reports and output: its energy books for the run summary, the error that stops a

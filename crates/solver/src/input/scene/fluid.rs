@@ -46,6 +46,10 @@ pub struct FluidSection {
     /// `"implicit"` (default) or `"explicit"`.
     #[serde(default)]
     pub stepping: FlowStepping,
+    /// The fluid enters a joint from its first softening (damage above 0: the process zone
+    /// ahead of a crack) instead of from its break (default false).
+    #[serde(default)]
+    pub wet_damaged: bool,
     /// Injections at points of the crack network (default none).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub injections: Vec<Injection>,

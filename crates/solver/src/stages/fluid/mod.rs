@@ -7,7 +7,8 @@
 //!   a spring of the positions (a pressure lagged by a step pumps energy into the solid), and
 //!   the flow is staggered, one update per step.
 //! - **End of step** at `t`: the joints the fracture stage broke in this step
-//!   ([`StepEvents::fractures`]) become channels; the channels' apertures and the cavities'
+//!   ([`StepEvents::fractures`]) become channels (with `fluid.wet_damaged`, those that
+//!   softened, [`StepEvents::softened`]); the channels' apertures and the cavities'
 //!   volumes are taken at the step's end positions; the prescribed pressures take their
 //!   values at `t`, the injections put in their volume over the step; the pressures are then
 //!   stepped over the mechanical step (backward Euler, or explicit sub-steps: `fluid.stepping`).
@@ -61,18 +62,7 @@ pub struct FluidBooks {
     pub viscous_dissipation: f64,
 }
 
-/// The columns of the `fluid` history probe ([`FluidBooks::columns`]).
-pub const COLUMNS: [&str; 9] = [
-    "fluid_initial",
-    "fluid_injected",
-    "fluid_boundary",
-    "fluid_stored",
-    "fluid_compressed",
-    "fluid_leaked",
-    "fluid_balance_error",
-    "injection_pressure",
-    "fluid_channels",
-];
+pub use crate::problem::fluid::COLUMNS;
 
 impl FluidBooks {
     /// The values of [`COLUMNS`]: volumes [m^3] in the network at the start, injected, in through the prescribed
@@ -285,6 +275,10 @@ impl ForceTerm for FluidStage {
         self.t_last = t;
         let broke = events.fractures.iter().map(|e| e.joint.0 as usize);
         self.net.wet_joints(broke, t);
+        if self.setup.wet_damaged {
+            let softened = events.softened.iter().map(|&j| j as usize);
+            self.net.wet_joints(softened, t);
+        }
         self.collect_start(x);
         self.hold(t);
         self.net.geometry(x);

@@ -247,6 +247,10 @@ impl FractureStage {
     /// holding the breaks: the star releases (appended to `events.released`), the report and
     /// `fractures.csv` (`output.rs`).
     fn after_commit(&mut self, events: &mut StepEvents) {
+        if events.softened_taken {
+            events.softened.clear();
+            events.softened.extend_from_slice(&self.softened);
+        }
         // Stars stop bonding at the first softening of one of their joints (damage > 0 at
         // either point) or its break, and a break releases the joint's own pair. One scan of
         // every joint at the first step (a joint may start damaged or broken), then only the
