@@ -137,8 +137,27 @@ pub fn ringed_plate(h: f64, box_: [i64; 2], crack: i64, reach: i64) -> Value {
 /// The scene of the cracked plate (`n_a` elements on the half-crack) with its outer edges
 /// fixed and `fluid` as its `"fluid"` section, damped (`alpha` = 3000 /s) over `duration`.
 fn plate_scene(tag: &str, n_a: i64, fluid: Value, duration: f64) -> PathBuf {
+    let p = scene_on(tag, cracked_plate(n_a), fluid, duration);
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    v["fracture"]["material"] = json!({
+        "tensile_strength": 50e6, "cohesion": 100e6, "friction_angle_deg": 30.0,
+        "fracture_energy_i": 1e5, "fracture_energy_ii": 1e6,
+        "penalty_normal": 10.0 * E, "penalty_tangential": 10.0 * E
+    });
+    v["damping"] = json!({ "mass_proportional": 3000.0 });
+    v["output"]["frames"] = json!(1);
+    v["histories"]["probes"] = json!(["energy", "fluid"]);
+    std::fs::write(&p, v.to_string()).unwrap();
+    p
+}
+
+/// The scene of a plate `mesh` (groups as [`ringed_plate`]'s) with its outer edges fixed, the
+/// band's joints breakable (ft = 1 MPa, G_I = 6 J/m^2), the crack group a pre-existing crack,
+/// `fluid` as its `"fluid"` section, over `duration`, no frames, the `fluid` probe every 20
+/// steps.
+fn scene_on(tag: &str, mesh: Value, fluid: Value, duration: f64) -> PathBuf {
     let dir = common::temp_dir(tag);
-    std::fs::write(dir.join("plate.json"), cracked_plate(n_a).to_string()).unwrap();
+    std::fs::write(dir.join("plate.json"), mesh.to_string()).unwrap();
     let scene = json!({
         "title": "pressurised crack",
         "bodies": [{
@@ -149,19 +168,18 @@ fn plate_scene(tag: &str, n_a: i64, fluid: Value, duration: f64) -> PathBuf {
         "fracture": {
             "regions": [ { "body": "plate", "groups": ["band"] } ],
             "material": {
-                "tensile_strength": 50e6, "cohesion": 100e6, "friction_angle_deg": 30.0,
-                "fracture_energy_i": 1e5, "fracture_energy_ii": 1e6,
+                "tensile_strength": 1e6, "cohesion": 3e6, "friction_angle_deg": 30.0,
+                "fracture_energy_i": 6.0, "fracture_energy_ii": 60.0,
                 "penalty_normal": 10.0 * E, "penalty_tangential": 10.0 * E
             },
             "cracks": [ { "group": "crack" } ]
         },
         "contact": {},
         "fluid": fluid,
-        "damping": { "mass_proportional": 3000.0 },
         "integrator": { "scheme": "central-difference", "safety": 0.9 },
         "duration": duration,
-        "output": { "frames": 1 },
-        "histories": { "every": 50, "probes": [ "energy", "fluid" ] }
+        "output": { "frames": 0 },
+        "histories": { "every": 20, "probes": [ "fluid" ] }
     });
     let p = dir.join("plate-scene.json");
     std::fs::write(&p, scene.to_string()).unwrap();
@@ -422,39 +440,12 @@ fn injection_resumes_bit_for_bit() {
 fn injection_grows_a_fracture_and_wet_damaged_wets_the_process_zone() {
     let h = 0.01;
     let run = |wet: bool| {
-        let dir = common::temp_dir(if wet { "grow-wet" } else { "grow-dry" });
-        std::fs::write(
-            dir.join("plate.json"),
-            ringed_plate(h, [32, 4], 5, 100).to_string(),
-        )
-        .unwrap();
-        let scene = json!({
-            "bodies": [{
-                "name": "plate", "mesh": "plate.json",
-                "materials": { "*": { "young": E, "poisson": NU, "density": 2500.0, "plane": "strain" } }
-            }],
-            "boundary_conditions": [ { "fixed": { "group": "outer", "x": true, "y": true } } ],
-            "fracture": {
-                "regions": [ { "body": "plate", "groups": ["band"] } ],
-                "material": {
-                    "tensile_strength": 1e6, "cohesion": 3e6, "friction_angle_deg": 30.0,
-                    "fracture_energy_i": 6.0, "fracture_energy_ii": 60.0,
-                    "penalty_normal": 10.0 * E, "penalty_tangential": 10.0 * E
-                },
-                "cracks": [ { "group": "crack" } ]
-            },
-            "contact": {},
-            "fluid": {
-                "viscosity": 1e-6, "bulk_modulus": 2.2e9, "wet_damaged": wet,
-                "injections": [ { "at": [0.0, 0.0], "rate": 4e-3 } ]
-            },
-            "integrator": { "scheme": "central-difference", "safety": 0.9 },
-            "duration": 0.0015,
-            "output": { "frames": 0 },
-            "histories": { "every": 20, "probes": [ "fluid" ] }
+        let fluid = json!({
+            "viscosity": 1e-6, "bulk_modulus": 2.2e9, "wet_damaged": wet,
+            "injections": [ { "at": [0.0, 0.0], "rate": 4e-3 } ]
         });
-        let p = dir.join("grow.json");
-        std::fs::write(&p, scene.to_string()).unwrap();
+        let tag = if wet { "grow-wet" } else { "grow-dry" };
+        let p = scene_on(tag, ringed_plate(h, [32, 4], 5, 100), fluid, 0.0015);
         let (o, out) = common::run(&p);
         let (head, rows) = common::histories(&out);
         let worst = common::column(&head, &rows, "fluid_balance_error")

@@ -114,6 +114,43 @@ pub struct Books {
     pub viscous: f64,
 }
 
+impl Books {
+    /// The books in field order (a checkpoint's record).
+    pub fn to_array(&self) -> [f64; 7] {
+        [
+            self.initial,
+            self.injected,
+            self.boundary,
+            self.leaked,
+            self.injected_energy,
+            self.viscous,
+            self.boundary_energy,
+        ]
+    }
+
+    /// The books from [`Books::to_array`]'s record.
+    pub fn from_array(a: [f64; 7]) -> Self {
+        let [
+            initial,
+            injected,
+            boundary,
+            leaked,
+            injected_energy,
+            viscous,
+            boundary_energy,
+        ] = a;
+        Self {
+            initial,
+            injected,
+            boundary,
+            leaked,
+            injected_energy,
+            viscous,
+            boundary_energy,
+        }
+    }
+}
+
 /// The fluid network on a joint set (see the crate docs).
 #[derive(Debug, Clone)]
 pub struct Network {

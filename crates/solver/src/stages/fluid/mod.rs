@@ -438,15 +438,7 @@ impl StageCheckpoint for FluidStage {
             e.put(&self.net.wet);
             e.put(&self.net.wet_since);
             e.put(&self.net.stored);
-            e.put(&[
-                b.initial,
-                b.injected,
-                b.boundary,
-                b.leaked,
-                b.injected_energy,
-                b.viscous,
-                b.boundary_energy,
-            ]);
+            e.put(&b.to_array());
             e.put(&self.net.substeps);
             e.put(&self.work);
             e.put(&self.t_last);
@@ -491,24 +483,7 @@ impl StageCheckpoint for FluidStage {
         self.net.wet_joints(js, 0.0);
         self.net.wet_since = since;
         self.net.stored = stored;
-        let [
-            initial,
-            injected,
-            boundary,
-            leaked,
-            injected_energy,
-            viscous,
-            boundary_energy,
-        ] = books;
-        self.net.books = fdem_flow::Books {
-            initial,
-            injected,
-            boundary,
-            leaked,
-            injected_energy,
-            viscous,
-            boundary_energy,
-        };
+        self.net.books = fdem_flow::Books::from_array(books);
         (self.net.substeps, self.work, self.t_last) = (rest.0, rest.1, rest.2);
         (self.max_substeps, self.min_flow_step, self.iterations) = (rest.3, rest.4, rest.5);
         // the channels' nodes of the restored network, and their saved start
