@@ -91,6 +91,9 @@ pub fn check_report(l: &Problem) -> String {
     if !e.why.is_empty() {
         let _ = writeln!(s, "{}", e.why);
     }
+    if let Some(line) = crate::stages::fluid::check_line(l) {
+        let _ = writeln!(s, "{line}");
+    }
     scheme_table(&mut s, l, &e);
     let _ = writeln!(
         s,

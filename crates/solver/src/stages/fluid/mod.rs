@@ -83,6 +83,55 @@ impl FluidBooks {
     }
 }
 
+/// `fdem check`'s line on the fluid of `l` (`None` without one): the channels at the start,
+/// the stepping, the flow's explicit stable step at the start (the cavities' residual or
+/// initial volumes) and what it means per mechanical step, and the stiffness cap.
+pub fn check_line(l: &crate::problem::load::Problem) -> Option<String> {
+    let (setup, set) = (l.fluid.as_ref()?, l.fracturing.set.as_ref()?);
+    let state = l
+        .initial_joint_state
+        .clone()
+        .or_else(|| crate::problem::cracks::initial_state(&l.fracturing, &l.model));
+    let broken: Vec<bool> = match &state {
+        Some(s) => s.intact.iter().map(|i| !i).collect(),
+        None => vec![false; set.len()],
+    };
+    let limit = l.scheme.stability_limit();
+    let omega = if l.dt > 0.0 {
+        limit / l.dt
+    } else {
+        f64::INFINITY
+    };
+    let stage = FluidStage::new(setup, set, &broken, &l.model, omega);
+    let net = stage.network();
+    let h = net.stable_step();
+    let per_step = if h.is_finite() && h > 0.0 {
+        format!(
+            "{h:.3e} s (explicit: {} sub-steps per step; it falls as the cracks open, as mu / a^2)",
+            (l.dt / (EXPLICIT_SAFETY * h)).ceil().max(1.0)
+        )
+    } else {
+        "none (no free cavity with a channel)".into()
+    };
+    Some(format!(
+        "fluid: {} channels at the start, {} stepping ({}); the flow's stable step at the start \
+         {per_step}; a filled cavity adds at most {:.3e} rad/s (its bulk modulus is lowered \
+         where it would add more)",
+        net.channels.len(),
+        match setup.stepping {
+            crate::input::scene::fluid::FlowStepping::Implicit => "implicit",
+            crate::input::scene::fluid::FlowStepping::Explicit => "explicit",
+        },
+        match setup.stepping {
+            crate::input::scene::fluid::FlowStepping::Implicit =>
+                "one backward-Euler solve per step",
+            crate::input::scene::fluid::FlowStepping::Explicit =>
+                "sub-steps below the flow's stable step",
+        },
+        CAP_FRACTION * omega
+    ))
+}
+
 /// The books of the fluid stage of `sys`, if it has one.
 pub fn books_of(sys: &crate::stages::system::SceneSystem) -> Option<FluidBooks> {
     sys.contributions.iter().find_map(|c| {
