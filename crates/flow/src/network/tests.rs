@@ -266,3 +266,58 @@ fn bad_properties_are_refused_by_name() {
     let e = Network::new(vec![[0, 1, 2, 7]], 4, 1.0, WATER).unwrap_err();
     assert!(matches!(e, FlowError::Node { node: 7, .. }));
 }
+
+/// The faces' forces are the gradient of the stored fluid's energy
+/// `sum_v K (m ln(m/V) - (m - V))` (whose `-dE/dV` is the pressure `K (m/V - 1)`), under
+/// pressures that differ from cavity to cavity and apertures that differ along the strip: a
+/// central difference of the energy in each upper node's height against the force (the
+/// lumped forces `p_k l t / 2` of each end differ from it by `l t (p_0 - p_1) / 8` per node).
+#[test]
+fn face_forces_are_the_gradient_of_the_fluid_energy() {
+    let (n, h, a) = (6usize, 0.05, 5e-5);
+    let (mut net, mut x) = strip(n, h, a, WATER);
+    for k in 0..=n {
+        x[k][1] += 2e-5 * (k as f64 * 1.3).sin();
+    }
+    net.geometry(&x);
+    for v in 0..=n {
+        // 0.1 % to 0.6 % compression: pressures of 2 to 13 MPa
+        net.stored[v] = net.volume[v] * (1.0 + 1e-3 * (1.0 + (v % 6) as f64));
+    }
+    let energy = |net: &mut Network, x: &[[f64; 2]]| -> f64 {
+        net.geometry(x);
+        let k = WATER.bulk_modulus;
+        (0..net.n_vertices)
+            .map(|v| {
+                let (m, vol) = (net.stored[v], net.volume[v]);
+                k * (m * (m / vol).ln() - (m - vol))
+            })
+            .sum()
+    };
+    net.geometry(&x);
+    let mut f = vec![[0.0; 2]; x.len()];
+    net.add_face_forces(&x, &mut f);
+    let scale = f.iter().fold(0.0f64, |m, g| m.max(g[1].abs()));
+    let d = 1e-9;
+    let mut worst: f64 = 0.0;
+    for k in 0..=n {
+        let mut xp = x.clone();
+        xp[k][1] += d;
+        let mut xm = x.clone();
+        xm[k][1] -= d;
+        let de = (energy(&mut net, &xp) - energy(&mut net, &xm)) / (2.0 * d);
+        worst = worst.max((-de - f[k][1]).abs() / scale);
+    }
+    assert!(
+        worst < 1e-6,
+        "force against -dE/dy off by {worst:e} of the largest"
+    );
+    fdem_figures::record_part(
+        150,
+        6,
+        format!(
+            "faces' forces {} off the energy's gradient under unequal pressures",
+            fdem_figures::sci(worst.max(1e-17), 1)
+        ),
+    );
+}
