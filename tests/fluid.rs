@@ -332,7 +332,8 @@ fn load_error(tag: &str, edit: impl FnOnce(&mut Value)) -> String {
 /// An edit of a scene's JSON.
 type Edit = Box<dyn FnOnce(&mut Value)>;
 
-/// Bad input is refused at its JSON path, with the fix.
+/// Bad input is refused at its JSON path, with the fix; so is a distributed run of a scene
+/// with a fluid.
 #[test]
 fn bad_fluid_input_is_refused_at_its_path() {
     let cases: Vec<(&str, Edit, &str)> = vec![
@@ -402,7 +403,22 @@ fn bad_fluid_input_is_refused_at_its_path() {
         seen.push(tag);
     }
     assert_eq!(seen.len(), 9);
-    fdem_figures::record(151, format!("{} of 9 refused at their paths", seen.len()));
+    // a distributed run of a fluid scene, before anything is written
+    let p = plate_scene(
+        "fluid-ranks",
+        2,
+        json!({ "viscosity": 1e-3, "bulk_modulus": 2.2e9 }),
+        1e-4,
+    );
+    let l = fdem_solver::driver::load(&p).unwrap();
+    let e = fdem_solver::run::distributed::check(&l, 2)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`fluid`") && e.contains("2 processes"), "{e}");
+    fdem_figures::record(
+        151,
+        format!("{} of 10 refused at their paths", seen.len() + 1),
+    );
 }
 
 /// A run with a fluid stopped twice during the injection and resumed writes the very same
