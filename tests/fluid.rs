@@ -484,9 +484,12 @@ fn injection_grows_a_fracture_and_wet_damaged_wets_the_process_zone() {
     assert!(channels_wet > broken_wet, "the process zone is wet");
 }
 
+/// A joint in a frame: its midpoint, wetted, broken.
+type JointSeen = ([f64; 2], bool, bool);
+
 /// The joint frames of a run: per frame, its time and the joints' midpoints with their
 /// `wetted` and `broken` flags (read back from `joints_NNNN.vtu` and `joints.pvd`).
-fn joint_frames(out: &std::path::Path) -> Vec<(f64, Vec<([f64; 2], bool, bool)>)> {
+fn joint_frames(out: &std::path::Path) -> Vec<(f64, Vec<JointSeen>)> {
     let pvd = std::fs::read_to_string(out.join("joints.pvd")).unwrap();
     let mut frames = Vec::new();
     for line in pvd.lines().filter(|l| l.contains("<DataSet")) {
