@@ -151,6 +151,46 @@ impl Books {
     }
 }
 
+/// The backward-Euler update's working arrays, one entry per cavity (kept between steps so
+/// that a step allocates nothing).
+#[derive(Debug, Clone, Default)]
+struct Implicit {
+    leak: Vec<f64>,
+    filled: Vec<bool>,
+    p: Vec<f64>,
+    m: Vec<f64>,
+    b: Vec<f64>,
+    diag: Vec<f64>,
+    x: Vec<f64>,
+    ax: Vec<f64>,
+    r: Vec<f64>,
+    z: Vec<f64>,
+    d: Vec<f64>,
+}
+
+impl Implicit {
+    /// Every array at `n` zeros (no cavity filled).
+    fn reset(&mut self, n: usize) {
+        for v in [
+            &mut self.leak,
+            &mut self.p,
+            &mut self.m,
+            &mut self.b,
+            &mut self.diag,
+            &mut self.x,
+            &mut self.ax,
+            &mut self.r,
+            &mut self.z,
+            &mut self.d,
+        ] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.filled.clear();
+        self.filled.resize(n, false);
+    }
+}
+
 /// The fluid network on a joint set (see the crate docs).
 #[derive(Debug, Clone)]
 pub struct Network {
@@ -198,6 +238,8 @@ pub struct Network {
     sum_c: Vec<f64>,
     /// Per cavity: the change of stored volume over a sub-step (scratch).
     change: Vec<f64>,
+    /// The backward-Euler update's working arrays.
+    implicit: Implicit,
     /// Sub-steps (explicit) or steps (implicit) taken so far.
     pub substeps: u64,
 }
@@ -311,6 +353,7 @@ impl Network {
             face_sum: vec![0.0; n_vertices],
             sum_c: vec![0.0; n_vertices],
             change: vec![0.0; n_vertices],
+            implicit: Implicit::default(),
             substeps: 0,
         })
     }
@@ -359,17 +402,6 @@ impl Network {
                 .resize(self.channels.len(), ChannelGeometry::default());
         }
         new
-    }
-
-    /// Every joint with a node in cavity `v`.
-    pub fn joints_at(&self, v: usize) -> Vec<usize> {
-        (0..self.joints.len())
-            .filter(|&j| {
-                self.joints[j]
-                    .iter()
-                    .any(|&k| self.vertex_of[k as usize] as usize == v)
-            })
-            .collect()
     }
 
     /// Whether cavity `v` touches a channel.
@@ -545,34 +577,34 @@ impl Network {
         }
         self.hold_prescribed();
         let n = self.n_vertices;
+        let mut s = std::mem::take(&mut self.implicit);
+        s.reset(n);
         // the step's leak-off per cavity, at most what it stores
-        let mut leak = vec![0.0; n];
         if self.fluid.leak_off > 0.0 {
-            self.leak_into(t0, t0 + dt, &mut leak);
+            self.leak_into(t0, t0 + dt, &mut s.leak);
         }
-        let mut filled: Vec<bool> = (0..n)
-            .map(|v| {
-                self.fixed[v].is_nan() && self.volume[v] > 0.0 && self.stored[v] >= self.volume[v]
-            })
-            .collect();
+        for v in 0..n {
+            s.filled[v] =
+                self.fixed[v].is_nan() && self.volume[v] > 0.0 && self.stored[v] >= self.volume[v];
+        }
         let mut iters = 0;
-        let mut p = self.pressure.clone();
+        s.p.copy_from_slice(&self.pressure);
         for _ in 0..MAX_SETS {
-            iters += self.solve(&filled, &leak, dt, &mut p);
+            iters += self.solve(&mut s, dt);
             // the stored volumes the flows at p give
-            let m = self.moved(&p, &leak, dt);
+            self.moved(&s.p, &s.leak, dt, &mut s.m);
             let mut changed = false;
             for v in 0..n {
                 if !self.fixed[v].is_nan() || self.volume[v] <= 0.0 {
                     continue;
                 }
-                let now = if filled[v] {
-                    p[v] >= 0.0
+                let now = if s.filled[v] {
+                    s.p[v] >= 0.0
                 } else {
-                    m[v] > self.volume[v]
+                    s.m[v] > self.volume[v]
                 };
-                if now != filled[v] {
-                    filled[v] = now;
+                if now != s.filled[v] {
+                    s.filled[v] = now;
                     changed = true;
                 }
             }
@@ -580,8 +612,9 @@ impl Network {
                 break;
             }
         }
+        let p = &mut s.p;
         for v in 0..n {
-            if !filled[v] && self.fixed[v].is_nan() {
+            if !s.filled[v] && self.fixed[v].is_nan() {
                 p[v] = 0.0;
             }
         }
@@ -606,12 +639,13 @@ impl Network {
                 self.books.injected += r * dt;
                 self.books.injected_energy += p[v] * r * dt;
             }
-            self.change[v] -= leak[v];
-            self.books.leaked += leak[v];
+            self.change[v] -= s.leak[v];
+            self.books.leaked += s.leak[v];
         }
-        for (s, c) in self.stored.iter_mut().zip(&self.change) {
-            *s += c;
+        for (st, c) in self.stored.iter_mut().zip(&self.change) {
+            *st += c;
         }
+        self.implicit = s;
         self.hold_prescribed();
         self.update_pressures();
         self.substeps += 1;
@@ -619,9 +653,9 @@ impl Network {
     }
 
     /// The stored volumes after a step of `dt` with the flows at pressures `p`, the sources
-    /// and the leak-off `leak`.
-    fn moved(&self, p: &[f64], leak: &[f64], dt: f64) -> Vec<f64> {
-        let mut m = self.stored.clone();
+    /// and the leak-off `leak`, into `m`.
+    fn moved(&self, p: &[f64], leak: &[f64], dt: f64, m: &mut [f64]) {
+        m.copy_from_slice(&self.stored);
         for (c, &j) in self.channels.iter().enumerate() {
             let nn = self.joints[j as usize];
             let v0 = self.vertex_of[nn[0] as usize] as usize;
@@ -633,7 +667,6 @@ impl Network {
         for v in 0..self.n_vertices {
             m[v] += self.rate[v] * dt - leak[v];
         }
-        m
     }
 
     /// `y = A x` on the filled cavities: `A = diag(V/K) + dt L` (L the channels' graph
@@ -660,11 +693,24 @@ impl Network {
         }
     }
 
-    /// Solves the backward-Euler system for the filled cavities' pressures in `p` (the
+    /// Solves the backward-Euler system for the filled cavities' pressures in `s.p` (the
     /// others: 0 when free, their value when prescribed) by conjugate gradients with the
     /// diagonal as preconditioner, to a relative residual of 1e-13. Returns the iterations.
-    fn solve(&self, filled: &[bool], leak: &[f64], dt: f64, p: &mut [f64]) -> u64 {
+    fn solve(&self, s: &mut Implicit, dt: f64) -> u64 {
         let n = self.n_vertices;
+        let Implicit {
+            leak,
+            filled,
+            p,
+            b,
+            diag,
+            x,
+            ax,
+            r,
+            z,
+            d,
+            ..
+        } = s;
         for v in 0..n {
             if !self.fixed[v].is_nan() {
                 p[v] = self.fixed[v];
@@ -673,13 +719,15 @@ impl Network {
             }
         }
         // b = m - V + dt Q - L, less the known pressures' part of A p
-        let mut b = vec![0.0; n];
-        let mut diag = vec![0.0; n];
         for v in 0..n {
-            if filled[v] {
-                b[v] = self.stored[v] - self.volume[v] + dt * self.rate[v] - leak[v];
-                diag[v] = self.volume[v] / self.bulk[v];
-            }
+            (b[v], diag[v]) = if filled[v] {
+                (
+                    self.stored[v] - self.volume[v] + dt * self.rate[v] - leak[v],
+                    self.volume[v] / self.bulk[v],
+                )
+            } else {
+                (0.0, 0.0)
+            };
         }
         for (c, &j) in self.channels.iter().enumerate() {
             let nn = self.joints[j as usize];
@@ -695,18 +743,13 @@ impl Network {
                 }
             }
         }
-        let mask = |x: &mut [f64]| {
-            for v in 0..n {
-                if !filled[v] {
-                    x[v] = 0.0;
-                }
-            }
-        };
-        let mut x: Vec<f64> = (0..n).map(|v| if filled[v] { p[v] } else { 0.0 }).collect();
-        let mut ax = vec![0.0; n];
-        self.apply(filled, dt, &x, &mut ax);
-        let mut r: Vec<f64> = (0..n).map(|v| b[v] - ax[v]).collect();
-        mask(&mut r);
+        for v in 0..n {
+            x[v] = if filled[v] { p[v] } else { 0.0 };
+        }
+        self.apply(filled, dt, x, ax);
+        for v in 0..n {
+            r[v] = if filled[v] { b[v] - ax[v] } else { 0.0 };
+        }
         let norm_b = b.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm_b == 0.0 {
             for v in 0..n {
@@ -716,11 +759,11 @@ impl Network {
             }
             return 0;
         }
-        let mut z: Vec<f64> = (0..n)
-            .map(|v| if filled[v] { r[v] / diag[v] } else { 0.0 })
-            .collect();
-        let mut d = z.clone();
-        let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        for v in 0..n {
+            z[v] = if filled[v] { r[v] / diag[v] } else { 0.0 };
+        }
+        d.copy_from_slice(z);
+        let mut rz: f64 = r.iter().zip(z.iter()).map(|(a, b)| a * b).sum();
         let mut it = 0;
         let limit = 10 * n as u64 + 100;
         while it < limit {
@@ -728,9 +771,13 @@ impl Network {
             if rn <= 1e-13 * norm_b {
                 break;
             }
-            self.apply(filled, dt, &d, &mut ax);
-            mask(&mut ax);
-            let dad: f64 = d.iter().zip(&ax).map(|(a, b)| a * b).sum();
+            self.apply(filled, dt, d, ax);
+            for v in 0..n {
+                if !filled[v] {
+                    ax[v] = 0.0;
+                }
+            }
+            let dad: f64 = d.iter().zip(ax.iter()).map(|(a, b)| a * b).sum();
             if dad <= 0.0 {
                 break;
             }
@@ -742,7 +789,7 @@ impl Network {
             for v in 0..n {
                 z[v] = if filled[v] { r[v] / diag[v] } else { 0.0 };
             }
-            let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+            let rz_new: f64 = r.iter().zip(z.iter()).map(|(a, b)| a * b).sum();
             let beta = rz_new / rz;
             rz = rz_new;
             for v in 0..n {
